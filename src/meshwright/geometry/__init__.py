@@ -1,0 +1,1 @@
+"""geometry layer (see README for the architecture)."""

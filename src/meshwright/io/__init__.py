@@ -1,0 +1,1 @@
+"""io layer (see README for the architecture)."""

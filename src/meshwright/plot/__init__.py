@@ -1,0 +1,1 @@
+"""plot layer (see README for the architecture)."""

@@ -1,0 +1,1 @@
+"""tri layer (see README for the architecture)."""
