@@ -1,0 +1,80 @@
+"""Shared benchmark helpers: best-of timing, peak memory in a child process, JIT compile time.
+
+Timings run meshwright and its peers on the same input in one process.  Peak memory is
+measured in a fresh child process per (case, method) because Numba's allocations are
+invisible to ``tracemalloc``: the child reports the growth of its peak resident set.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent
+
+
+def best_time(fn, repeat: int) -> tuple[float, object]:
+    """Run ``fn`` ``repeat`` times; return the best wall time in seconds and the last result."""
+    best, result = float("inf"), None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        result = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, result
+
+
+def child_json(script: str, *args: str, env: dict | None = None) -> dict:
+    """Run ``python script args`` and parse the JSON object printed on its last line."""
+    full_env = dict(os.environ)
+    if env:
+        full_env.update(env)
+    out = subprocess.run(
+        [sys.executable, str(ROOT / script), *args],
+        capture_output=True,
+        text=True,
+        env=full_env,
+        check=True,
+    )
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def peak_rss_bytes() -> int:
+    """Peak resident set size of this process in bytes (Linux reports KiB)."""
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+
+def jit_compile_times(snippet: str) -> tuple[float, float]:
+    """Return (cold, cached) seconds for ``import meshwright`` plus ``snippet`` in fresh processes.
+
+    Cold uses an empty ``NUMBA_CACHE_DIR``; cached reruns with the cache the cold run left.
+    """
+    code = (
+        "import time; t0 = time.perf_counter()\n"
+        "import numpy as np\n"
+        f"{snippet}\n"
+        "import json; print(json.dumps({'t': time.perf_counter() - t0}))\n"
+    )
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        times = []
+        for _ in range(2):
+            out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
+            times.append(json.loads(out.stdout.strip().splitlines()[-1])["t"])
+    return times[0], times[1]
+
+
+def print_table(headers: list[str], rows: list[list[str]]) -> None:
+    """Print an aligned Markdown table."""
+    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(headers)]
+    line = "| " + " | ".join(h.ljust(w) for h, w in zip(headers, widths)) + " |"
+    print(line)
+    print("|" + "|".join("-" * (w + 2) for w in widths) + "|")
+    for r in rows:
+        print("| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |")

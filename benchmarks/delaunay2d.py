@@ -1,0 +1,120 @@
+"""Benchmark: 2-D Delaunay triangulation, meshwright (Bowyer, Watson) vs Triangle and scipy.
+
+Usage::
+
+    python benchmarks/delaunay2d.py            # the issue's cases (1e5, 1e6, 4e6 random, grid, circle)
+    python benchmarks/delaunay2d.py --quick    # small sizes, a smoke run
+    python benchmarks/delaunay2d.py --no-memory
+
+All methods run on the same points in one process; times are the best of ``--repeat`` runs
+after a JIT warm-up.  Ratios are to Triangle (``triangle.triangulate(..., "Q")``,
+Shewchuk's divide-and-conquer).  Peak memory per point is measured in a child process
+per (case, method).  JIT compile time (cold and cached) is reported separately.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+import numpy as np
+
+from _harness import best_time, child_json, jit_compile_times, peak_rss_bytes, print_table
+
+
+def make_case(name: str, n: int, seed: int = 1) -> np.ndarray:
+    """Return the (n, 2) float64 points of a named benchmark case."""
+    rng = np.random.default_rng(seed)
+    if name == "random":
+        return rng.random((n, 2))
+    if name == "grid":
+        k = int(round(np.sqrt(n)))
+        x, y = np.meshgrid(np.arange(k, dtype=float), np.arange(k, dtype=float))
+        return np.column_stack([x.ravel(), y.ravel()])
+    if name == "circle":
+        t = 2.0 * np.pi * np.arange(n) / n
+        return np.column_stack([np.cos(t), np.sin(t)])
+    raise ValueError(name)
+
+
+def methods() -> dict:
+    """Return the available methods: name -> callable(points) -> number of triangles."""
+    from meshwright import delaunay
+
+    found = {
+        "bowyer": lambda p: len(delaunay(p, algorithm="bowyer").triangles),
+        "watson": lambda p: len(delaunay(p, algorithm="watson").triangles),
+    }
+    try:
+        import triangle
+
+        found["triangle"] = lambda p: len(triangle.triangulate({"vertices": p}, "Q")["triangles"])
+    except ImportError:
+        pass
+    try:
+        from scipy.spatial import Delaunay
+
+        found["scipy"] = lambda p: len(Delaunay(p).simplices)
+    except ImportError:
+        pass
+    return found
+
+
+def memory_child(case: str, n: int, method: str) -> None:
+    """Child-process entry: run one method once and print its peak-RSS growth per point."""
+    pts = make_case(case, n)
+    fn = methods()[method]
+    fn(make_case("random", 1000))  # JIT warm-up so compile memory is not charged to the case
+    base = peak_rss_bytes()
+    fn(pts)
+    print(json.dumps({"bytes_per_point": (peak_rss_bytes() - base) / len(pts)}))
+
+
+CASES_FULL = [("random", 100_000), ("random", 1_000_000), ("random", 4_000_000), ("grid", 1_000_000), ("circle", 100_000)]
+CASES_QUICK = [("random", 20_000), ("grid", 10_000), ("circle", 5_000)]
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="small sizes only")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--no-memory", action="store_true", help="skip the child-process memory runs")
+    ap.add_argument("--memory-child", nargs=3, metavar=("CASE", "N", "METHOD"), help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.memory_child:
+        case, n, method = args.memory_child
+        memory_child(case, int(n), method)
+        return 0
+
+    cold, cached = jit_compile_times(
+        "from meshwright import delaunay\n"
+        "p = np.random.default_rng(0).random((100, 2))\n"
+        "delaunay(p, algorithm='bowyer'); delaunay(p, algorithm='watson')"
+    )
+    print(f"JIT: import + first call, cold cache {cold:.2f} s, warm cache {cached:.2f} s\n")
+
+    found = methods()
+    warm = make_case("random", 2000)
+    for fn in found.values():
+        fn(warm)
+    rows = []
+    for case, n in CASES_QUICK if args.quick else CASES_FULL:
+        pts = make_case(case, n)
+        times = {}
+        for name, fn in found.items():
+            times[name], nt = best_time(lambda: fn(pts), 1 if n >= 4_000_000 else args.repeat)
+        ref = times.get("triangle")
+        for name, t in times.items():
+            mem = "-"
+            if not args.no_memory:
+                mem = "%.0f" % child_json("delaunay2d.py", "--memory-child", case, str(n), name)["bytes_per_point"]
+            ratio = f"{t / ref:.2f}" if ref else "-"
+            rows.append([f"{case} {n:,}", name, f"{t:.3f}", ratio, mem])
+        print(f"done {case} {n:,}", file=sys.stderr)
+    print_table(["case", "method", "time [s]", "x Triangle", "peak bytes/point"], rows)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,7 @@
+"""Allow ``python -m meshwright.cli``."""
+
+import sys
+
+from meshwright.cli import main
+
+sys.exit(main())
