@@ -1,0 +1,330 @@
+"""Spring-analogy (Laplacian) mesh smoothing with sliding boundary nodes.
+
+Source: chapter 18.2 "Mesh Smoothing" (Spradley 1999; the C++ listing of Figure 18.2.5).
+Each edge is a spring; the force on node i is
+
+    f_i = c * sum_{j in N(i)} (x_j - x_i)
+
+and an explicit time step moves it by ``dx_i = dt / ns_i * f_i`` where ``ns_i = |N(i)|``.
+With ``relax = c * dt`` a pass moves every free node a fraction ``relax`` of the way to the
+centroid of its neighbours (``relax = 1`` is the classic Laplacian smoother).  5-10 passes
+are usually enough, as the chapter says.
+
+Safeguards (what users of Triangle/Gmsh expect of a smoother, beyond the chapter):
+
+* A move is accepted only if every incident triangle stays strictly counter-clockwise
+  (exact ``orient2d``) and the worst radius ratio among them does not decrease; otherwise the
+  step is halved, up to ``MAX_HALVINGS`` times, and then skipped.  So smoothing can never
+  invert an element or worsen the worst element around a node.
+* Boundary nodes "slide along the boundaries but do not leave them": the displacement is
+  projected onto the boundary tangent (from the two neighbouring boundary nodes) and the
+  result is snapped back onto the true curve by a caller-supplied projection.  Corner nodes
+  (``fixed``) never move.
+
+Array layout
+------------
+points    : (n, 2) float64, modified copy returned
+triangles : (m, 3) int32 counter-clockwise
+adjacency : CSR ``(offsets (n+1,) int64, indices int32)``: node neighbours, and node -> incident
+            triangles, built once by :func:`node_adjacency`.
+
+Invariants: node count and connectivity never change; every accepted move keeps all incident
+triangles positively oriented.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.errors import InputError
+from meshwright.core.predicates import orient2d
+from meshwright.core.topology import boundary_edges_of
+
+__all__ = ["smooth", "node_adjacency"]
+
+MAX_HALVINGS = 4
+
+
+def node_adjacency(triangles: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Return node-to-node and node-to-triangle adjacency in CSR form.
+
+    Parameters
+    ----------
+    triangles : (m, 3) int32
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    nbr_offsets : (n + 1,) int64
+    nbr_indices : (k,) int32
+        Distinct neighbours of node i are ``nbr_indices[nbr_offsets[i]:nbr_offsets[i+1]]``.
+    tri_offsets : (n + 1,) int64
+    tri_indices : (3m,) int32
+        Triangles incident to node i.
+    """
+    tri = np.asarray(triangles, dtype=np.int64)
+    m = len(tri)
+    owners = tri.ravel()
+    order = np.argsort(owners, kind="stable")
+    tri_indices = (order // 3).astype(np.int32)
+    tri_offsets = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(owners, minlength=n), out=tri_offsets[1:])
+
+    # Each triangle contributes both directions of its three edges; dedupe by (a, b) key.
+    a = np.concatenate([tri[:, 0], tri[:, 1], tri[:, 2], tri[:, 1], tri[:, 2], tri[:, 0]])
+    b = np.concatenate([tri[:, 1], tri[:, 2], tri[:, 0], tri[:, 0], tri[:, 1], tri[:, 2]])
+    key = np.unique(a * n + b) if m else np.zeros(0, dtype=np.int64)
+    a, b = key // n, key % n
+    nbr_indices = b.astype(np.int32)
+    nbr_offsets = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(a, minlength=n), out=nbr_offsets[1:])
+    return nbr_offsets, nbr_indices, tri_offsets, tri_indices
+
+
+@njit(cache=True)
+def _radius_ratio(ax, ay, bx, by, cx, cy):
+    """2r/R of a triangle (1 for equilateral, 0 for degenerate); geometric, not topological."""
+    la = np.hypot(bx - cx, by - cy)
+    lb = np.hypot(cx - ax, cy - ay)
+    lc = np.hypot(ax - bx, ay - by)
+    area2 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    if area2 <= 0.0:
+        return 0.0
+    s = la + lb + lc
+    # r = area / s_half, R = la lb lc / (4 area)  =>  2r/R = 8 area^2 / (s_half la lb lc)
+    return 4.0 * area2 * area2 / (s * la * lb * lc)
+
+
+@njit(cache=True)
+def _worst_around(xy, tris, tri_offsets, tri_indices, i, px, py):
+    """Worst radius ratio of the triangles around node ``i`` if it sat at (px, py).
+
+    Returns -1.0 if any incident triangle would not be strictly counter-clockwise.
+    """
+    worst = 1.0
+    for s in range(tri_offsets[i], tri_offsets[i + 1]):
+        t = tri_indices[s]
+        c = np.empty(6)
+        for k in range(3):
+            v = tris[t, k]
+            if v == i:
+                c[2 * k] = px
+                c[2 * k + 1] = py
+            else:
+                c[2 * k] = xy[v, 0]
+                c[2 * k + 1] = xy[v, 1]
+        if orient2d(c[0], c[1], c[2], c[3], c[4], c[5]) <= 0.0:
+            return -1.0
+        q = _radius_ratio(c[0], c[1], c[2], c[3], c[4], c[5])
+        if q < worst:
+            worst = q
+    return worst
+
+
+@njit(cache=True)
+def _spring_step(xy, nbr_offsets, nbr_indices, i, relax):
+    """Displacement ``dt/ns_i * f_i`` of node i under the spring forces of its neighbours."""
+    ns = nbr_offsets[i + 1] - nbr_offsets[i]
+    fx = 0.0
+    fy = 0.0
+    for s in range(nbr_offsets[i], nbr_offsets[i + 1]):
+        j = nbr_indices[s]
+        fx += xy[j, 0] - xy[i, 0]
+        fy += xy[j, 1] - xy[i, 1]
+    return relax * fx / max(ns, 1), relax * fy / max(ns, 1)
+
+
+@njit(cache=True)
+def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, relax):
+    """One Gauss-Seidel pass over the free interior nodes; returns how many moved."""
+    moved = 0
+    for i in range(xy.shape[0]):
+        if kind[i] != 0 or nbr_offsets[i + 1] == nbr_offsets[i]:
+            continue
+        dx, dy = _spring_step(xy, nbr_offsets, nbr_indices, i, relax)
+        before = _worst_around(xy, tris, tri_offsets, tri_indices, i, xy[i, 0], xy[i, 1])
+        for _ in range(MAX_HALVINGS + 1):
+            after = _worst_around(xy, tris, tri_offsets, tri_indices, i, xy[i, 0] + dx, xy[i, 1] + dy)
+            if after >= before and after > 0.0:
+                xy[i, 0] += dx
+                xy[i, 1] += dy
+                moved += 1
+                break
+            dx *= 0.5
+            dy *= 0.5
+    return moved
+
+
+@njit(cache=True)
+def _sliding_steps(xy, nbr_offsets, nbr_indices, nodes, tangent, relax):
+    """Spring displacements of sliding nodes projected onto their boundary tangents, (k, 2)."""
+    out = np.empty((nodes.shape[0], 2))
+    for s in range(nodes.shape[0]):
+        i = nodes[s]
+        dx, dy = _spring_step(xy, nbr_offsets, nbr_indices, i, relax)
+        d = dx * tangent[i, 0] + dy * tangent[i, 1]
+        out[s, 0] = d * tangent[i, 0]
+        out[s, 1] = d * tangent[i, 1]
+    return out
+
+
+@njit(cache=True)
+def _try_moves(xy, nodes, targets, tris, tri_offsets, tri_indices):
+    """Move each node to its target if validity holds and its worst element does not get worse.
+
+    Returns a boolean mask of the accepted moves.
+    """
+    ok = np.zeros(nodes.shape[0], dtype=np.bool_)
+    for s in range(nodes.shape[0]):
+        i = nodes[s]
+        before = _worst_around(xy, tris, tri_offsets, tri_indices, i, xy[i, 0], xy[i, 1])
+        after = _worst_around(xy, tris, tri_offsets, tri_indices, i, targets[s, 0], targets[s, 1])
+        if after > 0.0 and after >= before:
+            xy[i, 0] = targets[s, 0]
+            xy[i, 1] = targets[s, 1]
+            ok[s] = True
+    return ok
+
+
+def _boundary_neighbours(boundary_edges: np.ndarray, n: int) -> np.ndarray:
+    """(n, 2) int64: the two boundary neighbours of every node on exactly two boundary edges, else -1."""
+    e = np.asarray(boundary_edges, dtype=np.int64)
+    owner = np.concatenate([e[:, 0], e[:, 1]])
+    other = np.concatenate([e[:, 1], e[:, 0]])
+    order = np.argsort(owner, kind="stable")
+    owner, other = owner[order], other[order]
+    degree = np.bincount(owner, minlength=n)
+    start = np.concatenate([[0], np.cumsum(degree)[:-1]])
+    out = np.full((n, 2), -1, dtype=np.int64)
+    two = np.flatnonzero(degree == 2)
+    out[two, 0] = other[start[two]]
+    out[two, 1] = other[start[two] + 1]
+    return out
+
+
+@njit(cache=True)
+def _fix_corners(xy, bnbr, kind):
+    """Fix sliding nodes whose two boundary neighbours are not exactly collinear with them."""
+    for i in range(xy.shape[0]):
+        if kind[i] != 1:
+            continue
+        u = bnbr[i, 0]
+        v = bnbr[i, 1]
+        if orient2d(xy[u, 0], xy[u, 1], xy[i, 0], xy[i, 1], xy[v, 0], xy[v, 1]) != 0.0:
+            kind[i] = 2
+
+
+def _boundary_tangents(points: np.ndarray, bnbr: np.ndarray, on_boundary: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit tangents at boundary nodes: the chord between their two boundary neighbours.
+
+    Returns ``(kind, tangent)``: kind 1 (sliding) for nodes with exactly two boundary
+    neighbours, 2 (fixed) for other boundary nodes (chain ends, junctions), 0 elsewhere.
+    The chord is independent of the edges' directions.
+    """
+    n = len(points)
+    kind = np.zeros(n, dtype=np.int8)
+    tangent = np.zeros((n, 2))
+    kind[on_boundary] = 2
+    two = np.flatnonzero(bnbr[:, 0] >= 0)
+    chord = points[bnbr[two, 1]] - points[bnbr[two, 0]]
+    norm = np.hypot(chord[:, 0], chord[:, 1])
+    ok = norm > 0.0
+    kind[two[ok]] = 1
+    tangent[two[ok]] = chord[ok] / norm[ok][:, None]
+    return kind, tangent
+
+
+def smooth(
+    points: np.ndarray,
+    triangles: np.ndarray,
+    boundary_edges: np.ndarray | None = None,
+    *,
+    passes: int = 10,
+    relax: float = 1.0,
+    fixed: np.ndarray | None = None,
+    project: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+) -> np.ndarray:
+    """Smooth a triangle mesh with the chapter's spring-analogy Laplacian.
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+        Node coordinates (not modified; a smoothed copy is returned).
+    triangles : (m, 3) int32
+        Counter-clockwise triangles.
+    boundary_edges : (b, 2) int32, optional
+        Edges on the domain boundary (and interior constraints).  Their nodes slide along
+        the boundary; nodes where the boundary turns a corner should be listed in ``fixed``.
+        Default: the edges used by exactly one triangle.
+    passes : int
+        Number of smoothing passes (time steps), 5-10 suffice.
+    relax : float
+        ``c * dt`` of the spring analogy, in (0, 1]; 1 moves a node to its neighbours' centroid.
+    fixed : (k,) int or (n,) bool, optional
+        Nodes that never move (corners, user points).
+    project : callable, optional
+        ``project(nodes (k,) int64, xy (k, 2) float64) -> (k, 2) float64`` putting boundary
+        nodes back onto their true curve after each pass.  Without it, sliding nodes move
+        only along straight boundary stretches (nodes whose two boundary edges are not
+        collinear are fixed), so they never leave a polygonal boundary.
+
+    Returns
+    -------
+    (n, 2) float64
+        Smoothed coordinates.  Connectivity is unchanged; no triangle is inverted and the
+        worst radius ratio around every node is never decreased by a move.
+    """
+    xy = np.array(points, dtype=np.float64, order="C", copy=True)
+    tris = np.ascontiguousarray(triangles, dtype=np.int32)
+    if xy.ndim != 2 or xy.shape[1] != 2:
+        raise InputError(f"points must have shape (n, 2), got {xy.shape}")
+    if tris.ndim != 2 or tris.shape[1] != 3:
+        raise InputError(f"triangles must have shape (m, 3), got {tris.shape}")
+    if not 0.0 < relax <= 1.0:
+        raise InputError(f"relax = c*dt must lie in (0, 1], got {relax}")
+    if passes < 0:
+        raise InputError(f"passes must be non-negative, got {passes}")
+    n = len(xy)
+    if boundary_edges is None:
+        boundary_edges = boundary_edges_of(tris)
+    boundary_edges = np.asarray(boundary_edges, dtype=np.int64).reshape(-1, 2)
+    bnbr = _boundary_neighbours(boundary_edges, n)
+    on_boundary = np.zeros(n, dtype=bool)
+    on_boundary[boundary_edges.ravel()] = True
+    kind, tangent = _boundary_tangents(xy, bnbr, on_boundary)
+    if project is None:
+        # Without the true curve, only nodes on straight stretches may slide.
+        _fix_corners(xy, bnbr, kind)
+    if fixed is not None:
+        fixed = np.asarray(fixed)
+        kind[fixed if fixed.dtype != bool else np.flatnonzero(fixed)] = 2
+    nbr_offsets, nbr_indices, tri_offsets, tri_indices = node_adjacency(tris, n)
+    sliding = np.flatnonzero(kind == 1).astype(np.int64)
+    if project is None:
+        def project(nodes, xy_new):
+            return xy_new
+
+    for _ in range(passes):
+        moved = _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, relax)
+        if len(sliding):
+            # Sliding nodes only ever jump to projected (on-curve) positions; a refused
+            # move is retried at half the step and finally skipped, so none leaves its curve.
+            steps = _sliding_steps(xy, nbr_offsets, nbr_indices, sliding, tangent, relax)
+            pending = np.arange(len(sliding))
+            for _ in range(MAX_HALVINGS + 1):
+                nodes = sliding[pending]
+                targets = np.ascontiguousarray(project(nodes, xy[nodes] + steps[pending]), dtype=np.float64)
+                accepted = _try_moves(xy, nodes, targets, tris, tri_offsets, tri_indices)
+                moved += int(accepted.sum())
+                pending = pending[~accepted]
+                if len(pending) == 0:
+                    break
+                steps[pending] *= 0.5
+            tangent = _boundary_tangents(xy, bnbr, on_boundary)[1]
+        if moved == 0:
+            break
+    return xy
