@@ -1,0 +1,98 @@
+"""Mesh plots render headless into non-empty PNG files."""
+
+import numpy as np
+import pytest
+
+from meshwright.core.errors import InputError
+from meshwright.core.mesh import Mesh
+from meshwright.plot.mesh_plot import plot_mesh, plot_triangulation
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+def grid(n=6):
+    x, y = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
+    pts = np.column_stack([x.ravel(), y.ravel()])
+    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
+    tri = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    lines = np.concatenate([np.column_stack([idx[0, :-1], idx[0, 1:]]), np.column_stack([idx[-1, 1:], idx[-1, :-1]])])
+    regions = np.where(pts[tri].mean(axis=1)[:, 0] < 0.5, 1, 2)
+    markers = np.repeat([1, 3], n)
+    return Mesh(pts, {"triangle": tri, "line": lines}, cell_data={"marker": {"triangle": regions, "line": markers}})
+
+
+def assert_png(path):
+    data = path.read_bytes()
+    assert data[:8] == PNG_MAGIC and len(data) > 2000
+
+
+def test_plot_mesh_writes_png_headless(tmp_path):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    ax = grid().plot(path=tmp_path / "mesh.png")
+    assert isinstance(ax.figure.canvas, FigureCanvasAgg)
+    assert ax.get_aspect() == 1.0
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["marker 1", "marker 3"]
+    assert_png(tmp_path / "mesh.png")
+
+
+@pytest.mark.parametrize(
+    "kwargs", [{"show_quality": "min_angle"}, {"color_by": "marker"}, {"color_by": np.arange(72.0)}, {"show_points": True}]
+)
+def test_plot_mesh_colouring(tmp_path, kwargs):
+    path = tmp_path / "c.png"
+    plot_mesh(grid(), path=path, title="colours", **kwargs)
+    assert_png(path)
+
+
+def test_plot_mesh_quads_and_3d(tmp_path):
+    pts = np.array([[0, 0], [1, 0], [2, 0], [0, 1], [1, 1], [2, 1.0]])
+    plot_mesh(Mesh(pts, {"quad": [[0, 1, 4, 3], [1, 2, 5, 4]]}), path=tmp_path / "q.png")
+    assert_png(tmp_path / "q.png")
+    cube = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)
+    tets = [[0, 1, 2, 6], [0, 2, 3, 6], [0, 3, 7, 6], [0, 7, 4, 6], [0, 4, 5, 6], [0, 5, 1, 6]]
+    ax = plot_mesh(Mesh(cube, {"tetra": tets}), path=tmp_path / "t.png")
+    assert ax.name == "3d"
+    assert_png(tmp_path / "t.png")
+
+
+def test_plot_into_given_axes_and_triangulation(tmp_path):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    mesh = grid(3)
+    assert plot_mesh(mesh, ax=ax) is ax
+    out = plot_triangulation(mesh.points, mesh.triangles, ax=ax, show_points=True, path=tmp_path / "t.png")
+    assert out is ax
+    assert_png(tmp_path / "t.png")
+    ax2 = plot_triangulation(mesh.points, mesh.triangles, values=mesh.quality()["triangle"]["area"], path=tmp_path / "v.png")
+    assert ax2 is not ax
+    assert_png(tmp_path / "v.png")
+
+
+def test_plot_large_mesh_is_fast(tmp_path):
+    import time
+
+    mesh = grid(100)  # 20 000 triangles
+    t0 = time.perf_counter()
+    plot_mesh(mesh, path=tmp_path / "big.png", dpi=60)
+    assert time.perf_counter() - t0 < 10.0
+    assert_png(tmp_path / "big.png")
+
+
+def test_plot_errors_name_the_option():
+    mesh = grid(2)
+    with pytest.raises(InputError, match="no quality measure 'volume'"):
+        plot_mesh(mesh, show_quality="volume")
+    with pytest.raises(InputError, match="not a cell_data name"):
+        plot_mesh(mesh, color_by="nope")
+    with pytest.raises(InputError, match="not both"):
+        plot_mesh(mesh, show_quality="area", color_by="marker")
+    with pytest.raises(InputError, match=r"shape \(8,\)"):
+        plot_mesh(mesh, color_by=np.zeros(3))
+    with pytest.raises(InputError, match=r"triangles must have shape"):
+        plot_triangulation(mesh.points, np.zeros((2, 4), int))
