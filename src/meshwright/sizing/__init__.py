@@ -1,1 +1,16 @@
-"""sizing layer (see README for the architecture)."""
+"""How fine: size fields (constant, callable, graded from boundary spacing).
+
+Below :mod:`meshwright.geometry` in the layer order; depends only on ``core``.
+"""
+
+from meshwright.sizing.boundary import boundary_size, gradation, point_distribution
+from meshwright.sizing.field import SizeField, as_size_field, minimum
+
+__all__ = [
+    "SizeField",
+    "as_size_field",
+    "minimum",
+    "point_distribution",
+    "gradation",
+    "boundary_size",
+]

@@ -1,0 +1,273 @@
+"""JSON geometry files: a documented, hand-writable description of a :class:`Domain`.
+
+Schema (version 1)
+------------------
+Top level (an object)::
+
+    {
+      "version": 1,                                         optional, must be 1
+      "outer": LOOP,                                        required
+      "holes": [LOOP, ...],                                 optional
+      "segments": [CHAIN, ...],                             optional interior constraints
+      "points": [[x, y], ...],                              optional interior points
+      "regions": [{"point": [x, y], "marker": 1,            optional region seeds;
+                   "max_area": 0.1}, ...],                    max_area optional
+      "size": 0.1                                           optional suggested spacing
+    }
+
+A LOOP (closed) or CHAIN (open unless its ends meet) is one of::
+
+    [[x, y], [x, y], ...]                                   polygon / polyline vertices
+    {"polygon": [[x, y], ...], "markers": M}                same, with markers
+    {"circle": {"center": [x, y], "radius": r}, "marker": m}
+    {"ellipse": {"center": [x, y], "a": a, "b": b, "rotation": 0.0}, "marker": m}
+    {"naca": "2412", "chord": 1.0, "aoa": 0.0, "origin": [0, 0],
+     "closed_te": true, "marker": m}                        NACA 4-digit section
+    {"curves": [CURVE, ...]}                                curves joined end to start
+
+where ``M`` is an int or a list with one int per polygon edge, and a CURVE is one of::
+
+    {"line": [[x0, y0], [x1, y1]], "marker": m}
+    {"arc": {"center": [x, y], "radius": r, "theta0": a0, "theta1": a1},
+     "degrees": false, "marker": m}                         signed sweep a1 - a0
+    {"polyline": [[x, y], ...], "markers": M, "marker": m}
+    {"spline": [[x, y], ...], "closed": false, "marker": m}   centripetal Catmull-Rom
+
+``marker`` is always optional (default 1 on loops, 0 on constraints).  Unknown keys are
+errors, so typos do not pass silently.  Example: a unit square with a circular hole::
+
+    {"outer": [[0, 0], [1, 0], [1, 1], [0, 1]],
+     "holes": [{"circle": {"center": [0.5, 0.5], "radius": 0.2}, "marker": 2}],
+     "size": 0.05}
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from meshwright.core.errors import FormatError, GeometryError, InputError
+from meshwright.geometry.curves import Arc, Line, Polyline, Spline
+from meshwright.geometry.domain import Domain
+from meshwright.geometry.shapes import ellipse_loop, naca_loop
+
+__all__ = ["domain_from_dict", "domain_to_dict", "load_domain", "save_domain"]
+
+_TOP = {"version", "outer", "holes", "segments", "points", "regions", "size"}
+
+
+def _check_keys(obj: dict, allowed: set, where: str) -> None:
+    extra = set(obj) - allowed
+    if extra:
+        raise FormatError(f"{where}: unknown key(s) {sorted(extra)}; allowed {sorted(allowed)}")
+
+
+def _points(v, where: str, least: int = 1) -> np.ndarray:
+    try:
+        a = np.asarray(v, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise FormatError(f"{where}: expected a list of [x, y] pairs") from None
+    if a.ndim != 2 or a.shape[1] != 2 or len(a) < least:
+        raise FormatError(f"{where}: expected at least {least} [x, y] pairs, got shape {a.shape}")
+    return a
+
+
+def _markers(obj: dict, where: str):
+    m = obj.get("markers", obj.get("marker"))
+    if m is None or isinstance(m, int):
+        return m
+    if isinstance(m, list) and all(isinstance(k, int) for k in m):
+        return np.asarray(m, dtype=np.int32)
+    raise FormatError(f"{where}: markers must be an int or a list of ints, got {m!r}")
+
+
+def _curve(obj, where: str):
+    if not isinstance(obj, dict):
+        raise FormatError(f"{where}: a curve must be an object, got {type(obj).__name__}")
+    marker = obj.get("marker")
+    if "line" in obj:
+        _check_keys(obj, {"line", "marker"}, where)
+        p = _points(obj["line"], where + ".line", 2)
+        return Line(p[0], p[1], marker)
+    if "arc" in obj:
+        _check_keys(obj, {"arc", "degrees", "marker"}, where)
+        a = obj["arc"]
+        _check_keys(a, {"center", "radius", "theta0", "theta1"}, where + ".arc")
+        k = math.pi / 180.0 if obj.get("degrees", False) else 1.0
+        try:
+            return Arc(a["center"], a["radius"], k * a["theta0"], k * a["theta1"], marker)
+        except KeyError as exc:
+            raise FormatError(f"{where}.arc: missing {exc.args[0]!r}") from None
+    if "polyline" in obj:
+        _check_keys(obj, {"polyline", "markers", "marker"}, where)
+        m = _markers(obj, where)
+        arr = isinstance(m, np.ndarray)
+        return Polyline(
+            _points(obj["polyline"], where + ".polyline", 2),
+            m if arr else None,
+            marker=None if arr else m,
+        )
+    if "spline" in obj:
+        _check_keys(obj, {"spline", "closed", "marker"}, where)
+        return Spline(
+            _points(obj["spline"], where + ".spline", 2), bool(obj.get("closed", False)), marker
+        )
+    raise FormatError(f"{where}: a curve needs one of 'line', 'arc', 'polyline', 'spline'")
+
+
+def _chain(obj, where: str, closed: bool) -> list:
+    if isinstance(obj, list):
+        return [Polyline(_points(obj, where, 2), closed=closed)]
+    if not isinstance(obj, dict):
+        raise FormatError(f"{where}: expected a list of points or an object")
+    marker = obj.get("marker")
+    if "polygon" in obj:
+        _check_keys(obj, {"polygon", "markers", "marker"}, where)
+        m = _markers(obj, where)
+        arr = isinstance(m, np.ndarray)
+        pts = _points(obj["polygon"], where + ".polygon", 2)
+        return [Polyline(pts, m if arr else None, closed=closed, marker=None if arr else m)]
+    if "circle" in obj:
+        _check_keys(obj, {"circle", "marker"}, where)
+        c = obj["circle"]
+        _check_keys(c, {"center", "radius"}, where + ".circle")
+        return [Arc(c.get("center", (0.0, 0.0)), c.get("radius", 1.0), 0.0, 2.0 * math.pi, marker)]
+    if "ellipse" in obj:
+        _check_keys(obj, {"ellipse", "marker"}, where)
+        e = obj["ellipse"]
+        _check_keys(e, {"center", "a", "b", "rotation"}, where + ".ellipse")
+        return ellipse_loop(
+            e.get("center", (0.0, 0.0)),
+            e.get("a", 2.0),
+            e.get("b", 1.0),
+            e.get("rotation", 0.0),
+            marker,
+        )
+    if "naca" in obj:
+        _check_keys(obj, {"naca", "chord", "aoa", "origin", "closed_te", "marker"}, where)
+        return naca_loop(
+            obj["naca"],
+            obj.get("chord", 1.0),
+            obj.get("aoa", 0.0),
+            obj.get("origin", (0.0, 0.0)),
+            obj.get("closed_te", True),
+            marker=obj.get("marker", 1),
+        )
+    if "curves" in obj:
+        _check_keys(obj, {"curves"}, where)
+        if not isinstance(obj["curves"], list) or not obj["curves"]:
+            raise FormatError(f"{where}.curves: expected a non-empty list")
+        return [_curve(c, f"{where}.curves[{i}]") for i, c in enumerate(obj["curves"])]
+    raise FormatError(
+        f"{where}: a loop needs one of 'polygon', 'circle', 'ellipse', 'naca', 'curves'"
+    )
+
+
+def domain_from_dict(d: dict) -> Domain:
+    """Build a :class:`Domain` from a dict following the schema in this module's docstring.
+
+    Raises
+    ------
+    FormatError
+        The dict does not follow the schema (message gives the location, e.g.
+        ``holes[1].curves[0]``).
+    GeometryError
+        The geometry it describes is invalid.
+    """
+    if not isinstance(d, dict):
+        raise FormatError(f"geometry must be a JSON object, got {type(d).__name__}")
+    _check_keys(d, _TOP, "geometry")
+    if d.get("version", 1) != 1:
+        raise FormatError(f"unsupported geometry version {d['version']!r}; this reader knows 1")
+    if "outer" not in d:
+        raise FormatError("geometry: missing 'outer'")
+    try:
+        outer = _chain(d["outer"], "outer", True)
+        holes = [_chain(h, f"holes[{i}]", True) for i, h in enumerate(d.get("holes", []))]
+        segs = [_chain(s, f"segments[{i}]", False) for i, s in enumerate(d.get("segments", []))]
+    except InputError as exc:
+        raise FormatError(str(exc)) from exc
+    points = _points(d["points"], "points") if d.get("points") else None
+    regions = []
+    for i, r in enumerate(d.get("regions", [])):
+        where = f"regions[{i}]"
+        if not isinstance(r, dict) or "point" not in r:
+            raise FormatError(f"{where}: expected {{'point': [x, y], 'marker': m, 'max_area': a}}")
+        _check_keys(r, {"point", "marker", "max_area"}, where)
+        p = _points([r["point"]], where + ".point")[0]
+        regions.append((p[0], p[1], int(r.get("marker", 0)), r.get("max_area")))
+    return Domain(outer, holes, segments=segs, points=points, regions=regions, size=d.get("size"))
+
+
+def load_domain(path) -> Domain:
+    """Read a JSON geometry file (schema in this module's docstring) as a :class:`Domain`."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text())
+    except OSError as exc:
+        raise FormatError(f"{path}: cannot read ({exc.strerror})") from exc
+    except json.JSONDecodeError as exc:
+        raise FormatError(f"{path}:{exc.lineno}:{exc.colno}: invalid JSON: {exc.msg}") from exc
+    try:
+        return domain_from_dict(data)
+    except FormatError as exc:
+        raise FormatError(f"{path}: {exc}") from exc
+    except GeometryError as exc:
+        raise GeometryError(f"{path}: {exc}") from exc
+
+
+def _curve_dict(c) -> dict:
+    out: dict
+    if isinstance(c, Line):
+        out = {"line": [c.p0.tolist(), c.p1.tolist()]}
+    elif isinstance(c, Arc):
+        out = {
+            "arc": {"center": c.center.tolist(), "radius": c.radius, "theta0": c.t0, "theta1": c.t1}
+        }
+    elif isinstance(c, Polyline):
+        out = {"polyline": c.points.tolist()}
+        if c.markers is not None:
+            out["markers"] = c.markers.tolist()
+    elif isinstance(c, Spline):
+        out = {"spline": c.points.tolist(), "closed": c.closed}
+    else:
+        raise InputError(
+            f"cannot write a {type(c).__name__} curve to JSON (only lines, arcs, polylines, splines)"
+        )
+    if c.marker is not None and "markers" not in out:
+        out["marker"] = c.marker
+    return out
+
+
+def domain_to_dict(domain: Domain) -> dict:
+    """The dict :func:`domain_from_dict` reads back into an equivalent domain.
+
+    Loops are written normalised (outer counter-clockwise, holes clockwise) as curve
+    chains.  Raises :class:`~meshwright.core.errors.InputError` for parametric curves,
+    which have no JSON form.
+    """
+    d: dict = {
+        "version": 1,
+        "outer": {"curves": [_curve_dict(c) for c in domain.loops[0]]},
+        "holes": [{"curves": [_curve_dict(c) for c in lp]} for lp in domain.loops[1:]],
+    }
+    if domain.constraints:
+        d["segments"] = [{"curves": [_curve_dict(c) for c in ch]} for ch in domain.constraints]
+    if len(domain.points):
+        d["points"] = domain.points.tolist()
+    if domain.regions:
+        d["regions"] = [
+            {"point": [x, y], "marker": m, **({} if a is None else {"max_area": a})}
+            for x, y, m, a in domain.regions
+        ]
+    if domain.size is not None and domain.size.constant is not None:
+        d["size"] = domain.size.constant
+    return d
+
+
+def save_domain(domain: Domain, path) -> None:
+    """Write a Domain as a JSON geometry file (see :func:`domain_to_dict`)."""
+    Path(path).write_text(json.dumps(domain_to_dict(domain), indent=1) + "\n")
