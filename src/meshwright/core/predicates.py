@@ -1,0 +1,699 @@
+"""Robust geometric predicates with exact signs: orientation, in-circle, in-sphere, SoS.
+
+Sources
+-------
+* J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
+  Predicates", Discrete & Computational Geometry 18(3):305-363, 1997.  Floating-point
+  filters with his a-priori forward error bounds (``ccwerrboundA``, ``iccerrboundA``,
+  ``o3derrboundA``, ``isperrboundA``), exact fallback in expansion arithmetic
+  (:mod:`meshwright.core.expansion`).
+* H. Edelsbrunner and E. P. Mücke, "Simulation of Simplicity: A Technique to Cope with
+  Degenerate Cases in Geometric Algorithms", ACM Transactions on Graphics 9(1):66-104, 1990.
+* O. Devillers and M. Teillaud, "Perturbations for Delaunay and weighted Delaunay 3D
+  triangulations", Computational Geometry 44(3):160-168, 2011: perturbing only the lifted
+  coordinate ``|p|**2`` leaves every orientation unperturbed and still yields a Delaunay
+  triangulation of the unperturbed points.
+
+Sign contracts
+--------------
+The **sign** is exact; the magnitude is only an approximation.
+
+* ``orient2d(a, b, c) > 0``  iff a, b, c are counter-clockwise;
+  it approximates ``det[b - a, c - a]`` (twice the signed area).
+* ``incircle(a, b, c, d) > 0`` iff d is strictly inside the circle through a, b, c when a, b, c
+  are counter-clockwise; the sign flips when a, b, c are clockwise (Shewchuk's convention).
+  It is alternating in all four arguments.
+* ``orient3d(a, b, c, d) > 0`` iff ``det[b - a, c - a, d - a] > 0`` (positive tetrahedron
+  volume, CGAL's convention).  **This is the OPPOSITE sign of Shewchuk's C orient3d**, which
+  is positive when d lies *below* the plane of counter-clockwise a, b, c.
+* ``insphere(a, b, c, d, e) > 0`` iff e is strictly inside the sphere through a, b, c, d when
+  ``orient3d(a, b, c, d) > 0`` (so also the opposite sign of Shewchuk's C insphere).
+  It is alternating in all five arguments.
+
+Exactness holds for finite inputs whose intermediate products neither overflow nor underflow.
+A sufficient condition for all four predicates: every nonzero coordinate has magnitude in
+``[2**-148, 2**200]`` (about 2.8e-45 .. 1.6e60).  Then all coordinates are multiples of
+``2**-200``, so every nonzero expansion component (a multiple of the product of at most five
+such granules) stays above ``2**-1000``, and degree-5 terms stay below ``2**1013``.  NaN/inf
+inputs give unspecified results.
+
+Invariants
+----------
+* Two stages.  The filter evaluates the determinant in plain doubles in Shewchuk's order and
+  returns it when ``|det|`` exceeds ``errbound * permanent``; it allocates nothing.  Otherwise
+  the exact stage recomputes the determinant from exact coordinate differences (two-component
+  expansions) and returns the exact value rounded to a double, never flipping its sign.
+  Shewchuk's intermediate stages B/C are not implemented: zero elimination already keeps the
+  exact stage short when the differences are exact (grid-like, degenerate inputs).
+* Exactly degenerate inputs return exactly ``0.0``; the SoS variants return ``0`` only in the
+  documented fully degenerate cases.
+* All kernels are ``@njit(cache=True)`` and take scalars (batch helpers take arrays).
+
+Symbolic perturbation
+---------------------
+``incircle_sos`` / ``insphere_sos`` evaluate the predicate on lifted points
+``(p, |p|**2 + delta_i)`` where the point with global index ``i`` gets ``delta_i = eps**(N - i)``
+for an infinitesimal ``eps > 0`` (``N`` larger than every index), so a larger index means a
+larger perturbation.  The lifted determinant is linear in the lift column, so on an exact zero
+its sign is the sign of the lift-column cofactor of the largest-index point, then of the next
+largest if that cofactor vanishes, and so on.  Those cofactors are unperturbed orientations;
+raising a point's lift moves it *outside*, so for the query point the cofactor sign is
+``-orient(a, b, c[, d])`` and for any other point it is the orientation with the query point
+put in that point's place.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from meshwright.core.expansion import (
+    EPSILON,
+    MAX_EXPANSION_LENGTH,
+    diff_into,
+    estimate,
+    expansion_sum,
+    mul_small,
+)
+
+__all__ = [
+    "orient2d",
+    "incircle",
+    "orient3d",
+    "insphere",
+    "incircle_sos",
+    "insphere_sos",
+    "orient2d_batch",
+    "orient3d_batch",
+    "CCW_ERRBOUND_A",
+    "ICC_ERRBOUND_A",
+    "O3D_ERRBOUND_A",
+    "ISP_ERRBOUND_A",
+]
+
+# A-priori relative forward error bounds of the plain floating-point evaluations below
+# (Shewchuk 1997, Sec. 4): |computed - exact| <= bound * permanent, where the permanent is the
+# same expression with every product replaced by its absolute value.
+CCW_ERRBOUND_A = (3.0 + 16.0 * EPSILON) * EPSILON
+ICC_ERRBOUND_A = (10.0 + 96.0 * EPSILON) * EPSILON
+O3D_ERRBOUND_A = (7.0 + 56.0 * EPSILON) * EPSILON
+ISP_ERRBOUND_A = (16.0 + 224.0 * EPSILON) * EPSILON
+
+# Capacity of the largest exact-stage regions of insphere: combinatorially a lift times a
+# 3x3 minor has up to 3 * 16 * 192 = 9216 components, but no nonoverlapping expansion of
+# doubles can exceed MAX_EXPANSION_LENGTH (one bit position per component).
+_CAP = MAX_EXPANSION_LENGTH
+# Slot of the xy-minor of the ascending pair (q, r) of insphere's four points, at 4q + r.
+_PAIR_SLOT = (-1, 0, 1, 2, -1, -1, 3, 4, -1, -1, -1, 5, -1, -1, -1, -1)
+
+
+# Helpers that take constant offsets carry explicit signatures so that Numba does not compile
+# one literal-typed specialisation per call site.
+@nb.njit("int64(float64[::1], " + ", ".join(["int64"] * 12) + ")", cache=True)
+def _minor2(w, pxo, npx, qyo, nqy, qxo, nqx, pyo, npy, ho, t1, t2, so):
+    """``w[ho:] = px * qy - qx * py`` for factors of <= 2 components: <= 8 + 8 = 16.
+
+    ``t1``, ``t2`` are 8-slot and ``so`` an 8-slot scratch region.
+    """
+    n1 = mul_small(w, pxo, npx, qyo, nqy, 1.0, t1, so)
+    n2 = mul_small(w, qxo, nqx, pyo, npy, 1.0, t2, so)
+    return expansion_sum(w, t1, n1, t2, n2, -1.0, ho)
+
+
+@nb.njit("int64(float64[::1], int64, int64, int64, int64, int64, int64, int64)", cache=True)
+def _square_times(w, mo, mlen, xo, nx, ho, to, so):
+    """``w[ho:] = x * (x * m)``: <= 16 mlen slots at ``ho``, 4 mlen at ``to``, 16 mlen at ``so``.
+
+    Scaling twice by the short difference beats forming ``x**2`` and multiplying two long
+    expansions: no merge grows beyond the final length.
+    """
+    n = mul_small(w, mo, mlen, xo, nx, 1.0, to, so)
+    return mul_small(w, to, n, xo, nx, 1.0, ho, so)
+
+
+# ----------------------------------------------------------------------------------------
+# orient2d
+# ----------------------------------------------------------------------------------------
+@nb.njit(cache=True)
+def _orient2d_exact(ax, ay, bx, by, cx, cy):
+    """Exact ``(a-c)x (b-c)y - (a-c)y (b-c)x`` as an expansion, rounded."""
+    # Regions: 4 differences (2 each) at 0..8, products at 8 and 16, scratch at 24,
+    # result (<= 16) at 32.
+    w = np.empty(48)
+    nacx = diff_into(ax, cx, w, 0)
+    nacy = diff_into(ay, cy, w, 2)
+    nbcx = diff_into(bx, cx, w, 4)
+    nbcy = diff_into(by, cy, w, 6)
+    n = _minor2(w, 0, nacx, 6, nbcy, 4, nbcx, 2, nacy, 32, 8, 16, 24)
+    return estimate(w, 32, n)
+
+
+@nb.njit(cache=True)
+def orient2d(ax, ay, bx, by, cx, cy):
+    """Orientation of three points in the plane, with exact sign.
+
+    Parameters
+    ----------
+    ax, ay, bx, by, cx, cy : float
+        Coordinates of a, b, c.
+
+    Returns
+    -------
+    float
+        Positive if a, b, c are counter-clockwise, negative if clockwise, exactly 0.0 if
+        collinear.  The magnitude approximates twice the signed triangle area.
+    """
+    detleft = (ax - cx) * (by - cy)
+    detright = (ay - cy) * (bx - cx)
+    det = detleft - detright
+    # If the two products have opposite signs (or one is zero), the subtraction cannot
+    # cancel and the sign of det is already the sign of the exact value.
+    if detleft > 0.0:
+        if detright <= 0.0:
+            return det
+        detsum = detleft + detright
+    elif detleft < 0.0:
+        if detright >= 0.0:
+            return det
+        detsum = -detleft - detright
+    else:
+        return det
+    errbound = CCW_ERRBOUND_A * detsum
+    if det >= errbound or -det >= errbound:
+        return det
+    return _orient2d_exact(ax, ay, bx, by, cx, cy)
+
+
+# ----------------------------------------------------------------------------------------
+# incircle
+# ----------------------------------------------------------------------------------------
+@nb.njit(cache=True)
+def _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
+    """Exact lifted 3x3 determinant relative to d, as an expansion, rounded.
+
+    ``det = sum_p |p - d|**2 * minor_p`` over p = a, b, c with ``minor_p`` the 2x2
+    determinant of the cyclic successors of p.  Lengths: differences 2, minor 16,
+    ``x * (x * minor)`` 256, one lifted term 512, the sum of three 1536.
+    """
+    # Regions (offsets): differences 0 (p - d at 4p: x, then y), minor 12, t1 28, t2 36,
+    # x * minor 44 (64), scratch 108 (256), x-square 364 (256), y-square 620 (256),
+    # term 876 (512), two accumulators 1388 and 2924 (1536 each).
+    w = np.empty(4460)
+    nd = (
+        diff_into(ax, dx, w, 0),
+        diff_into(ay, dy, w, 2),
+        diff_into(bx, dx, w, 4),
+        diff_into(by, dy, w, 6),
+        diff_into(cx, dx, w, 8),
+        diff_into(cy, dy, w, 10),
+    )
+    acc = 1388
+    nxt = 2924
+    n = 0
+    for p in range(3):
+        q = (p + 1) % 3
+        r = (p + 2) % 3
+        m = _minor2(
+            w, 4 * q, nd[2 * q], 4 * r + 2, nd[2 * r + 1], 4 * r, nd[2 * r],
+            4 * q + 2, nd[2 * q + 1], 12, 28, 36, 108,
+        )
+        nx = _square_times(w, 12, m, 4 * p, nd[2 * p], 364, 44, 108)
+        ny = _square_times(w, 12, m, 4 * p + 2, nd[2 * p + 1], 620, 44, 108)
+        k = expansion_sum(w, 364, nx, 620, ny, 1.0, 876)
+        n = expansion_sum(w, acc, n, 876, k, 1.0, nxt)
+        acc, nxt = nxt, acc
+    return estimate(w, acc, n)
+
+
+@nb.njit(cache=True)
+def incircle(ax, ay, bx, by, cx, cy, dx, dy):
+    """In-circle test with exact sign.
+
+    Parameters
+    ----------
+    ax, ay, bx, by, cx, cy : float
+        Three points defining a circle.
+    dx, dy : float
+        Query point.
+
+    Returns
+    -------
+    float
+        Positive if d is strictly inside the circle through a, b, c and a, b, c are
+        counter-clockwise (negative if outside); the sign flips if a, b, c are clockwise.
+        Exactly 0.0 if the four points are cocircular (or a, b, c collinear and d on the line).
+    """
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    alift = adx * adx + ady * ady
+
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    blift = bdx * bdx + bdy * bdy
+
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+    clift = cdx * cdx + cdy * cdy
+
+    det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+    permanent = (
+        (abs(bdxcdy) + abs(cdxbdy)) * alift
+        + (abs(cdxady) + abs(adxcdy)) * blift
+        + (abs(adxbdy) + abs(bdxady)) * clift
+    )
+    errbound = ICC_ERRBOUND_A * permanent
+    if det > errbound or -det > errbound:
+        return det
+    return _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+
+
+
+# ----------------------------------------------------------------------------------------
+# orient3d
+# ----------------------------------------------------------------------------------------
+@nb.njit(cache=True)
+def _orient3d_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+    """Exact ``det[b - a, c - a, d - a]`` as an expansion, rounded.
+
+    Computed as ``-det[a - d, b - d, c - d]`` expanded along z (Shewchuk's form, negated):
+    differences 2, xy-minors 16, ``z * minor`` 64, the sum of three 192.
+    """
+    # Regions (offsets): differences 0 (p - d at 6p: x, y, z), minor 18, t1 34, t2 42,
+    # scratch 50 (64), term 114 (64), two accumulators 178 and 370 (192 each).
+    w = np.empty(562)
+    nd = (
+        diff_into(ax, dx, w, 0),
+        diff_into(ay, dy, w, 2),
+        diff_into(az, dz, w, 4),
+        diff_into(bx, dx, w, 6),
+        diff_into(by, dy, w, 8),
+        diff_into(bz, dz, w, 10),
+        diff_into(cx, dx, w, 12),
+        diff_into(cy, dy, w, 14),
+        diff_into(cz, dz, w, 16),
+    )
+    acc = 178
+    nxt = 370
+    n = 0
+    for p in range(3):
+        q = (p + 1) % 3
+        r = (p + 2) % 3
+        m = _minor2(
+            w, 6 * q, nd[3 * q], 6 * r + 2, nd[3 * r + 1], 6 * r, nd[3 * r],
+            6 * q + 2, nd[3 * q + 1], 18, 34, 42, 50,
+        )
+        # The minus sign turns Shewchuk's determinant into ours.
+        k = mul_small(w, 18, m, 6 * p + 4, nd[3 * p + 2], -1.0, 114, 50)
+        n = expansion_sum(w, acc, n, 114, k, 1.0, nxt)
+        acc, nxt = nxt, acc
+    return estimate(w, acc, n)
+
+
+@nb.njit(cache=True)
+def orient3d(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+    """Orientation of four points in space, with exact sign (CGAL convention).
+
+    Parameters
+    ----------
+    ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz : float
+        Coordinates of a, b, c, d.
+
+    Returns
+    -------
+    float
+        Positive iff ``det[b - a, c - a, d - a] > 0``: the tetrahedron abcd has positive
+        volume, i.e. d lies on the side of plane abc from which a, b, c look
+        counter-clockwise.  Exactly 0.0 if coplanar.  The magnitude approximates six times
+        the signed volume.  NOTE: this is the negative of Shewchuk's C ``orient3d``.
+    """
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    adz = az - dz
+    bdz = bz - dz
+    cdz = cz - dz
+
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+
+    # Shewchuk's evaluation order (the one his error bound is proven for) of
+    # det[a-d, b-d, c-d] = -det[b-a, c-a, d-a].
+    det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady)
+    permanent = (
+        (abs(bdxcdy) + abs(cdxbdy)) * abs(adz)
+        + (abs(cdxady) + abs(adxcdy)) * abs(bdz)
+        + (abs(adxbdy) + abs(bdxady)) * abs(cdz)
+    )
+    errbound = O3D_ERRBOUND_A * permanent
+    if det > errbound or -det > errbound:
+        return -det
+    return _orient3d_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
+
+
+# ----------------------------------------------------------------------------------------
+# insphere
+# ----------------------------------------------------------------------------------------
+@nb.njit(cache=True)
+def _insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
+    """Exact lifted 4x4 determinant relative to e (our sign), as an expansion, rounded.
+
+    Shewchuk's ``det4[p - e | |p - e|**2]`` expanded along the lift column is
+    ``sum_s (-1)**(s+1) lift_s M_s`` (s = 0..3, ``M_s`` the xyz-determinant of the other three
+    points in order); ours is its negative.  Lengths: differences 2, xy-minors 16,
+    ``M_s`` 192, ``x * M_s`` 768, ``x * (x * M_s)`` 3072; beyond that :data:`_CAP` applies.
+    """
+    # Regions (offsets): differences 0 (p - e at 6p: x, y, z), six xy-minors 24 (16 each),
+    # t1 120, t2 128, z * minor 136 (64), two M_s accumulators 200 and 392 (192 each),
+    # x * M_s 584 (768), scratch 1352 (3072), then five regions of _CAP: x-square,
+    # two lift-term accumulators, two determinant accumulators.
+    sq = 4424
+    w = np.empty(sq + 5 * _CAP)
+    nd = (
+        diff_into(ax, ex, w, 0),
+        diff_into(ay, ey, w, 2),
+        diff_into(az, ez, w, 4),
+        diff_into(bx, ex, w, 6),
+        diff_into(by, ey, w, 8),
+        diff_into(bz, ez, w, 10),
+        diff_into(cx, ex, w, 12),
+        diff_into(cy, ey, w, 14),
+        diff_into(cz, ez, w, 16),
+        diff_into(dx, ex, w, 18),
+        diff_into(dy, ey, w, 20),
+        diff_into(dz, ez, w, 22),
+    )
+    # xy-minors [p, q] = p_x q_y - q_x p_y for the 6 pairs p < q, in lexicographic order,
+    # computed once and shared by the four xyz-minors.
+    n01 = _minor2(w, 0, nd[0], 8, nd[4], 6, nd[3], 2, nd[1], 24, 120, 128, 1352)
+    n02 = _minor2(w, 0, nd[0], 14, nd[7], 12, nd[6], 2, nd[1], 40, 120, 128, 1352)
+    n03 = _minor2(w, 0, nd[0], 20, nd[10], 18, nd[9], 2, nd[1], 56, 120, 128, 1352)
+    n12 = _minor2(w, 6, nd[3], 14, nd[7], 12, nd[6], 8, nd[4], 72, 120, 128, 1352)
+    n13 = _minor2(w, 6, nd[3], 20, nd[10], 18, nd[9], 8, nd[4], 88, 120, 128, 1352)
+    n23 = _minor2(w, 12, nd[6], 20, nd[10], 18, nd[9], 14, nd[7], 104, 120, 128, 1352)
+    n2 = (n01, n02, n03, n12, n13, n23)
+
+    acc = sq + 3 * _CAP
+    nxt = sq + 4 * _CAP
+    n = 0
+    for s in range(4):
+        # Rows other than s, ascending: (p0, p1, p2).
+        p0 = 1 if s == 0 else 0
+        p1 = 2 if s <= 1 else 1
+        p2 = 2 if s == 3 else 3
+        # M_s = det(p0, p1, p2) = p0_z [p1, p2] - p1_z [p0, p2] + p2_z [p0, p1]; every pair
+        # here is ascending, so the stored minors apply as they are.
+        m3 = 200
+        m3n = 392
+        k3 = 0
+        for j in range(3):
+            if j == 0:
+                p, q, r, sg = p0, p1, p2, 1.0
+            elif j == 1:
+                p, q, r, sg = p1, p0, p2, -1.0
+            else:
+                p, q, r, sg = p2, p0, p1, 1.0
+            sl = _PAIR_SLOT[q * 4 + r]
+            kz = mul_small(w, 24 + 16 * sl, n2[sl], 6 * p + 4, nd[3 * p + 2], sg, 136, 1352)
+            k3 = expansion_sum(w, m3, k3, 136, kz, 1.0, m3n)
+            m3, m3n = m3n, m3
+        # lift_s * M_s = sum over coordinates x of x * (x * M_s).
+        lt = sq + _CAP
+        ltn = sq + 2 * _CAP
+        kl = 0
+        for c in range(3):
+            kx = _square_times(w, m3, k3, 6 * s + 2 * c, nd[3 * s + c], sq, 584, 1352)
+            kl = expansion_sum(w, lt, kl, sq, kx, 1.0, ltn)
+            lt, ltn = ltn, lt
+        sign = 1.0 if s % 2 == 0 else -1.0
+        n = expansion_sum(w, acc, n, lt, kl, sign, nxt)
+        acc, nxt = nxt, acc
+    return estimate(w, acc, n)
+
+
+@nb.njit(cache=True)
+def insphere(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
+    """In-sphere test with exact sign (CGAL convention, matching :func:`orient3d`).
+
+    Parameters
+    ----------
+    ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz : float
+        Four points defining a sphere.
+    ex, ey, ez : float
+        Query point.
+
+    Returns
+    -------
+    float
+        Positive if e is strictly inside the sphere through a, b, c, d and
+        ``orient3d(a, b, c, d) > 0`` (negative if outside); the sign flips when
+        ``orient3d(a, b, c, d) < 0``.  Exactly 0.0 if the five points are cospherical (or
+        a, b, c, d coplanar and e on their circle).  NOTE: the negative of Shewchuk's C
+        ``insphere``.
+    """
+    aex = ax - ex
+    bex = bx - ex
+    cex = cx - ex
+    dex = dx - ex
+    aey = ay - ey
+    bey = by - ey
+    cey = cy - ey
+    dey = dy - ey
+    aez = az - ez
+    bez = bz - ez
+    cez = cz - ez
+    dez = dz - ez
+
+    aexbey = aex * bey
+    bexaey = bex * aey
+    ab = aexbey - bexaey
+    bexcey = bex * cey
+    cexbey = cex * bey
+    bc = bexcey - cexbey
+    cexdey = cex * dey
+    dexcey = dex * cey
+    cd = cexdey - dexcey
+    dexaey = dex * aey
+    aexdey = aex * dey
+    da = dexaey - aexdey
+    aexcey = aex * cey
+    cexaey = cex * aey
+    ac = aexcey - cexaey
+    bexdey = bex * dey
+    dexbey = dex * bey
+    bd = bexdey - dexbey
+
+    abc = aez * bc - bez * ac + cez * ab
+    bcd = bez * cd - cez * bd + dez * bc
+    cda = cez * da + dez * ac + aez * cd
+    dab = dez * ab + aez * bd + bez * da
+
+    alift = aex * aex + aey * aey + aez * aez
+    blift = bex * bex + bey * bey + bez * bez
+    clift = cex * cex + cey * cey + cez * cez
+    dlift = dex * dex + dey * dey + dez * dez
+
+    # Shewchuk's determinant (positive inside for his orientation); ours is its negative.
+    det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd)
+
+    aezp = abs(aez)
+    bezp = abs(bez)
+    cezp = abs(cez)
+    dezp = abs(dez)
+    p_ab = abs(aexbey) + abs(bexaey)
+    p_bc = abs(bexcey) + abs(cexbey)
+    p_cd = abs(cexdey) + abs(dexcey)
+    p_da = abs(dexaey) + abs(aexdey)
+    p_ac = abs(aexcey) + abs(cexaey)
+    p_bd = abs(bexdey) + abs(dexbey)
+    permanent = (
+        (p_cd * bezp + p_bd * cezp + p_bc * dezp) * alift
+        + (p_da * cezp + p_ac * dezp + p_cd * aezp) * blift
+        + (p_ab * dezp + p_bd * aezp + p_da * bezp) * clift
+        + (p_bc * aezp + p_ac * bezp + p_ab * cezp) * dlift
+    )
+    errbound = ISP_ERRBOUND_A * permanent
+    if det > errbound or -det > errbound:
+        return -det
+    return _insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez)
+
+
+# ----------------------------------------------------------------------------------------
+# symbolic perturbation of the lifted coordinate
+# ----------------------------------------------------------------------------------------
+@nb.njit("int64(int64, int64, int64, int64, int64, int64)", cache=True)
+def _rank_desc(i0, i1, i2, i3, i4, k):
+    """Position (0-based, 0 = largest index) of argument ``k`` among the given indices.
+
+    Ties, which the contract excludes, are broken by argument position so the order is
+    still total and the result deterministic.
+    """
+    idx = (i0, i1, i2, i3, i4)
+    me = idx[k]
+    r = 0
+    for j in range(5):
+        if j != k and (idx[j] > me or (idx[j] == me and j < k)):
+            r += 1
+    return r
+
+
+@nb.njit(cache=True)
+def incircle_sos(ax, ay, bx, by, cx, cy, dx, dy, ia, ib, ic, id):
+    """In-circle test under symbolic perturbation of the lifted coordinate; never 0 in practice.
+
+    Parameters
+    ----------
+    ax, ay, bx, by, cx, cy, dx, dy : float
+        As in :func:`incircle`.
+    ia, ib, ic, id : int
+        Distinct global indices of a, b, c, d; they define the perturbation.
+
+    Returns
+    -------
+    int
+        ``+1`` or ``-1``: the sign of :func:`incircle` when it is nonzero, otherwise the sign
+        for the perturbed lifts ``|p|**2 + eps**(N - index)`` (larger index, larger
+        perturbation).  Returns 0 only when every cofactor consulted vanishes, which needs
+        a, b, c collinear (otherwise the cofactor of d, ``-orient2d(a, b, c)``, decides).
+        Like :func:`incircle`, it is alternating: swapping two points together with their
+        indices flips the result.
+    """
+    det = incircle(ax, ay, bx, by, cx, cy, dx, dy)
+    if det > 0.0:
+        return 1
+    if det < 0.0:
+        return -1
+    # Lowest sentinel for the unused fifth slot so it never outranks a real point.
+    lowest = min(min(ia, ib), min(ic, id)) - 1
+    for r in range(4):
+        if _rank_desc(ia, ib, ic, id, lowest, 0) == r:
+            o = orient2d(dx, dy, bx, by, cx, cy)
+        elif _rank_desc(ia, ib, ic, id, lowest, 1) == r:
+            o = orient2d(ax, ay, dx, dy, cx, cy)
+        elif _rank_desc(ia, ib, ic, id, lowest, 2) == r:
+            o = orient2d(ax, ay, bx, by, dx, dy)
+        else:
+            o = -orient2d(ax, ay, bx, by, cx, cy)
+        if o > 0.0:
+            return 1
+        if o < 0.0:
+            return -1
+    return 0
+
+
+@nb.njit(cache=True)
+def insphere_sos(
+    ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, ia, ib, ic, id, ie
+):
+    """In-sphere test under symbolic perturbation of the lifted coordinate.
+
+    Parameters
+    ----------
+    ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez : float
+        As in :func:`insphere`.
+    ia, ib, ic, id, ie : int
+        Distinct global indices of a, b, c, d, e.
+
+    Returns
+    -------
+    int
+        ``+1`` or ``-1``: the sign of :func:`insphere` when nonzero, otherwise the sign for
+        the perturbed lifts (larger index, larger perturbation).  Returns 0 only when every
+        cofactor consulted vanishes, which needs a, b, c, d coplanar (otherwise the cofactor
+        of e, ``-orient3d(a, b, c, d)``, decides).  Alternating in its five points.
+    """
+    det = insphere(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez)
+    if det > 0.0:
+        return 1
+    if det < 0.0:
+        return -1
+    for r in range(5):
+        if _rank_desc(ia, ib, ic, id, ie, 0) == r:
+            o = orient3d(ex, ey, ez, bx, by, bz, cx, cy, cz, dx, dy, dz)
+        elif _rank_desc(ia, ib, ic, id, ie, 1) == r:
+            o = orient3d(ax, ay, az, ex, ey, ez, cx, cy, cz, dx, dy, dz)
+        elif _rank_desc(ia, ib, ic, id, ie, 2) == r:
+            o = orient3d(ax, ay, az, bx, by, bz, ex, ey, ez, dx, dy, dz)
+        elif _rank_desc(ia, ib, ic, id, ie, 3) == r:
+            o = orient3d(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez)
+        else:
+            o = -orient3d(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
+        if o > 0.0:
+            return 1
+        if o < 0.0:
+            return -1
+    return 0
+
+# ----------------------------------------------------------------------------------------
+# batch helpers
+# ----------------------------------------------------------------------------------------
+@nb.njit(cache=True)
+def orient2d_batch(points, tri):
+    """Evaluate :func:`orient2d` for every triangle.
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+    tri : (m, 3) int32 or int64
+        Vertex indices into ``points``.
+
+    Returns
+    -------
+    (m,) float64
+        ``orient2d`` of each triangle's vertices in the given order (positive = ccw).
+    """
+    m = tri.shape[0]
+    out = np.empty(m)
+    for t in range(m):
+        i = tri[t, 0]
+        j = tri[t, 1]
+        k = tri[t, 2]
+        out[t] = orient2d(
+            points[i, 0], points[i, 1], points[j, 0], points[j, 1], points[k, 0], points[k, 1]
+        )
+    return out
+
+
+
+@nb.njit(cache=True)
+def orient3d_batch(points, tets):
+    """Evaluate :func:`orient3d` for every tetrahedron.
+
+    Parameters
+    ----------
+    points : (n, 3) float64
+    tets : (m, 4) int32 or int64
+        Vertex indices into ``points``.
+
+    Returns
+    -------
+    (m,) float64
+        ``orient3d`` of each tetrahedron's vertices in the given order (positive volume > 0).
+    """
+    m = tets.shape[0]
+    out = np.empty(m)
+    for t in range(m):
+        i = tets[t, 0]
+        j = tets[t, 1]
+        k = tets[t, 2]
+        q = tets[t, 3]
+        out[t] = orient3d(
+            points[i, 0], points[i, 1], points[i, 2],
+            points[j, 0], points[j, 1], points[j, 2],
+            points[k, 0], points[k, 1], points[k, 2],
+            points[q, 0], points[q, 1], points[q, 2],
+        )
+    return out
