@@ -1,5 +1,14 @@
-"""meshwright: unstructured grid generation for finite-volume and finite-element solvers."""
+"""meshwright: unstructured grid generation for finite-volume and finite-element solvers.
 
+The public API is re-exported here; everything else is private kernels over flat arrays.
+
+>>> import meshwright as mw
+>>> tri = mw.delaunay(points)                 # Bowyer (default) or Watson, exact predicates
+>>> vor = mw.voronoi(points, clip=(0, 0, 1, 1))
+>>> mesh = tri.to_mesh(); mesh.validate(); mesh.write("out.vtu")
+"""
+
+from meshwright import geometry, sizing
 from meshwright.core.errors import (
     DegenerateInputError,
     DuplicatePointError,
@@ -11,11 +20,31 @@ from meshwright.core.errors import (
     SizeError,
     ValidationError,
 )
+from meshwright.core.mesh import Mesh
+from meshwright.core.quality import QualityReport
+from meshwright.geometry import Domain
+from meshwright.io import read, read_points
+from meshwright.tri import DELAUNAY_ALGORITHMS, Triangulation, delaunay
+from meshwright.tri.smoothing import smooth
+from meshwright.tri.voronoi import Voronoi, voronoi
 
 __version__ = "0.1.0"
 
 __all__ = [
     "__version__",
+    "Mesh",
+    "QualityReport",
+    "Domain",
+    "Triangulation",
+    "Voronoi",
+    "DELAUNAY_ALGORITHMS",
+    "delaunay",
+    "voronoi",
+    "smooth",
+    "read",
+    "read_points",
+    "geometry",
+    "sizing",
     "MeshwrightError",
     "InputError",
     "DuplicatePointError",

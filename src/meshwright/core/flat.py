@@ -1,0 +1,47 @@
+"""Flat-array helpers shared by the ``@njit`` kernels: capacity growth, the ghost sentinel.
+
+Kernels keep their data in flat, preallocated NumPy arrays (``tri[3*t + k]``,
+``nbr[3*t + k]``, ...) and a count of used entries.  When a kernel may outgrow its
+preallocated bound (points inserted into an existing structure), it calls :func:`grown`
+to obtain a larger copy; amortised over the insertions the copying costs O(1) each.
+
+Invariant: ``grown(a, need)`` returns ``a`` itself when it is already large enough, so
+callers can write ``a = grown(a, need)`` unconditionally.
+
+``GHOST = -1`` is the vertex id of the symbolic vertex at infinity in connectivity arrays
+(ghost triangles close the convex hull; see :mod:`meshwright.tri._kernel2d`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["GHOST", "grown"]
+
+GHOST = -1
+
+
+@njit(cache=True)
+def grown(a, need):
+    """Return ``a`` if it holds at least ``need`` entries, else a doubled copy.
+
+    Parameters
+    ----------
+    a : (m,) array of any dtype
+        Flat array whose first entries are in use.
+    need : int
+        Required length.
+
+    Returns
+    -------
+    (max(m, need, 2m),) array of ``a.dtype``
+        ``a`` itself, or a new array whose first ``m`` entries are those of ``a``; the rest
+        are uninitialised.
+    """
+    m = a.shape[0]
+    if need <= m:
+        return a
+    out = np.empty(max(need, 2 * m), dtype=a.dtype)
+    out[:m] = a
+    return out

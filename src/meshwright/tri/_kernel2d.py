@@ -1,0 +1,668 @@
+r"""Flat-array kernel of 2-D incremental Delaunay insertion, shared by Bowyer and Watson.
+
+Both algorithms of the chapter (Watson 1981, section 18.1.1; Bowyer 1981, section 18.1.2)
+insert one point at a time: find every triangle whose circumdisk contains the new point
+(the *cavity*, Watson's insertion polygon, Bowyer's deleted Voronoi vertices), delete them,
+and join the new point to the cavity boundary.  They differ only in the conflict test and in
+what is stored per triangle, so this module holds everything else and calls the conflict test
+of :mod:`meshwright.tri.bowyer` or of :mod:`meshwright.tri.watson` (with Watson's circle
+bookkeeping).  The algorithm is chosen by the per-triangle circle array: an empty ``circ``
+runs Bowyer, a sized one runs Watson (a branch on an array length, predicted perfectly).
+
+Flat layout (``cap`` triangle slots, ``ntri = meta[M_NTRI]`` in use)
+------------------------------------------------------------------
+``pts``  (rows, 2) float64      vertex coordinates; vertex ids are row numbers.
+``tri``  (3 cap,) int32         ``tri[3t + k]`` vertex k of triangle t, counter-clockwise.
+``nbr``  (3 cap,) int32         ``nbr[3t + k]`` triangle across the edge opposite vertex k,
+                                the edge from ``tri[3t + (k+1)%3]`` to ``tri[3t + (k+2)%3]``.
+``circ`` (4 cap,) float32       Watson's circumcircles (:mod:`meshwright.tri.watson`);
+                                empty for Bowyer.
+``rank`` (r,) int32             symbolic-perturbation key of vertex v: ``rank[v]`` for v < r,
+                                v itself beyond (empty: the key is the vertex id).
+``meta`` (3,) int64             ``[M_NTRI]`` slots in use, ``[M_LAST]`` a recent triangle,
+                                ``[M_RNG]`` xorshift state of the walk.
+``work`` (5 w,) int32           cavity scratch: w cavity triangles, w BFS parents, w boundary
+                                edges of three ints (start vertex, end vertex, outer half-edge).
+``vmark`` (>= rows + 1,) int32  per-vertex scratch of the fan; the last entry stands for GHOST.
+
+Superstructure: the symbolic vertex at infinity
+----------------------------------------------
+The chapter's enclosing superstructure is replaced by its limit, one vertex ``GHOST = -1`` at
+infinity.  Every convex-hull edge ``a -> b`` (outside on its left) carries a *ghost triangle*
+``(a, b, GHOST)``, always stored with GHOST as vertex 2, so the triangles (finite and ghost)
+tile a sphere: every ``nbr`` entry is a valid triangle, no triangle is ever lost on removal
+and removing the superstructure is dropping the ghosts.  A point p conflicts with a ghost
+``(a, b, GHOST)`` iff ``orient2d(a, b, p) > 0`` (p strictly outside the hull edge) or p lies
+strictly inside the segment ab.  With n >= 3 vertices not all collinear there are exactly
+``2n - 2`` triangles, ``2n - h - 2`` finite and ``h`` ghosts for h hull vertices (collinear
+hull points included), so preallocating ``2n`` slots never overflows.
+
+Insertion of vertex v
+---------------------
+1. Locate: visibility walk (Devillers, Pion & Teillaud 2002, "Walking in a triangulation",
+   Int. J. Found. Comput. Sci. 13(2)) from a recent triangle with exact ``orient2d``,
+   remembering the triangle it came from and starting at a pseudo-random edge (stochastic
+   walk, so it terminates also in non-Delaunay triangulations).  It stops in a finite
+   triangle holding v in its closure (a duplicate vertex is detected there) or in a ghost
+   triangle whose hull edge v sees.  Either one conflicts with v.
+2. Cavity: breadth-first growth over neighbours that conflict.  The cavity is a triangulated
+   disk with every vertex on its boundary, so its dual graph is a tree: skipping the BFS
+   parent is enough to visit each cavity triangle once.  A non-conflicting neighbour gives a
+   boundary edge.  A disk of m triangles has m + 2 boundary edges; anything else means the
+   predicate and the triangulation disagree and is reported (``BROKEN``).
+3. Fan: boundary edge ``u -> w`` (counter-clockwise around the cavity) gets the new triangle
+   ``(u, w, v)``.  The first m reuse the cavity slots, the last two are appended; the outer
+   neighbour's back pointer is redirected, and consecutive fan triangles are linked through
+   ``vmark[u]`` = the fan triangle whose boundary edge starts at u::
+
+          w2 ______ w1                 w2 ______ w1
+            /\    /\                     \  |  /
+           /  \  /  \      cavity         \ | /    fan: (u, w, v) for each
+       w3 /____\/____\ w0  ------>   w3 ---- v ---- w0    boundary edge u -> w
+          \    /\ v  /                    / | \
+           \  /  \  /                    /  |  \
+            \/____\/                  w4 ___|___ w5
+          w4        w5
+
+   A fan triangle touching GHOST is rotated so that GHOST is vertex 2 again.
+
+Hot-path rules: no allocation and no Python objects inside ``insert_vertex``; arrays that may
+be too small make it return ``NEED_SPACE`` *before* anything is modified, and
+:func:`make_room` grows them by doubling.  Memory locality: the caller stores the points in
+insertion order (BRIO), so vertices that are close in space are close in ``pts``; ``rank``
+keeps the perturbation keys of that build valid after the vertices are renumbered.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.flat import GHOST, grown
+from meshwright.core.predicates import CCW_ERRBOUND_A, orient2d
+from meshwright.tri import bowyer, watson
+
+__all__ = [
+    "GHOST",
+    "NEED_SPACE",
+    "BROKEN",
+    "DUP_BASE",
+    "M_NTRI",
+    "M_LAST",
+    "M_RNG",
+    "new_meta",
+    "new_work",
+    "walk",
+    "insert_vertex",
+    "make_room",
+    "insert_batch",
+    "find_start",
+    "promote",
+    "init_triangle",
+    "compact",
+    "relabel",
+    "locate_points",
+    "hull_loop",
+    "scatter_rows",
+]
+
+# insert_vertex status: >= 0 is a new triangle incident to v; otherwise one of these, and a
+# status <= DUP_BASE means v coincides with vertex DUP_BASE - status (nothing was changed).
+NEED_SPACE = -1
+BROKEN = -2
+DUP_BASE = -3
+# meta slots
+M_NTRI = 0
+M_LAST = 1
+M_RNG = 2
+_WORK_INIT = 64  # initial cavity capacity; doubled on demand
+
+
+def new_meta(seed: int) -> np.ndarray:
+    """Fresh kernel header: no triangles, walk start 0, walk RNG state from ``seed``.
+
+    Returns
+    -------
+    (3,) int64
+    """
+    meta = np.zeros(3, dtype=np.int64)
+    meta[M_RNG] = (int(seed) * 2654435761 + 1) % 0xFFFFFFFF or 1  # xorshift state must not be 0
+    return meta
+
+
+def new_work() -> np.ndarray:
+    """Fresh cavity scratch of the initial capacity: (5 w,) int32."""
+    return np.empty(5 * _WORK_INIT, dtype=np.int32)
+
+
+@njit(inline="always")
+def _next(k):
+    return 0 if k == 2 else k + 1
+
+
+@njit(inline="always")
+def _prev(k):
+    return 2 if k == 0 else k - 1
+
+
+@njit(inline="always")
+def _vslot(u, vmark):
+    """Scratch index of vertex u; GHOST uses the last entry."""
+    return u if u >= 0 else vmark.shape[0] - 1
+
+
+@njit(inline="always")
+def _fan_slot(j, ncav, ntri, work):
+    """Triangle slot of fan triangle j: cavity slots first, then two appended slots."""
+    return work[j] if j < ncav else ntri + (j - ncav)
+
+
+@njit(inline="always")
+def _fan_shift(u, w):
+    """Rotation that keeps GHOST at vertex 2: conceptual vertex k is stored at (k + s) % 3."""
+    if w == GHOST:
+        return 1
+    if u == GHOST:
+        return 2
+    return 0
+
+
+@njit(inline="always")
+def _orient(ax, ay, bx, by, cx, cy):
+    """``orient2d`` with Shewchuk's stage-A filter inlined; the exact predicate only if unsure."""
+    left = (ax - cx) * (by - cy)
+    right = (ay - cy) * (bx - cx)
+    det = left - right
+    err = CCW_ERRBOUND_A * (abs(left) + abs(right))
+    if det > err or -det > err:
+        return det
+    return orient2d(ax, ay, bx, by, cx, cy)
+
+
+@njit(inline="always")
+def _conflict(pts, tri, circ, rank, t, v, px, py):
+    """Conflict of triangle t with the new point: Watson's filter if circles are kept."""
+    if circ.shape[0] > 0:
+        return watson.conflict(pts, tri, circ, rank, t, v, px, py)
+    return bowyer.conflict(pts, tri, rank, t, v, px, py)
+
+
+@njit(cache=True)
+def walk(pts, tri, nbr, meta, t, px, py):
+    """Stochastic visibility walk from triangle t towards the point p.
+
+    Parameters
+    ----------
+    pts : (rows, 2) float64
+    tri, nbr : (3 cap,) int32
+    meta : (3,) int64
+        Its ``M_RNG`` entry advances.
+    t : int
+        Start triangle (finite or ghost).
+    px, py : float
+
+    Returns
+    -------
+    int
+        A finite triangle whose closure contains p, or a ghost triangle whose hull edge has
+        p strictly on its outer side.
+    """
+    if tri[3 * t + 2] == GHOST:
+        t = nbr[3 * t + 2]
+    came = -1
+    r = meta[M_RNG]
+    while True:
+        r ^= (r << 13) & 0xFFFFFFFF
+        r ^= r >> 17
+        r ^= (r << 5) & 0xFFFFFFFF
+        k = r % 3
+        base = 3 * t
+        nxt = -1
+        for _ in range(3):
+            n = nbr[base + k]
+            if n != came:
+                a = tri[base + _next(k)]
+                b = tri[base + _prev(k)]
+                if _orient(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) < 0.0:
+                    nxt = n
+                    break
+            k = _next(k)
+        if nxt < 0:
+            break
+        came = t
+        t = nxt
+        if tri[3 * t + 2] == GHOST:
+            break
+    meta[M_RNG] = r
+    return t
+
+
+@njit(cache=True)
+def insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark):
+    """Insert vertex v (row v of ``pts``) by cavity re-triangulation, walking from triangle t.
+
+    This is the single-point entry of the kernel for every method that inserts points into a
+    Delaunay triangulation (refinement, segment recovery): write the coordinates into row v of
+    ``pts`` first, call, and on ``NEED_SPACE`` call :func:`make_room` and retry.
+
+    Parameters
+    ----------
+    v : int
+        Vertex to insert; ``pts[v]`` holds its coordinates.
+    t : int
+        Start triangle of the walk, ``0 <= t < meta[M_NTRI]``.
+    pts : (rows, 2) float64
+    tri, nbr : (3 cap,) int32
+    circ : (4 cap,) float32 or (0,)
+        Watson's circumcircles; empty for Bowyer.
+    rank : (r,) int32
+        Perturbation keys (see the module docstring); may be empty.
+    meta : (3,) int64
+    work : (5 w,) int32
+    vmark : (>= rows + 1,) int32
+
+    Returns
+    -------
+    int
+        A new finite triangle incident to v; or ``NEED_SPACE`` (call :func:`make_room`, then
+        retry), ``BROKEN`` (inconsistent cavity), or ``DUP_BASE - w`` when v coincides with
+        vertex w.  Only success modifies the triangulation.
+    """
+    ntri = meta[M_NTRI]
+    need = ntri + 2
+    if (
+        3 * need > tri.shape[0]
+        or 3 * need > nbr.shape[0]
+        or (circ.shape[0] > 0 and 4 * need > circ.shape[0])
+        or vmark.shape[0] <= pts.shape[0]
+    ):
+        return NEED_SPACE
+    px = pts[v, 0]
+    py = pts[v, 1]
+    t0 = walk(pts, tri, nbr, meta, t, px, py)
+    if tri[3 * t0 + 2] != GHOST:
+        for k in range(3):
+            w = tri[3 * t0 + k]
+            if pts[w, 0] == px and pts[w, 1] == py:
+                return DUP_BASE - w
+
+    # Cavity by BFS; work = [cavity | parents | boundary (u, w, outer half-edge)].
+    cap = work.shape[0] // 5
+    bo = 2 * cap
+    work[0] = t0
+    work[cap] = -1
+    ncav = 1
+    nb = 0
+    i = 0
+    while i < ncav:
+        c = work[i]
+        parent = work[cap + i]
+        i += 1
+        base = 3 * c
+        for k in range(3):
+            n = nbr[base + k]
+            if n == parent:
+                continue
+            if _conflict(pts, tri, circ, rank, n, v, px, py):
+                if ncav == cap:
+                    return NEED_SPACE
+                work[ncav] = n
+                work[cap + ncav] = c
+                ncav += 1
+            else:
+                if nb == cap:
+                    return NEED_SPACE
+                n3 = 3 * n
+                j = 0 if nbr[n3] == c else (1 if nbr[n3 + 1] == c else 2)
+                o = bo + 3 * nb
+                work[o] = tri[base + _next(k)]
+                work[o + 1] = tri[base + _prev(k)]
+                work[o + 2] = n3 + j
+                nb += 1
+    if nb != ncav + 2:
+        return BROKEN
+
+    # Fan: write every triangle and its outer link, record where each boundary edge starts.
+    for j in range(nb):
+        o = bo + 3 * j
+        u = work[o]
+        w = work[o + 1]
+        he = work[o + 2]
+        tn = _fan_slot(j, ncav, ntri, work)
+        s = _fan_shift(u, w)
+        b3 = 3 * tn
+        tri[b3 + s] = u
+        tri[b3 + (s + 1) % 3] = w
+        tri[b3 + (s + 2) % 3] = v
+        nbr[b3 + (s + 2) % 3] = he // 3
+        nbr[he] = tn
+        vmark[_vslot(u, vmark)] = j
+    # Link each fan triangle (u, w, v) with the one whose boundary edge starts at w.
+    result = -1
+    for j in range(nb):
+        o = bo + 3 * j
+        u = work[o]
+        w = work[o + 1]
+        tn = _fan_slot(j, ncav, ntri, work)
+        s = _fan_shift(u, w)
+        jn = vmark[_vslot(w, vmark)]
+        on = bo + 3 * jn
+        tn2 = _fan_slot(jn, ncav, ntri, work)
+        s2 = _fan_shift(work[on], work[on + 1])
+        nbr[3 * tn + s] = tn2
+        nbr[3 * tn2 + (s2 + 1) % 3] = tn
+        if circ.shape[0] > 0:
+            watson.circle(pts, tri, circ, tn)
+        if s == 0:
+            result = tn
+    meta[M_NTRI] = need
+    meta[M_LAST] = result
+    return result
+
+
+@njit(cache=True)
+def make_room(rows, tri, nbr, circ, meta, work, vmark):
+    """Grow whichever array made :func:`insert_vertex` return ``NEED_SPACE``.
+
+    Parameters
+    ----------
+    rows : int
+        Rows of the points array the next insertion uses.
+    tri, nbr, circ, meta, work, vmark
+        Kernel state as in :func:`insert_vertex`.
+
+    Returns
+    -------
+    tuple
+        ``(tri, nbr, circ, work, vmark)``, grown copies or the arrays themselves.
+    """
+    need = meta[M_NTRI] + 2
+    if 3 * need > tri.shape[0] or 3 * need > nbr.shape[0] or (circ.shape[0] > 0 and 4 * need > circ.shape[0]):
+        tri = grown(tri, 3 * need)
+        nbr = grown(nbr, 3 * need)
+        if circ.shape[0] > 0:
+            circ = grown(circ, 4 * need)
+    elif vmark.shape[0] <= rows:
+        vmark = grown(vmark, rows + 1)
+    else:
+        work = np.empty(2 * work.shape[0], dtype=np.int32)
+    return tri, nbr, circ, work, vmark
+
+
+@njit(cache=True)
+def insert_batch(order, start, stop, vbase, pts, tri, nbr, circ, rank, meta, work, vmark, vmap):
+    """Insert ``order[start:stop]`` one by one, each walk starting where the last one ended.
+
+    Parameters
+    ----------
+    order : (m,) int32 or (0,)
+        Vertices (rows of ``pts``) in insertion order; empty means vertices start..stop-1.
+    start, stop : int
+        Positions of ``order`` to insert.
+    vbase : int
+        ``vmap`` is indexed by ``v - vbase``.
+    pts, tri, nbr, circ, rank, meta, work, vmark
+        Kernel state as in :func:`insert_vertex`.
+    vmap : (m,) int32
+        Output: ``vmap[v - vbase] = v`` for an inserted vertex v, else the vertex v coincides
+        with.
+
+    Returns
+    -------
+    tuple
+        ``(bad, tri, nbr, circ, work, vmark)``: ``bad`` is -1, or the vertex whose insertion
+        found an inconsistent cavity (the triangulation is then unchanged by it and the later
+        vertices are not inserted).
+    """
+    t = meta[M_LAST]
+    rows = pts.shape[0]
+    for i in range(start, stop):
+        v = order[i] if order.shape[0] > 0 else i
+        st = insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark)
+        while st == NEED_SPACE:
+            tri, nbr, circ, work, vmark = make_room(rows, tri, nbr, circ, meta, work, vmark)
+            st = insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark)
+        if st >= 0:
+            vmap[v - vbase] = v
+            t = st
+        elif st == BROKEN:
+            return v, tri, nbr, circ, work, vmark
+        else:
+            vmap[v - vbase] = DUP_BASE - st
+    return -1, tri, nbr, circ, work, vmark
+
+
+@njit(cache=True)
+def find_start(pts, order):
+    """Positions in ``order`` of the first non-degenerate triangle ``order[0], order[i], order[j]``.
+
+    Parameters
+    ----------
+    pts : (rows, 2) float64
+    order : (m,) int32 or int64
+
+    Returns
+    -------
+    tuple of int
+        ``(i, j)``: i is the first position whose point differs from ``order[0]``'s, j the
+        first after it not collinear with both; -1 where none exists.
+    """
+    a = order[0]
+    ax = pts[a, 0]
+    ay = pts[a, 1]
+    m = order.shape[0]
+    i = 1
+    while i < m and pts[order[i], 0] == ax and pts[order[i], 1] == ay:
+        i += 1
+    if i == m:
+        return -1, -1
+    b = order[i]
+    for j in range(i + 1, m):
+        c = order[j]
+        if orient2d(ax, ay, pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1]) != 0.0:
+            return i, j
+    return i, -1
+
+
+@njit(cache=True)
+def promote(order, src, dst):
+    """Move ``order[src]`` to position ``dst <= src``, shifting the entries between up by one."""
+    x = order[src]
+    for i in range(src, dst, -1):
+        order[i] = order[i - 1]
+    order[dst] = x
+
+
+@njit(cache=True)
+def init_triangle(pts, a, b, c, tri, nbr, circ, meta):
+    """Write the first triangle (made counter-clockwise) and its three ghosts into slots 0-3.
+
+    Parameters
+    ----------
+    pts : (rows, 2) float64
+    a, b, c : int
+        Non-collinear vertices.
+    tri, nbr, circ, meta
+        Kernel state with room for four triangles.
+    """
+    if orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1]) < 0.0:
+        b, c = c, b
+    # 0: (a, b, c); 1: (c, b, G) across b->c; 2: (a, c, G) across c->a; 3: (b, a, G) across a->b
+    tri[0], tri[1], tri[2], nbr[0], nbr[1], nbr[2] = a, b, c, 1, 2, 3
+    tri[3], tri[4], tri[5], nbr[3], nbr[4], nbr[5] = c, b, GHOST, 3, 2, 0
+    tri[6], tri[7], tri[8], nbr[6], nbr[7], nbr[8] = a, c, GHOST, 1, 3, 0
+    tri[9], tri[10], tri[11], nbr[9], nbr[10], nbr[11] = b, a, GHOST, 2, 1, 0
+    meta[M_NTRI] = 4
+    meta[M_LAST] = 0
+    if circ.shape[0] > 0:
+        watson.circle(pts, tri, circ, 0)
+
+
+@njit(cache=True)
+def _swap_slots(i, j, tri, nbr, circ, back):
+    """Exchange triangles i and j, redirecting every pointer to them."""
+    for k in range(3):
+        back[k] = -1
+        back[3 + k] = -1
+        n = nbr[3 * i + k]
+        if n != i and n != j:
+            back[k] = 3 * n + (0 if nbr[3 * n] == i else (1 if nbr[3 * n + 1] == i else 2))
+        n = nbr[3 * j + k]
+        if n != i and n != j:
+            back[3 + k] = 3 * n + (0 if nbr[3 * n] == j else (1 if nbr[3 * n + 1] == j else 2))
+    for k in range(3):
+        x = tri[3 * i + k]
+        tri[3 * i + k] = tri[3 * j + k]
+        tri[3 * j + k] = x
+        x = nbr[3 * i + k]
+        nbr[3 * i + k] = nbr[3 * j + k]
+        nbr[3 * j + k] = x
+    for k in range(3):
+        if nbr[3 * i + k] == i:
+            nbr[3 * i + k] = j
+        if nbr[3 * j + k] == j:
+            nbr[3 * j + k] = i
+        if back[k] >= 0:
+            nbr[back[k]] = j
+        if back[3 + k] >= 0:
+            nbr[back[3 + k]] = i
+    if circ.shape[0] > 0:
+        for k in range(4):
+            y = circ[4 * i + k]
+            circ[4 * i + k] = circ[4 * j + k]
+            circ[4 * j + k] = y
+
+
+@njit(cache=True)
+def compact(tri, nbr, circ, meta):
+    """Reorder slots so finite triangles come first and ghosts last; return their count.
+
+    At most h (hull size) slot exchanges, each fixing the pointers of the neighbours.
+
+    Parameters
+    ----------
+    tri, nbr, circ, meta
+        Kernel state; modified in place, ``meta[M_LAST]`` reset to 0.
+
+    Returns
+    -------
+    int
+        ``nt``: triangles ``[0, nt)`` are finite, ``[nt, meta[M_NTRI])`` are ghosts.
+    """
+    ntri = meta[M_NTRI]
+    nt = 0
+    for t in range(ntri):
+        if tri[3 * t + 2] != GHOST:
+            nt += 1
+    back = np.empty(6, dtype=np.int64)
+    i = 0
+    j = ntri - 1
+    while True:
+        while i < nt and tri[3 * i + 2] != GHOST:
+            i += 1
+        while j >= nt and tri[3 * j + 2] == GHOST:
+            j -= 1
+        if i >= nt or j < nt:
+            break
+        _swap_slots(i, j, tri, nbr, circ, back)
+    meta[M_LAST] = 0
+    return nt
+
+
+@njit(cache=True)
+def relabel(tri, ntri, newid, base):
+    """Replace every vertex id ``v >= base`` in the first ``ntri`` triangles by ``newid[v - base]``.
+
+    Parameters
+    ----------
+    tri : (3 cap,) int32
+    ntri : int
+    newid : (m,) int32
+    base : int
+        Ids below ``base`` (and GHOST) are kept.
+    """
+    for e in range(3 * ntri):
+        v = tri[e]
+        if v >= base:
+            tri[e] = newid[v - base]
+
+
+@njit(cache=True)
+def scatter_rows(a, dest):
+    """Move row i of ``a`` to row ``dest[i]`` in place, following the permutation's cycles.
+
+    Parameters
+    ----------
+    a : (m, 2) float64
+    dest : (m,) int32
+        A permutation of ``range(m)``.
+    """
+    m = dest.shape[0]
+    done = np.zeros(m, dtype=np.bool_)
+    for i in range(m):
+        if done[i]:
+            continue
+        x = a[i, 0]
+        y = a[i, 1]
+        j = dest[i]
+        while j != i:
+            xj = a[j, 0]
+            yj = a[j, 1]
+            a[j, 0] = x
+            a[j, 1] = y
+            done[j] = True
+            x = xj
+            y = yj
+            j = dest[j]
+        a[i, 0] = x
+        a[i, 1] = y
+        done[i] = True
+
+
+@njit(cache=True)
+def locate_points(pts, tri, nbr, meta, xy):
+    """Finite triangle containing each query point (in its closure), -1 outside the hull.
+
+    Parameters
+    ----------
+    pts : (rows, 2) float64
+    tri, nbr : (3 cap,) int32
+    meta : (3,) int64
+        A copy is advisable: the walk advances its RNG state.
+    xy : (m, 2) float64
+
+    Returns
+    -------
+    (m,) int32
+    """
+    m = xy.shape[0]
+    out = np.empty(m, dtype=np.int32)
+    t = meta[M_LAST]
+    for i in range(m):
+        t = walk(pts, tri, nbr, meta, t, xy[i, 0], xy[i, 1])
+        out[i] = -1 if tri[3 * t + 2] == GHOST else t
+    return out
+
+
+@njit(cache=True)
+def hull_loop(tri, nbr, g, h):
+    """Counter-clockwise convex-hull vertex loop read off the ghost triangles.
+
+    Parameters
+    ----------
+    tri, nbr : (3 cap,) int32
+    g : int
+        Any ghost triangle.
+    h : int
+        Number of ghost triangles (= hull vertices).
+
+    Returns
+    -------
+    (h,) int32
+    """
+    out = np.empty(h, dtype=np.int32)
+    for i in range(h):
+        # Ghost (a, b, GHOST) holds hull edge b -> a; the next one along the hull is across G->a.
+        out[i] = tri[3 * g + 1]
+        g = nbr[3 * g + 1]
+    return out

@@ -1,0 +1,85 @@
+"""Tests of meshwright.core.spatial_sort: Hilbert order and BRIO."""
+
+import numpy as np
+import pytest
+
+from meshwright.core.errors import InputError
+from meshwright.core.spatial_sort import brio_order, hilbert_keys, hilbert_order
+
+
+def _is_permutation(order, n):
+    return order.shape == (n,) and np.array_equal(np.sort(order), np.arange(n))
+
+
+def _mean_step(points, order):
+    return np.linalg.norm(np.diff(points[order], axis=0), axis=1).mean()
+
+
+def test_hilbert_keys_visit_every_cell_once_along_adjacent_cells():
+    # On a full 2**b x 2**b grid the keys are a bijection onto range(4**b) and consecutive
+    # keys belong to edge-adjacent cells: the defining property of the Hilbert curve.
+    b = 4
+    k = 1 << b
+    x, y = np.meshgrid(np.arange(k, dtype=float), np.arange(k, dtype=float))
+    pts = np.column_stack([x.ravel(), y.ravel()])
+    keys = hilbert_keys(pts, b)
+    assert np.array_equal(np.sort(keys), np.arange(k * k))
+    path = pts[np.argsort(keys)]
+    steps = np.abs(np.diff(path, axis=0)).sum(axis=1)
+    assert np.all(steps == 1.0)
+    assert tuple(path[0]) == (0.0, 0.0) and tuple(path[-1]) == (k - 1.0, 0.0)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 17, 1000])
+def test_hilbert_order_is_permutation(n):
+    pts = np.random.default_rng(n).random((n, 2))
+    assert _is_permutation(hilbert_order(pts), n)
+
+
+def test_hilbert_order_degenerate_extent_and_ties_keep_input_order():
+    pts = np.zeros((5, 2))
+    assert np.array_equal(hilbert_order(pts), np.arange(5))
+    line = np.column_stack([np.arange(6.0)[::-1], np.full(6, 3.0)])
+    assert _is_permutation(hilbert_order(line), 6)
+
+
+def test_hilbert_order_locality():
+    pts = np.random.default_rng(1).random((20000, 2))
+    sorted_step = _mean_step(pts, hilbert_order(pts))
+    random_step = _mean_step(pts, np.arange(len(pts)))
+    # Consecutive points along the curve are about 1/sqrt(n) apart, random ones about 0.5.
+    assert sorted_step < 0.02 < 0.4 < random_step
+
+
+def test_brio_permutation_and_determinism():
+    pts = np.random.default_rng(2).random((5000, 2))
+    a = brio_order(pts, np.random.default_rng(7))
+    b = brio_order(pts, np.random.default_rng(7))
+    c = brio_order(pts, np.random.default_rng(8))
+    assert _is_permutation(a, len(pts))
+    assert np.array_equal(a, b)
+    assert not np.array_equal(a, c)
+
+
+def test_brio_rounds_are_hilbert_sorted_and_growing():
+    pts = np.random.default_rng(3).random((40000, 2))
+    order = brio_order(pts, np.random.default_rng(0), min_round=100)
+    keys = hilbert_keys(pts, 16)[order]
+    # Round boundaries are where the Hilbert key drops; each round is sorted.
+    starts = np.flatnonzero(np.diff(keys) < 0) + 1
+    sizes = np.diff(np.concatenate([[0], starts, [len(pts)]]))
+    assert 5 <= len(sizes) <= 12
+    assert sizes[-1] > 0.4 * len(pts) and sizes[-2] > 0.15 * len(pts)
+    # The whole order is still local except at the few round boundaries.
+    assert _mean_step(pts, order) < 0.05
+
+
+def test_brio_small_inputs():
+    for n in range(0, 5):
+        pts = np.random.default_rng(n).random((n, 2))
+        assert _is_permutation(brio_order(pts, np.random.default_rng(0)), n)
+
+
+def test_bits_validated():
+    with pytest.raises(InputError, match="bits"):
+        hilbert_order(np.zeros((3, 2)), bits=40)
