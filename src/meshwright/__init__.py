@@ -5,6 +5,7 @@ The public API is re-exported here; everything else is private kernels over flat
 >>> import meshwright as mw
 >>> tri = mw.delaunay(points)                 # Bowyer (default) or Watson, exact predicates
 >>> vor = mw.voronoi(points, clip=(0, 0, 1, 1))
+>>> mesh = mw.triangulate(mw.geometry.naca("0012"), size=0.02, min_angle=30, smooth=5)
 >>> mesh = tri.to_mesh(); mesh.validate(); mesh.write("out.vtu")
 """
 
@@ -24,7 +25,7 @@ from meshwright.core.mesh import Mesh
 from meshwright.core.quality import QualityReport
 from meshwright.geometry import Domain
 from meshwright.io import read, read_points
-from meshwright.tri import DELAUNAY_ALGORITHMS, Triangulation, delaunay
+from meshwright.tri import DELAUNAY_ALGORITHMS, MESH_METHODS, Triangulation, delaunay, triangulate
 from meshwright.tri.smoothing import smooth
 from meshwright.tri.voronoi import Voronoi, voronoi
 
@@ -38,7 +39,9 @@ __all__ = [
     "Triangulation",
     "Voronoi",
     "DELAUNAY_ALGORITHMS",
+    "MESH_METHODS",
     "delaunay",
+    "triangulate",
     "voronoi",
     "smooth",
     "read",

@@ -13,12 +13,13 @@ import sys
 
 from meshwright.cli import delaunay as _delaunay
 from meshwright.cli import demo as _demo
+from meshwright.cli import mesh as _mesh
 from meshwright.cli import voronoi as _voronoi
 from meshwright.core.errors import MeshwrightError
 
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
-SUBCOMMANDS = (_delaunay, _voronoi, _demo)
+SUBCOMMANDS = (_delaunay, _voronoi, _mesh, _demo)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -2,7 +2,9 @@
 
 The demo reproduces chapter 18.1's circle example (Figure 18.1.5): points on a circle
 and inside it, triangulated by Bowyer's and Watson's algorithms, with the Voronoi
-diagram of the same points (Figure 18.1.1).
+diagram of the same points (Figure 18.1.1); then quality meshes of NACA 0012 in a far
+field and of the three-element airfoil (Figure 18.3.1) by Delaunay refinement, and of the
+same airfoil by Weatherill's point generation with smoothing (18.1.3, 18.2).
 """
 
 from __future__ import annotations
@@ -12,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from meshwright.cli._common import Timer
-from meshwright.tri import delaunay
+from meshwright.geometry import builtin
+from meshwright.tri import delaunay, triangulate
 from meshwright.tri.voronoi import voronoi
 
 NAME = "demo"
@@ -64,4 +67,34 @@ def run(args) -> int:
     png = out / "circle-voronoi.png"
     plot_voronoi(vor, path=str(png))
     print(f"wrote {png}")
+
+    for name, method, smooth in (("naca0012", "delaunay", 0), ("naca0012", "weatherill", 8), ("three-element", "delaunay", 0)):
+        with Timer() as t:
+            mesh = triangulate(builtin(name), method=method, smooth=smooth, min_angle=30)
+        mesh.validate()
+        stem = out / f"{name}-{method}"
+        mesh.write(str(stem.with_suffix(".vtu")))
+        _plot_airfoil(mesh, stem.with_suffix(".png"))
+        q = mesh.quality().summary()["triangle"]
+        print(
+            f"{name} ({method}{', smoothed' if smooth else ''}): {len(mesh.cells['triangle'])} triangles in "
+            f"{t.elapsed:.3f} s, min angle {q['min_angle']['min']:.1f} deg, mean radius ratio "
+            f"{q['radius_ratio']['mean']:.3f} -> {stem}.vtu, .png"
+        )
     return 0
+
+
+def _plot_airfoil(mesh, path: Path) -> None:
+    """Whole mesh beside a close-up of the airfoil."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(12, 6))
+    FigureCanvasAgg(fig)
+    whole, close = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+    mesh.plot(ax=whole)
+    mesh.plot(ax=close)
+    close.set_xlim(-0.15, 1.25)
+    close.set_ylim(-0.45, 0.45)
+    fig.tight_layout()
+    fig.savefig(str(path), dpi=130)

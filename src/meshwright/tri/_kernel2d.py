@@ -19,8 +19,12 @@ Flat layout (``cap`` triangle slots, ``ntri = meta[M_NTRI]`` in use)
                                 empty for Bowyer.
 ``rank`` (r,) int32             symbolic-perturbation key of vertex v: ``rank[v]`` for v < r,
                                 v itself beyond (empty: the key is the vertex id).
-``meta`` (3,) int64             ``[M_NTRI]`` slots in use, ``[M_LAST]`` a recent triangle,
-                                ``[M_RNG]`` xorshift state of the walk.
+``cons`` (3 cap,) int32         constrained Delaunay only (else empty): per half-edge, the
+                                constraint id + 1, 0 on a free edge; kept equal on both
+                                sides.  A cavity never crosses a constrained edge.
+``meta`` (6,) int64             ``[M_NTRI]`` slots in use, ``[M_LAST]`` a recent triangle,
+                                ``[M_RNG]`` xorshift state of the walk, ``[M_SPLIT_*]`` the
+                                constrained edge the pending fan splits.
 ``work`` (5 w,) int32           cavity scratch: w cavity triangles, w BFS parents, w boundary
                                 edges of three ints (start vertex, end vertex, outer half-edge).
 ``vmark`` (>= rows + 1,) int32  per-vertex scratch of the fan; the last entry stands for GHOST.
@@ -90,10 +94,16 @@ __all__ = [
     "M_NTRI",
     "M_LAST",
     "M_RNG",
+    "M_SPLIT_A",
+    "M_SPLIT_B",
+    "M_SPLIT_C",
     "new_meta",
     "new_work",
     "walk",
+    "cavity",
+    "fan",
     "insert_vertex",
+    "split_edge",
     "make_room",
     "insert_batch",
     "find_start",
@@ -115,6 +125,10 @@ DUP_BASE = -3
 M_NTRI = 0
 M_LAST = 1
 M_RNG = 2
+M_SPLIT_A = 3  # the constrained edge a-b (id + 1 in M_SPLIT_C, 0: none) the next fan splits
+M_SPLIT_B = 4
+M_SPLIT_C = 5
+_META_LEN = 6
 _WORK_INIT = 64  # initial cavity capacity; doubled on demand
 
 
@@ -123,9 +137,9 @@ def new_meta(seed: int) -> np.ndarray:
 
     Returns
     -------
-    (3,) int64
+    (6,) int64
     """
-    meta = np.zeros(3, dtype=np.int64)
+    meta = np.zeros(_META_LEN, dtype=np.int64)
     meta[M_RNG] = (int(seed) * 2654435761 + 1) % 0xFFFFFFFF or 1  # xorshift state must not be 0
     return meta
 
@@ -195,7 +209,7 @@ def walk(pts, tri, nbr, meta, t, px, py):
     ----------
     pts : (rows, 2) float64
     tri, nbr : (3 cap,) int32
-    meta : (3,) int64
+    meta : (6,) int64
         Its ``M_RNG`` entry advances.
     t : int
         Start triangle (finite or ghost).
@@ -237,61 +251,39 @@ def walk(pts, tri, nbr, meta, t, px, py):
     return t
 
 
-@njit(cache=True)
-def insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark):
-    """Insert vertex v (row v of ``pts``) by cavity re-triangulation, walking from triangle t.
-
-    This is the single-point entry of the kernel for every method that inserts points into a
-    Delaunay triangulation (refinement, segment recovery): write the coordinates into row v of
-    ``pts`` first, call, and on ``NEED_SPACE`` call :func:`make_room` and retry.
-
-    Parameters
-    ----------
-    v : int
-        Vertex to insert; ``pts[v]`` holds its coordinates.
-    t : int
-        Start triangle of the walk, ``0 <= t < meta[M_NTRI]``.
-    pts : (rows, 2) float64
-    tri, nbr : (3 cap,) int32
-    circ : (4 cap,) float32 or (0,)
-        Watson's circumcircles; empty for Bowyer.
-    rank : (r,) int32
-        Perturbation keys (see the module docstring); may be empty.
-    meta : (3,) int64
-    work : (5 w,) int32
-    vmark : (>= rows + 1,) int32
-
-    Returns
-    -------
-    int
-        A new finite triangle incident to v; or ``NEED_SPACE`` (call :func:`make_room`, then
-        retry), ``BROKEN`` (inconsistent cavity), or ``DUP_BASE - w`` when v coincides with
-        vertex w.  Only success modifies the triangulation.
-    """
-    ntri = meta[M_NTRI]
-    need = ntri + 2
-    if (
-        3 * need > tri.shape[0]
-        or 3 * need > nbr.shape[0]
-        or (circ.shape[0] > 0 and 4 * need > circ.shape[0])
+@njit(inline="always")
+def _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
+    """Whether one more insertion (two more slots) could overflow an array."""
+    need = 3 * (meta[M_NTRI] + 2)
+    return (
+        need > tri.shape[0]
+        or need > nbr.shape[0]
+        or (cons.shape[0] > 0 and need > cons.shape[0])
+        or (circ.shape[0] > 0 and 4 * (meta[M_NTRI] + 2) > circ.shape[0])
         or vmark.shape[0] <= pts.shape[0]
-    ):
-        return NEED_SPACE
+    )
+
+
+@njit(cache=True)
+def _grow_cavity(v, seed0, seed1, pts, tri, nbr, cons, circ, rank, work):
+    """Breadth-first cavity from ``seed0`` (and ``seed1`` across the split edge, if >= 0).
+
+    A constrained edge (``cons`` non-zero) is never crossed: it always bounds the cavity, which
+    makes the cavity the constrained-Delaunay one.  Returns the number of cavity triangles,
+    ``NEED_SPACE`` or ``BROKEN``; ``work`` holds the cavity and its boundary.
+    """
     px = pts[v, 0]
     py = pts[v, 1]
-    t0 = walk(pts, tri, nbr, meta, t, px, py)
-    if tri[3 * t0 + 2] != GHOST:
-        for k in range(3):
-            w = tri[3 * t0 + k]
-            if pts[w, 0] == px and pts[w, 1] == py:
-                return DUP_BASE - w
-
-    # Cavity by BFS; work = [cavity | parents | boundary (u, w, outer half-edge)].
     cap = work.shape[0] // 5
     bo = 2 * cap
-    work[0] = t0
-    work[cap] = -1
+    constrained = cons.shape[0] > 0
+    work[0] = seed0
+    work[cap] = seed1
     ncav = 1
+    if seed1 >= 0:
+        work[1] = seed1
+        work[cap + 1] = seed0
+        ncav = 2
     nb = 0
     i = 0
     while i < ncav:
@@ -303,7 +295,7 @@ def insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark):
             n = nbr[base + k]
             if n == parent:
                 continue
-            if _conflict(pts, tri, circ, rank, n, v, px, py):
+            if (not (constrained and cons[base + k] != 0)) and _conflict(pts, tri, circ, rank, n, v, px, py):
                 if ncav == cap:
                     return NEED_SPACE
                 work[ncav] = n
@@ -321,8 +313,88 @@ def insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark):
                 nb += 1
     if nb != ncav + 2:
         return BROKEN
+    return ncav
 
-    # Fan: write every triangle and its outer link, record where each boundary edge starts.
+
+@njit(inline="always")
+def _mark_split(h, tri, cons, meta):
+    """Remember constrained half-edge h (a -> b) as the one the next fan splits."""
+    t3 = h - h % 3
+    meta[M_SPLIT_A] = tri[t3 + _next(h % 3)]
+    meta[M_SPLIT_B] = tri[t3 + _prev(h % 3)]
+    meta[M_SPLIT_C] = cons[h]
+
+
+@njit(cache=True)
+def cavity(v, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
+    """Cavity of vertex v (coordinates in ``pts[v]``) from triangle t0, which contains it.
+
+    t0 is a finite triangle whose closure holds v, or a ghost whose hull edge v sees (what
+    :func:`walk` returns).  When v lies exactly on a constrained edge of t0, the triangle
+    across is seeded too and the edge is split by the following :func:`fan` (the two halves
+    keep its constraint); any other constrained edge bounds the cavity.
+
+    Parameters
+    ----------
+    v, t0 : int
+    pts : (rows, 2) float64
+    tri, nbr : (3 cap,) int32
+    cons : (3 cap,) int32 or (0,)
+        Constraint id + 1 per half-edge, 0 on free edges; empty: no constraints.
+    circ : (4 cap,) float32 or (0,)
+    rank : (r,) int32
+    meta : (6,) int64
+    work : (5 w,) int32
+        Output: the cavity triangles and boundary edges (see the module docstring).
+    vmark : (>= rows + 1,) int32
+
+    Returns
+    -------
+    int
+        The number of cavity triangles (> 0); or ``NEED_SPACE``, ``BROKEN``, or
+        ``DUP_BASE - w`` when v coincides with vertex w.  Nothing is modified but ``work``
+        and ``meta``'s split record.
+    """
+    if _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
+        return NEED_SPACE
+    meta[M_SPLIT_C] = 0
+    seed1 = -1
+    if tri[3 * t0 + 2] != GHOST:
+        px = pts[v, 0]
+        py = pts[v, 1]
+        for k in range(3):
+            w = tri[3 * t0 + k]
+            if pts[w, 0] == px and pts[w, 1] == py:
+                return DUP_BASE - w
+        if cons.shape[0] > 0:
+            for k in range(3):
+                h = 3 * t0 + k
+                if cons[h] != 0:
+                    a = tri[3 * t0 + _next(k)]
+                    b = tri[3 * t0 + _prev(k)]
+                    if orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) == 0.0:
+                        _mark_split(h, tri, cons, meta)
+                        seed1 = nbr[h]
+                        break
+    return _grow_cavity(v, t0, seed1, pts, tri, nbr, cons, circ, rank, work)
+
+
+@njit(cache=True)
+def fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
+    """Replace the cavity found by :func:`cavity` with the fan of v; returns a new triangle.
+
+    Each boundary edge keeps its constraint; the fan's inner edges are free, except the two
+    halves of a split constrained edge.  Returns a new finite triangle incident to v.
+    """
+    ntri = meta[M_NTRI]
+    cap = work.shape[0] // 5
+    bo = 2 * cap
+    nb = ncav + 2
+    constrained = cons.shape[0] > 0
+    sa = meta[M_SPLIT_A]
+    sb = meta[M_SPLIT_B]
+    sc = meta[M_SPLIT_C] if constrained else 0
+    # Write every triangle and its outer link, record where each boundary edge starts.
     for j in range(nb):
         o = bo + 3 * j
         u = work[o]
@@ -336,6 +408,11 @@ def insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark):
         tri[b3 + (s + 2) % 3] = v
         nbr[b3 + (s + 2) % 3] = he // 3
         nbr[he] = tn
+        if constrained:
+            cons[b3 + (s + 2) % 3] = cons[he]
+            # (u, w, v): the edge w-v is opposite u, the edge v-u opposite w.
+            cons[b3 + s] = sc if (sc != 0 and (w == sa or w == sb)) else 0
+            cons[b3 + (s + 1) % 3] = sc if (sc != 0 and (u == sa or u == sb)) else 0
         vmark[_vslot(u, vmark)] = j
     # Link each fan triangle (u, w, v) with the one whose boundary edge starts at w.
     result = -1
@@ -355,42 +432,278 @@ def insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark):
             watson.circle(pts, tri, circ, tn)
         if s == 0:
             result = tn
-    meta[M_NTRI] = need
+    meta[M_NTRI] = ntri + 2
     meta[M_LAST] = result
+    meta[M_SPLIT_C] = 0
     return result
 
 
 @njit(cache=True)
-def make_room(rows, tri, nbr, circ, meta, work, vmark):
+def insert_vertex(v, t, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
+    """Insert vertex v (row v of ``pts``) by cavity re-triangulation, walking from triangle t.
+
+    This is the single-point entry of the kernel for every method that inserts points into a
+    Delaunay triangulation (refinement, segment recovery): write the coordinates into row v of
+    ``pts`` first, call, and on ``NEED_SPACE`` call :func:`make_room` and retry.  With
+    constraints, the result is the constrained Delaunay triangulation (a point exactly on a
+    constrained edge splits it).
+
+    Parameters
+    ----------
+    v : int
+        Vertex to insert; ``pts[v]`` holds its coordinates.
+    t : int
+        Start triangle of the walk, ``0 <= t < meta[M_NTRI]``.
+    pts : (rows, 2) float64
+    tri, nbr : (3 cap,) int32
+    cons : (3 cap,) int32 or (0,)
+        Constraint per half-edge (see :func:`cavity`); empty for a plain triangulation.
+    circ : (4 cap,) float32 or (0,)
+        Watson's circumcircles; empty for Bowyer.
+    rank : (r,) int32
+        Perturbation keys (see the module docstring); may be empty.
+    meta : (6,) int64
+    work : (5 w,) int32
+    vmark : (>= rows + 1,) int32
+
+    Returns
+    -------
+    int
+        A new finite triangle incident to v; or ``NEED_SPACE`` (call :func:`make_room`, then
+        retry), ``BROKEN`` (inconsistent cavity), or ``DUP_BASE - w`` when v coincides with
+        vertex w.  Only success modifies the triangulation.
+    """
+    if _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
+        return NEED_SPACE
+    t0 = walk(pts, tri, nbr, meta, t, pts[v, 0], pts[v, 1])
+    ncav = cavity(v, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
+    if ncav < 0:
+        return ncav
+    return fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
+
+
+@njit(cache=True)
+def split_edge(v, h, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
+    """Split the constrained edge of half-edge h at vertex v (on it, or on its true curve).
+
+    Both triangles of the edge are in the cavity; the two halves ``a-v`` and ``v-b`` keep the
+    edge's constraint.  v may lie off the chord (a rounded midpoint, a split point on a curved
+    boundary).  When the two-sided cavity is not star-shaped from v (a sliver of nearly
+    collinear vertices across the chord), v is inserted into the one of the two triangles
+    that holds it and the constrained Delaunay property is restored by flips
+    (:func:`_split_by_flips`).
+
+    Returns
+    -------
+    int
+        A new finite triangle incident to v, ``NEED_SPACE``, or ``BROKEN`` (refused: v lies
+        in neither triangle of the edge; nothing was modified).
+    """
+    if _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
+        return NEED_SPACE
+    _mark_split(h, tri, cons, meta)
+    ncav = _grow_cavity(v, h // 3, nbr[h], pts, tri, nbr, cons, circ, rank, work)
+    if ncav == NEED_SPACE:
+        meta[M_SPLIT_C] = 0
+        return ncav
+    star = ncav > 0
+    if star:
+        bo = 2 * (work.shape[0] // 5)
+        px = pts[v, 0]
+        py = pts[v, 1]
+        for j in range(ncav + 2):
+            u = work[bo + 3 * j]
+            w = work[bo + 3 * j + 1]
+            if u != GHOST and w != GHOST and _orient(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], px, py) <= 0.0:
+                star = False
+                break
+    if star:
+        return fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
+    meta[M_SPLIT_C] = 0
+    return _split_by_flips(v, h, pts, tri, nbr, cons, circ, rank, meta, work)
+
+
+@njit(inline="always")
+def _inside(pts, t3, tri, px, py):
+    """Whether (px, py) lies strictly inside the finite triangle at slot offset t3 (exact)."""
+    for k in range(3):
+        u = tri[t3 + _next(k)]
+        w = tri[t3 + _prev(k)]
+        if _orient(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], px, py) <= 0.0:
+            return False
+    return True
+
+
+@njit(inline="always")
+def _redirect(nbr, t, old, new):
+    """In triangle t, make the link that pointed to ``old`` point to ``new``."""
+    for m in range(3):
+        if nbr[3 * t + m] == old:
+            nbr[3 * t + m] = new
+
+
+@njit(cache=True)
+def _split_by_flips(v, h, pts, tri, nbr, cons, circ, rank, meta, work):
+    """Insert v into the triangle of half-edge h's edge that holds it, then flip (Lawson).
+
+    The triangle X = (p0, p1, p2) holding v becomes three, each stored with v first::
+
+              p2                        p2
+             /  \                      / | \
+            /    \                    / T0 \        T0 = (v, p1, p2) in X's slot
+           /  X   \      ----->      / T1|   \      T1 = (v, p2, p0), T2 = (v, p0, p1)
+          /    v   \                /  /  v  \ \
+        p0 -------- p1             p0 -----T2---- p1
+
+    The split edge a-b loses its constraint and the halves a-v, v-b get it.  Then every edge
+    opposite v that is free and not locally Delaunay is flipped (Lawson 1977); each flip
+    keeps both new triangles incident to v, so only v's star changes.  Returns a new
+    triangle incident to v, or ``BROKEN`` when v lies strictly inside neither triangle.
+    """
+    px = pts[v, 0]
+    py = pts[v, 1]
+    t = h // 3
+    x = -1
+    if _inside(pts, 3 * t, tri, px, py):
+        x = t
+    else:
+        n = nbr[h]
+        if tri[3 * n + 2] != GHOST and _inside(pts, 3 * n, tri, px, py):
+            x = n
+    if x < 0:
+        return BROKEN
+    constraint = cons[h]
+    a = tri[3 * t + _next(h % 3)]
+    b = tri[3 * t + _prev(h % 3)]
+    ntri = meta[M_NTRI]
+    slots = (x, ntri, ntri + 1)
+    p = (tri[3 * x], tri[3 * x + 1], tri[3 * x + 2])
+    outer = (nbr[3 * x], nbr[3 * x + 1], nbr[3 * x + 2])
+    ocons = (cons[3 * x], cons[3 * x + 1], cons[3 * x + 2])
+    for i in range(3):
+        ti = slots[i]
+        pi = p[(i + 1) % 3]
+        pj = p[(i + 2) % 3]
+        tri[3 * ti] = v
+        tri[3 * ti + 1] = pi
+        tri[3 * ti + 2] = pj
+        nbr[3 * ti] = outer[i]
+        nbr[3 * ti + 1] = slots[(i + 1) % 3]
+        nbr[3 * ti + 2] = slots[(i + 2) % 3]
+        split_here = (pi == a and pj == b) or (pi == b and pj == a)
+        cons[3 * ti] = 0 if split_here else ocons[i]
+        cons[3 * ti + 1] = constraint if (pj == a or pj == b) else 0
+        cons[3 * ti + 2] = constraint if (pi == a or pi == b) else 0
+        if split_here:
+            o = outer[i]
+            for m in range(3):
+                if nbr[3 * o + m] == x:
+                    cons[3 * o + m] = 0
+        if i > 0:
+            _redirect(nbr, outer[i], x, ti)
+    meta[M_NTRI] = ntri + 2
+    # Lawson flips over the edges opposite v; work[] is the stack of triangles to check.
+    cap = work.shape[0]
+    work[0] = slots[0]
+    work[1] = slots[1]
+    work[2] = slots[2]
+    top = 3
+    while top > 0:
+        top -= 1
+        tt = work[top]
+        o = nbr[3 * tt]
+        if cons[3 * tt] != 0 or not _conflict(pts, tri, circ, rank, o, v, px, py):
+            continue
+        # tt = (v, xx, yy), o holds edge yy -> xx and its apex q.
+        xx = tri[3 * tt + 1]
+        yy = tri[3 * tt + 2]
+        j = 0 if nbr[3 * o] == tt else (1 if nbr[3 * o + 1] == tt else 2)
+        q = tri[3 * o + j]
+        if (
+            _orient(px, py, pts[xx, 0], pts[xx, 1], pts[q, 0], pts[q, 1]) <= 0.0
+            or _orient(px, py, pts[q, 0], pts[q, 1], pts[yy, 0], pts[yy, 1]) <= 0.0
+        ):
+            continue  # not strictly convex: only an exact cocircularity can get here
+        # o = (q, yy, xx) from q: the edge x-q is opposite yy (next(j)), q-y opposite xx.
+        across_xq = nbr[3 * o + _next(j)]
+        across_qy = nbr[3 * o + _prev(j)]
+        c_xq = cons[3 * o + _next(j)]
+        c_qy = cons[3 * o + _prev(j)]
+        n_yv = nbr[3 * tt + 1]
+        n_vx = nbr[3 * tt + 2]
+        c_yv = cons[3 * tt + 1]
+        c_vx = cons[3 * tt + 2]
+        tri[3 * tt + 2] = q
+        nbr[3 * tt] = across_xq
+        nbr[3 * tt + 1] = o
+        nbr[3 * tt + 2] = n_vx
+        cons[3 * tt] = c_xq
+        cons[3 * tt + 1] = 0
+        cons[3 * tt + 2] = c_vx
+        tri[3 * o] = v
+        tri[3 * o + 1] = q
+        tri[3 * o + 2] = yy
+        nbr[3 * o] = across_qy
+        nbr[3 * o + 1] = n_yv
+        nbr[3 * o + 2] = tt
+        cons[3 * o] = c_qy
+        cons[3 * o + 1] = c_yv
+        cons[3 * o + 2] = 0
+        _redirect(nbr, across_xq, o, tt)
+        _redirect(nbr, n_yv, tt, o)
+        if circ.shape[0] > 0:
+            watson.circle(pts, tri, circ, tt)
+            watson.circle(pts, tri, circ, o)
+        if top + 2 > cap:
+            return BROKEN
+        work[top] = tt
+        work[top + 1] = o
+        top += 2
+    if circ.shape[0] > 0:
+        for i in range(3):
+            watson.circle(pts, tri, circ, slots[i])
+    meta[M_LAST] = x
+    return x
+
+
+@njit(cache=True)
+def make_room(rows, tri, nbr, cons, circ, meta, work, vmark):
     """Grow whichever array made :func:`insert_vertex` return ``NEED_SPACE``.
 
     Parameters
     ----------
     rows : int
         Rows of the points array the next insertion uses.
-    tri, nbr, circ, meta, work, vmark
+    tri, nbr, cons, circ, meta, work, vmark
         Kernel state as in :func:`insert_vertex`.
 
     Returns
     -------
     tuple
-        ``(tri, nbr, circ, work, vmark)``, grown copies or the arrays themselves.
+        ``(tri, nbr, cons, circ, work, vmark)``, grown copies or the arrays themselves.
     """
     need = meta[M_NTRI] + 2
-    if 3 * need > tri.shape[0] or 3 * need > nbr.shape[0] or (circ.shape[0] > 0 and 4 * need > circ.shape[0]):
+    if (
+        3 * need > tri.shape[0]
+        or 3 * need > nbr.shape[0]
+        or (cons.shape[0] > 0 and 3 * need > cons.shape[0])
+        or (circ.shape[0] > 0 and 4 * need > circ.shape[0])
+    ):
         tri = grown(tri, 3 * need)
         nbr = grown(nbr, 3 * need)
+        if cons.shape[0] > 0:
+            cons = grown(cons, 3 * need)
         if circ.shape[0] > 0:
             circ = grown(circ, 4 * need)
     elif vmark.shape[0] <= rows:
         vmark = grown(vmark, rows + 1)
     else:
         work = np.empty(2 * work.shape[0], dtype=np.int32)
-    return tri, nbr, circ, work, vmark
+    return tri, nbr, cons, circ, work, vmark
 
 
 @njit(cache=True)
-def insert_batch(order, start, stop, vbase, pts, tri, nbr, circ, rank, meta, work, vmark, vmap):
+def insert_batch(order, start, stop, vbase, pts, tri, nbr, cons, circ, rank, meta, work, vmark, vmap):
     """Insert ``order[start:stop]`` one by one, each walk starting where the last one ended.
 
     Parameters
@@ -401,7 +714,7 @@ def insert_batch(order, start, stop, vbase, pts, tri, nbr, circ, rank, meta, wor
         Positions of ``order`` to insert.
     vbase : int
         ``vmap`` is indexed by ``v - vbase``.
-    pts, tri, nbr, circ, rank, meta, work, vmark
+    pts, tri, nbr, cons, circ, rank, meta, work, vmark
         Kernel state as in :func:`insert_vertex`.
     vmap : (m,) int32
         Output: ``vmap[v - vbase] = v`` for an inserted vertex v, else the vertex v coincides
@@ -410,26 +723,26 @@ def insert_batch(order, start, stop, vbase, pts, tri, nbr, circ, rank, meta, wor
     Returns
     -------
     tuple
-        ``(bad, tri, nbr, circ, work, vmark)``: ``bad`` is -1, or the vertex whose insertion
-        found an inconsistent cavity (the triangulation is then unchanged by it and the later
-        vertices are not inserted).
+        ``(bad, tri, nbr, cons, circ, work, vmark)``: ``bad`` is -1, or the vertex whose
+        insertion found an inconsistent cavity (the triangulation is then unchanged by it and
+        the later vertices are not inserted).
     """
     t = meta[M_LAST]
     rows = pts.shape[0]
     for i in range(start, stop):
         v = order[i] if order.shape[0] > 0 else i
-        st = insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark)
+        st = insert_vertex(v, t, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
         while st == NEED_SPACE:
-            tri, nbr, circ, work, vmark = make_room(rows, tri, nbr, circ, meta, work, vmark)
-            st = insert_vertex(v, t, pts, tri, nbr, circ, rank, meta, work, vmark)
+            tri, nbr, cons, circ, work, vmark = make_room(rows, tri, nbr, cons, circ, meta, work, vmark)
+            st = insert_vertex(v, t, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
         if st >= 0:
             vmap[v - vbase] = v
             t = st
         elif st == BROKEN:
-            return v, tri, nbr, circ, work, vmark
+            return v, tri, nbr, cons, circ, work, vmark
         else:
             vmap[v - vbase] = DUP_BASE - st
-    return -1, tri, nbr, circ, work, vmark
+    return -1, tri, nbr, cons, circ, work, vmark
 
 
 @njit(cache=True)
@@ -627,7 +940,7 @@ def locate_points(pts, tri, nbr, meta, xy):
     ----------
     pts : (rows, 2) float64
     tri, nbr : (3 cap,) int32
-    meta : (3,) int64
+    meta : (6,) int64
         A copy is advisable: the walk advances its RNG state.
     xy : (m, 2) float64
 

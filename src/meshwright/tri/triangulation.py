@@ -62,6 +62,8 @@ from meshwright.tri._kernel2d import (
 
 __all__ = ["DelaunayAlgorithm", "DELAUNAY_ALGORITHMS", "Triangulation", "delaunay"]
 
+_NO_CONSTRAINTS = np.empty(0, dtype=np.int32)  # the kernel's ``cons`` of an unconstrained build
+
 
 class DelaunayAlgorithm(NamedTuple):
     """An insertion algorithm for the shared kernel.
@@ -201,9 +203,9 @@ class Triangulation:
 
     def _insert_rows(self, order: np.ndarray, start: int, stop: int, vmap: np.ndarray, vbase: int) -> None:
         """Run the kernel on ``order[start:stop]``; ``vmap[v - vbase]`` receives each vertex."""
-        bad, self._tri, self._nbr, self._circ, self._work, self._vmark = insert_batch(
-            order, start, stop, vbase, self._pts, self._tri, self._nbr, self._circ, self._rank,
-            self._meta, self._work, self._vmark, vmap,
+        bad, self._tri, self._nbr, _, self._circ, self._work, self._vmark = insert_batch(
+            order, start, stop, vbase, self._pts, self._tri, self._nbr, _NO_CONSTRAINTS, self._circ,
+            self._rank, self._meta, self._work, self._vmark, vmap,
         )
         if bad >= 0:
             self._nt = compact(self._tri, self._nbr, self._circ, self._meta)
