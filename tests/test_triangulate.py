@@ -364,3 +364,31 @@ def test_cli_mesh(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "min_angle" in text
     assert main(["mesh", str(tmp_path / "missing.poly"), "-o", str(out)]) == 1
+
+
+# ---------------------------------------------------------------------------- frontal Delaunay
+def _edge_lengths(mesh):
+    p = mesh.points[mesh.cells["triangle"]]
+    return np.hypot(*(p - p[:, [1, 2, 0]]).transpose(2, 0, 1))
+
+
+def test_frontal_delaunay_follows_size_and_quality():
+    dom = g.circle()
+    mesh = mw.triangulate(dom, size=0.05, method="frontal-delaunay")
+    check(mesh, dom)
+    lengths = _edge_lengths(mesh)
+    assert abs(np.median(lengths) / 0.05 - 1) < 0.15
+    q = mesh.quality().summary()["triangle"]["radius_ratio"]
+    assert q["mean"] > 0.9
+
+
+def test_frontal_delaunay_size_ratio_above_1e4():
+    from meshwright.sizing import gradation
+
+    dom = g.airfoil_in_farfield("0012", radius=100.0)
+    wall = np.concatenate([c.evaluate(c.fine_params()) for lp in dom.loops[1:] for c in lp])
+    size = gradation(wall, 1e-3, 1.25, hmax=20.0)
+    mesh = mw.triangulate(dom, size=size, method="frontal-delaunay")
+    check(mesh, dom)
+    lengths = _edge_lengths(mesh)
+    assert lengths.max() / lengths.min() > 1e4

@@ -32,7 +32,7 @@ def add_arguments(parser) -> None:
         "--method",
         choices=sorted(MESH_METHODS),
         default="delaunay",
-        help="point placement: Ruppert refinement (delaunay) or Weatherill's scheme (chapter 18.1.3)",
+        help="point placement: " + "; ".join(f"{m.name}: {m.summary}" for m in MESH_METHODS.values()),
     )
     parser.add_argument("--smooth", type=int, default=0, metavar="N", help="spring-analogy smoothing passes")
     parser.add_argument("--max-area", type=float, metavar="A", help="largest triangle area")

@@ -31,9 +31,10 @@ from meshwright.core.predicates import orient2d_batch
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.shapes import polygon
-from meshwright.sizing.boundary import point_distribution
+from meshwright.sizing.boundary import boundary_size, point_distribution
 from meshwright.sizing.field import SizeField, as_size_field
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
+from meshwright.tri.frontal_delaunay import frontal_delaunay
 from meshwright.tri.ruppert import refine
 from meshwright.tri.smoothing import smooth as smooth_points
 from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
@@ -104,11 +105,21 @@ def _place_weatherill(job: _Job) -> None:
         refine(ct, min_angle=0.0, max_area=job.max_area)
 
 
+def _place_frontal(job: _Job) -> None:
+    field = job.field
+    if field is None:
+        field = boundary_size(job.disc.points, job.disc.segments)
+    frontal_delaunay(job.ct, field)
+    if job.max_area is not None:
+        refine(job.ct, min_angle=0.0, max_area=job.max_area)
+
+
 MESH_METHODS: dict[str, MeshMethod] = {
     m.name: m
     for m in (
         MeshMethod("delaunay", "guaranteed-quality Delaunay refinement (Ruppert, off-centres)", _place_delaunay),
         MeshMethod("weatherill", "Weatherill's automatic point generation (chapter 18.1.3)", _place_weatherill),
+        MeshMethod("frontal-delaunay", "frontal Delaunay: advancing-front points, Delaunay insertion (18.3)", _place_frontal),
     )
 }
 

@@ -565,8 +565,6 @@ def refine_loop(
         return R_DONE
 
 
-
-
 @njit(cache=True)
 def _split_at(v, h, pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg):
     """Split the subsegment of half-edge h at ``pts[v]`` and flag the new triangles."""
@@ -674,6 +672,10 @@ class _Run:
                 elif code == R_SIZES:
                     pn = int(st[S_PN])
                     h = size(self.pcen[: 2 * pn].reshape(pn, 2))
+                    # Every waiting triangle may go to the heap.
+                    if st[S_HN] + pn + 1 > len(self.hk):
+                        self.hk = _doubled(self.hk, int(st[S_HN]) + pn + 1)
+                        self.hp = _doubled(self.hp, 4 * len(self.hk))
                     apply_sizes(h, ct._pts, ct._tri, self.hk, self.hp, self.pend, st)
                 elif code == R_CURVE:
                     self.curve_point()

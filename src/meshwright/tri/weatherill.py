@@ -98,32 +98,43 @@ def _segment_dist2(ax, ay, bx, by, qx, qy):
 
 
 @njit(cache=True)
-def _select(pts, tris, nbrs, cand, radius):
-    """Accept or reject every candidate; returns (nt,) bool.
+def select_spaced(pts, tris, nbrs, cand, host, radius):
+    """Accept or reject candidates in order; returns (k,) bool.
 
-    Candidate t (the centroid of triangle t) is accepted when no vertex of the triangles its
-    disk of radius ``radius[t]`` reaches, and no candidate accepted before it that was listed
-    on one of those triangles, lies strictly inside the disk.
+    Candidate i, lying in triangle ``host[i]``, is accepted when no vertex of the triangles
+    its disk of radius ``radius[i]`` reaches, and no candidate accepted before it that was
+    listed on one of those triangles, lies strictly inside the disk.  Shared by the frontal
+    Delaunay rows (:mod:`meshwright.tri.frontal_delaunay`).
+
+    Parameters
+    ----------
+    pts : (nv, 2) float64
+    tris, nbrs : (nt, 3) int32
+        Inside triangles and their neighbours (-1 across the boundary).
+    cand : (k, 2) float64
+    host : (k,) int32 or int64
+    radius : (k,) float64
     """
     nt = tris.shape[0]
-    accepted = np.zeros(nt, dtype=np.bool_)
+    k = cand.shape[0]
+    accepted = np.zeros(k, dtype=np.bool_)
     head = np.full(nt, -1, dtype=np.int32)  # first accepted candidate listed on triangle t
-    nxt = np.full(nt, -1, dtype=np.int32)
+    nxt = np.full(k, -1, dtype=np.int32)
     stamp = np.full(nt, -1, dtype=np.int32)  # last candidate whose walk visited triangle t
     stack = np.empty(nt, dtype=np.int32)
-    for i in range(nt):
+    for i in range(k):
         qx = cand[i, 0]
         qy = cand[i, 1]
         r2 = radius[i] * radius[i]
         ok = True
         top = 1
-        stack[0] = i
-        stamp[i] = i
+        stack[0] = host[i]
+        stamp[host[i]] = i
         while top > 0 and ok:
             top -= 1
             t = stack[top]
-            for k in range(3):
-                v = tris[t, k]
+            for m in range(3):
+                v = tris[t, m]
                 dx = pts[v, 0] - qx
                 dy = pts[v, 1] - qy
                 if dx * dx + dy * dy < r2:
@@ -135,12 +146,12 @@ def _select(pts, tris, nbrs, cand, radius):
                 if dx * dx + dy * dy < r2:
                     ok = False
                 j = nxt[j]
-            for k in range(3):
-                n = nbrs[t, k]
+            for m in range(3):
+                n = nbrs[t, m]
                 if n < 0 or stamp[n] == i:
                     continue
-                a = tris[t, (k + 1) % 3]
-                b = tris[t, (k + 2) % 3]
+                a = tris[t, (m + 1) % 3]
+                b = tris[t, (m + 2) % 3]
                 # Only triangles the open disk reaches can hold a point inside it.
                 if _segment_dist2(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], qx, qy) < r2:
                     stamp[n] = i
@@ -148,8 +159,8 @@ def _select(pts, tris, nbrs, cand, radius):
                     top += 1
         if ok:
             accepted[i] = True
-            nxt[i] = head[i]
-            head[i] = i
+            nxt[i] = head[host[i]]
+            head[host[i]] = i
     return accepted
 
 
@@ -218,7 +229,8 @@ def weatherill(
         cand, dpm = _candidates(pts, tris, store)
         if field is not None:
             dpm = np.minimum(dpm, field(cand))
-        accepted = np.flatnonzero(_select(pts, tris, ct.neighbors(True), cand, alpha * dpm))
+        host = np.arange(len(tris), dtype=np.int32)
+        accepted = np.flatnonzero(select_spaced(pts, tris, ct.neighbors(True), cand, host, alpha * dpm))
         if len(accepted) == 0:
             if callback is not None:
                 callback(p, 0, ct.n_points)
