@@ -524,7 +524,6 @@ class Parametric(Curve):
             p = self.evaluate(t)
             mid = 0.5 * (t[:-1] + t[1:])
             pm = self.evaluate(mid)
-            chord = np.hypot(*(p[1:] - p[:-1]).T)
             half = np.hypot(*(pm - p[:-1]).T) + np.hypot(*(p[1:] - pm).T)
             total = half.sum()
             dev = np.hypot(*(pm - 0.5 * (p[:-1] + p[1:])).T)

@@ -69,10 +69,7 @@ from meshwright.tri._kernel2d import (
     M_NTRI,
     M_RNG,
     NEED_SPACE,
-    cavity,
-    fan,
     insert_vertex,
-    split_edge,
     walk,
 )
 
@@ -685,3 +682,67 @@ def insert_points(
         set_flags(nv, tn, a, b, fl, fr, f0, tri, nbr, vtri, treg)
         out[i] = nv
     return xy.shape[0], R_DONE
+
+
+# ------------------------------------------------------------------ queues
+@njit(inline="always")
+def push_seg(u, w, sq, st):
+    q = st[S_QN]
+    sq[2 * q] = u
+    sq[2 * q + 1] = w
+    st[S_QN] = q + 1
+
+
+@njit(cache=True)
+def heap_push(key, t, tri, hk, hp, st):
+    """Push triangle t (its vertices for validation) with quality key."""
+    i = st[S_HN]
+    st[S_HN] = i + 1
+    seq = st[S_SEQ]
+    st[S_SEQ] = seq + 1
+    bucket = min(_BUCKETS - 1, int(key * (_BUCKETS / 0.75)))
+    k = (np.int64(bucket) << _SEQ_BITS) | (seq & ((np.int64(1) << _SEQ_BITS) - 1))
+    a = tri[3 * t]
+    b = tri[3 * t + 1]
+    c = tri[3 * t + 2]
+    while i > 0:
+        par = (i - 1) >> 1
+        if hk[par] <= k:
+            break
+        hk[i] = hk[par]
+        for j in range(4):
+            hp[4 * i + j] = hp[4 * par + j]
+        i = par
+    hk[i] = k
+    hp[4 * i] = t
+    hp[4 * i + 1] = a
+    hp[4 * i + 2] = b
+    hp[4 * i + 3] = c
+
+
+@njit(cache=True)
+def heap_pop(hk, hp, st, out):
+    """Pop the minimum into ``out[0:4]``."""
+    n = st[S_HN] - 1
+    st[S_HN] = n
+    for j in range(4):
+        out[j] = hp[j]
+    if n == 0:
+        return
+    k = hk[n]
+    i = 0
+    while True:
+        c = 2 * i + 1
+        if c >= n:
+            break
+        if c + 1 < n and hk[c + 1] < hk[c]:
+            c += 1
+        if hk[c] >= k:
+            break
+        hk[i] = hk[c]
+        for j in range(4):
+            hp[4 * i + j] = hp[4 * c + j]
+        i = c
+    hk[i] = k
+    for j in range(4):
+        hp[4 * i + j] = hp[4 * n + j]

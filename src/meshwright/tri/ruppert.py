@@ -52,7 +52,6 @@ from meshwright.core.flat import GHOST
 from meshwright.core.predicates import incircle_sos
 from meshwright.sizing.field import as_size_field
 from meshwright.tri._encroach import (
-    KIND_CURVE,
     MODE_CONFORM,
     MODE_RUPPERT,
     P_AMAX,
@@ -87,11 +86,13 @@ from meshwright.tri._encroach import (
     S_REQ_A,
     S_REQ_B,
     S_REQ_P,
-    S_SEQ,
     S_SIZED,
     S_SKIPPED,
     S_STEPS,
     edge_of,
+    heap_pop,
+    heap_push,
+    push_seg,
     encroaches,
     key_of,
     on_constraint,
@@ -105,8 +106,6 @@ from meshwright.tri._kernel2d import BROKEN, DUP_BASE, M_NTRI, NEED_SPACE, cavit
 __all__ = ["refine", "conform", "split_subsegment"]
 
 _EQUILATERAL = np.sqrt(3.0) / 4.0  # area of the equilateral triangle of side 1
-_BUCKETS = 4096  # resolution of the quality key: worst first, FIFO inside a bucket
-_SEQ_BITS = 40
 
 
 @njit(inline="always")
@@ -122,70 +121,6 @@ def _prev(k):
 @njit(inline="always")
 def _index(tri, t, v):
     return 0 if tri[3 * t] == v else (1 if tri[3 * t + 1] == v else 2)
-
-
-# ------------------------------------------------------------------ queues
-@njit(inline="always")
-def _push_seg(u, w, sq, st):
-    q = st[S_QN]
-    sq[2 * q] = u
-    sq[2 * q + 1] = w
-    st[S_QN] = q + 1
-
-
-@njit(cache=True)
-def _heap_push(key, t, tri, hk, hp, st):
-    """Push triangle t (its vertices for validation) with quality key."""
-    i = st[S_HN]
-    st[S_HN] = i + 1
-    seq = st[S_SEQ]
-    st[S_SEQ] = seq + 1
-    bucket = min(_BUCKETS - 1, int(key * (_BUCKETS / 0.75)))
-    k = (np.int64(bucket) << _SEQ_BITS) | (seq & ((np.int64(1) << _SEQ_BITS) - 1))
-    a = tri[3 * t]
-    b = tri[3 * t + 1]
-    c = tri[3 * t + 2]
-    while i > 0:
-        par = (i - 1) >> 1
-        if hk[par] <= k:
-            break
-        hk[i] = hk[par]
-        for j in range(4):
-            hp[4 * i + j] = hp[4 * par + j]
-        i = par
-    hk[i] = k
-    hp[4 * i] = t
-    hp[4 * i + 1] = a
-    hp[4 * i + 2] = b
-    hp[4 * i + 3] = c
-
-
-@njit(cache=True)
-def _heap_pop(hk, hp, st, out):
-    """Pop the minimum into ``out[0:4]``."""
-    n = st[S_HN] - 1
-    st[S_HN] = n
-    for j in range(4):
-        out[j] = hp[j]
-    if n == 0:
-        return
-    k = hk[n]
-    i = 0
-    while True:
-        c = 2 * i + 1
-        if c >= n:
-            break
-        if c + 1 < n and hk[c + 1] < hk[c]:
-            c += 1
-        if hk[c] >= k:
-            break
-        hk[i] = hk[c]
-        for j in range(4):
-            hp[4 * i + j] = hp[4 * c + j]
-        i = c
-    hk[i] = k
-    for j in range(4):
-        hp[4 * i + j] = hp[4 * n + j]
 
 
 # ------------------------------------------------------------------ triangle tests
@@ -329,7 +264,7 @@ def examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, 
                     ax, ay, bx, by, cx, cy, pts[d, 0], pts[d, 1],
                     key_of(rank, a), key_of(rank, b), key_of(rank, c), key_of(rank, d),
                 ) > 0:
-                    _push_seg(tri[b3 + _next(k)], tri[b3 + _prev(k)], sq, st)
+                    push_seg(tri[b3 + _next(k)], tri[b3 + _prev(k)], sq, st)
         return
     for k in range(3):
         if cons[b3 + k] != 0:
@@ -337,7 +272,7 @@ def examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, 
             u = tri[b3 + _next(k)]
             w = tri[b3 + _prev(k)]
             if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[x, 0], pts[x, 1]):
-                _push_seg(u, w, sq, st)
+                push_seg(u, w, sq, st)
     sin2, area, su, sw = quality(t, pts, tri)
     bad_area = area > prm[P_AMAX] or area > rarea[treg[t]]
     bad_angle = sin2 < prm[P_SIN2]
@@ -345,7 +280,7 @@ def examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, 
         st[S_SKIPPED] += 1
         bad_angle = False
     if bad_angle or bad_area:
-        _heap_push(sin2, t, tri, hk, hp, st)
+        heap_push(sin2, t, tri, hk, hp, st)
     elif st[S_SIZED] != 0:
         i = st[S_PN]
         st[S_PN] = i + 1
@@ -393,7 +328,7 @@ def apply_sizes(h, pts, tri, hk, hp, pend, st):
         if tri[3 * t] == pend[4 * i + 1] and tri[3 * t + 1] == pend[4 * i + 2] and tri[3 * t + 2] == pend[4 * i + 3]:
             sin2, area, _, _ = quality(t, pts, tri)
             if area > _EQUILATERAL * h[i] * h[i]:
-                _heap_push(sin2, t, tri, hk, hp, st)
+                heap_push(sin2, t, tri, hk, hp, st)
     st[S_PN] = 0
 
 
@@ -495,7 +430,7 @@ def refine_loop(
             _examine_star(nv, tn, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
             continue
         if st[S_HN] > 0:
-            _heap_pop(hk, hp, st, popped)
+            heap_pop(hk, hp, st, popped)
             t = popped[0]
             if (
                 t >= meta[M_NTRI]
@@ -516,8 +451,8 @@ def refine_loop(
                 hb = on_constraint(t0, x, y, pts, tri, cons)
             if hb >= 0:
                 # Hidden behind, or on, a subsegment: split that one first.
-                _push_seg(tri[_next(hb % 3) + hb - hb % 3], tri[_prev(hb % 3) + hb - hb % 3], sq, st)
-                _heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
+                push_seg(tri[_next(hb % 3) + hb - hb % 3], tri[_prev(hb % 3) + hb - hb % 3], sq, st)
+                heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
                 continue
             if tri[3 * t0 + 2] == GHOST or treg[t0] < 0:
                 st[S_SKIPPED] += 1  # unreachable without crossing a segment: cannot happen
@@ -528,7 +463,7 @@ def refine_loop(
             pts[nv, 1] = y
             ncav = cavity(nv, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
             if ncav == NEED_SPACE:
-                _heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
+                heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
                 st[S_GROW_WORK] = 1
                 return R_ROOM
             if ncav == BROKEN:
@@ -546,10 +481,10 @@ def refine_loop(
                     u = work[o]
                     w = work[o + 1]
                     if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y):
-                        _push_seg(u, w, sq, st)
+                        push_seg(u, w, sq, st)
                         enc = True
             if enc:
-                _heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
+                heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
                 continue
             f0 = treg[t0]
             tn = fan(nv, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
@@ -661,7 +596,7 @@ class _Run:
 
     def run(self, size, estimate: int, what: str) -> None:
         """Call the loop until it is done, serving its requests; raise on caps and errors."""
-        ct, st, prm = self.ct, self.st, self.prm
+        ct, st = self.ct, self.st
         try:
             while True:
                 code = refine_loop(*self.args())

@@ -45,20 +45,8 @@ import numpy as np
 from meshwright.core.errors import DegenerateInputError, DuplicatePointError, InputError, MeshingError
 from meshwright.core.spatial_sort import brio_order
 from meshwright.tri import bowyer, watson
-from meshwright.tri._kernel2d import (
-    M_NTRI,
-    compact,
-    find_start,
-    hull_loop,
-    init_triangle,
-    insert_batch,
-    locate_points,
-    new_meta,
-    new_work,
-    promote,
-    relabel,
-    scatter_rows,
-)
+from meshwright.tri._build2d import compact, find_start, hull_loop, init_triangle, promote, relabel, scatter_rows
+from meshwright.tri._kernel2d import M_NTRI, insert_batch, locate_points, new_meta, new_work
 
 __all__ = ["DelaunayAlgorithm", "DELAUNAY_ALGORITHMS", "Triangulation", "delaunay"]
 
