@@ -392,3 +392,26 @@ def test_frontal_delaunay_size_ratio_above_1e4():
     check(mesh, dom)
     lengths = _edge_lengths(mesh)
     assert lengths.max() / lengths.min() > 1e4
+
+
+def test_conforming_delaunay_is_delaunay():
+    rng = np.random.default_rng(5)
+    pts = np.vstack([[[0, 0], [1, 0], [1, 1], [0, 1]], rng.random((200, 2)), [[0.1, 0.13], [0.93, 0.71]]])
+    n = len(pts)
+    segs = np.array([[0, 1], [1, 2], [2, 3], [3, 0], [n - 2, n - 1]])
+    ct = cdt_build(pts, segs, conforming=True).classify()
+    check_structure(ct)
+    tri = mw.Mesh(ct.points, {"triangle": ct.triangles(False)})
+    tri.validate(check_delaunay=True)
+    edges, ids = ct.segments()
+    lengths = np.hypot(*(ct.points[edges[:, 1]] - ct.points[edges[:, 0]]).T)
+    assert np.bincount(ids, lengths)[4] == pytest.approx(math.dist(pts[n - 2], pts[n - 1]), rel=1e-12)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_triangulate_conforming_option(method):
+    dom = g.polygon([(0, 0), (3, 0), (3, 1), (0, 1)], holes=[[(1, 0.3), (2, 0.4), (1.5, 0.7)]])
+    mesh = mw.triangulate(dom, size=0.3, method=method, conforming=True)
+    check(mesh, dom, straight=True)
+    # Every interior edge is locally Delaunay: the mesh passes the exact empty-circle check.
+    mesh.validate(check_delaunay=True)

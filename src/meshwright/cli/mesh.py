@@ -36,6 +36,9 @@ def add_arguments(parser) -> None:
     )
     parser.add_argument("--smooth", type=int, default=0, metavar="N", help="spring-analogy smoothing passes")
     parser.add_argument("--max-area", type=float, metavar="A", help="largest triangle area")
+    parser.add_argument(
+        "--conforming", action="store_true", help="split segments until every triangle is Delaunay (Triangle's -D)"
+    )
     parser.add_argument("--seed", type=int, default=0, help="seed of the randomized insertion order")
     add_output_arguments(parser)
 
@@ -74,6 +77,7 @@ def run(args) -> int:
             smooth=args.smooth,
             max_area=args.max_area,
             seed=args.seed,
+            conforming=args.conforming,
             # A bar only helps a person watching a terminal; logs stay clean.
             progress=sys.stderr.isatty(),
         )

@@ -35,7 +35,7 @@ from meshwright.sizing.boundary import boundary_size, point_distribution
 from meshwright.sizing.field import SizeField, as_size_field
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
 from meshwright.tri.frontal_delaunay import frontal_delaunay
-from meshwright.tri.ruppert import refine
+from meshwright.tri.ruppert import conform, refine
 from meshwright.tri.smoothing import smooth as smooth_points
 from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
 
@@ -193,6 +193,7 @@ def triangulate(
     max_area: float | None = None,
     seed: int = 0,
     progress: bool = False,
+    conforming: bool = False,
 ) -> Mesh:
     """Boundary-conforming quality triangle mesh of a 2-D domain.
 
@@ -217,6 +218,9 @@ def triangulate(
         Randomness of the insertion order (results are reproducible for a seed).
     progress : bool
         Show a progress bar for long runs.
+    conforming : bool
+        Also split segments until every triangle is Delaunay (not only constrained
+        Delaunay), like Triangle's ``-D``.
 
     Returns
     -------
@@ -250,6 +254,8 @@ def triangulate(
     sides = np.where(dom.curve_loop[disc.segment_curve] >= 0, 1, 0)
     ct.classify(segment_sides=sides, holes=disc.holes, regions=_regions(disc))
     MESH_METHODS[method].place(_Job(ct, disc, field, float(min_angle), max_area, bool(progress)))
+    if conforming:
+        conform(ct)
     mesh = ct.to_mesh(segment_markers=disc.segment_markers)
     if smooth:
         mesh = _smooth_mesh(mesh, ct, dom, disc, int(smooth))
