@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import copy
 import math
+from abc import ABC, abstractmethod
 
 import numpy as np
 
@@ -97,7 +98,7 @@ def _romberg(coarse, half, quarter):
     return (16.0 * r2 - r1) / 15.0
 
 
-class Curve:
+class Curve(ABC):
     """Base class of boundary curves.
 
     Attributes
@@ -119,9 +120,9 @@ class Curve:
     min_segments: int = 1
     exact_ends: bool = False
 
+    @abstractmethod
     def evaluate(self, t) -> np.ndarray:
         """Points at parameters ``t`` (k,), shape (k, 2) float64."""
-        raise NotImplementedError
 
     @property
     def start(self) -> np.ndarray:
@@ -152,6 +153,7 @@ class Curve:
         """Parameter halfway in arc length between ``ta`` and ``tb`` (each (k,)), shape (k,)."""
         return self.t_at_length(0.5 * (self.arclength(ta) + self.arclength(tb)))
 
+    @abstractmethod
     def project(self, xy, t_near=None) -> np.ndarray:
         """Parameters of the closest curve points to ``xy`` (k, 2), shape (k,).
 
@@ -159,19 +161,18 @@ class Curve:
         current parameter): they restrict the search to a neighbourhood, so a node near
         a thin trailing edge is not snapped onto the opposite surface.
         """
-        raise NotImplementedError
 
+    @abstractmethod
     def signed_area(self) -> float:
         """``1/2 * integral(x dy - y dx)`` along the curve; summed over a loop: its area."""
-        raise NotImplementedError
 
+    @abstractmethod
     def reversed(self) -> Curve:
         """The same curve traversed backwards (a new object)."""
-        raise NotImplementedError
 
+    @abstractmethod
     def transformed(self, matrix, offset=(0.0, 0.0)) -> Curve:
         """The image under ``x -> matrix @ x + offset`` (a new object)."""
-        raise NotImplementedError
 
     def with_marker(self, marker: int | None) -> Curve:
         """A copy with another boundary marker."""
@@ -198,7 +199,15 @@ class Curve:
         return np.full(len(_params(ta)), m, dtype=np.int32)
 
     def _table(self) -> tuple[np.ndarray, np.ndarray]:
-        raise NotImplementedError
+        """Fine arc-length table ``(t, s)``, both (k,) float64: chords of 1025 samples.
+
+        Curves with an exact arc length (lines, arcs, polylines) override the methods that
+        use it; curved ones refine it adaptively.
+        """
+        t = np.linspace(self.t0, self.t1, 1025)
+        p = self.evaluate(t)
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(*(p[1:] - p[:-1]).T))])
+        return t, s
 
 
 class Line(Curve):
