@@ -30,7 +30,7 @@ from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d_batch
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
-from meshwright.geometry.shapes import polygon
+from meshwright.geometry.shapes import builtin, polygon
 from meshwright.sizing.boundary import boundary_size, point_distribution
 from meshwright.sizing.field import SizeField, as_size_field
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
@@ -127,10 +127,14 @@ MESH_METHODS: dict[str, MeshMethod] = {
 def _as_domain(domain) -> Domain:
     if isinstance(domain, Domain):
         return domain
+    if isinstance(domain, str):
+        return builtin(domain)
     arr = np.asarray(domain, dtype=np.float64)
     if arr.ndim == 2 and arr.shape[1] == 2:
         return polygon(arr)
-    raise InputError(f"domain must be a meshwright.geometry.Domain or an (n, 2) polygon, got {type(domain).__name__}")
+    raise InputError(
+        f"domain must be a meshwright.geometry.Domain, a built-in name or an (n, 2) polygon, got {type(domain).__name__}"
+    )
 
 
 def _regions(disc: Discretization) -> list[tuple]:
@@ -199,8 +203,9 @@ def triangulate(
 
     Parameters
     ----------
-    domain : Domain or (n, 2) array_like
-        What to mesh (an array is the vertex loop of a polygon).  Curved boundaries stay
+    domain : Domain, str or (n, 2) array_like
+        What to mesh: a domain, the name of a built-in one
+        (:data:`meshwright.geometry.BUILTIN_DOMAINS`), or the vertex loop of a polygon.  Curved boundaries stay
         curves: every boundary point lies on the true curve.
     size : number, callable or SizeField, optional
         Target edge length ``h(x)`` (boundary spacing and interior size); default: the
