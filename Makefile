@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 DEMO_DIR ?= demo-output
 
-.PHONY: demo test bench clean
+.PHONY: demo test bench clean clean-jit
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -30,6 +30,13 @@ test: $(VENV)/.stamp-test
 
 bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/delaunay2d.py
+	$(BIN)/python benchmarks/quality2d.py
+
+# Numba's on-disk cache is keyed by each function's own file: after editing a kernel that
+# other modules call (e.g. tri/_kernel2d.py), drop the cache so callers are recompiled.
+clean-jit:
+	find src -name '*.nbi' -delete -o -name '*.nbc' -delete
 
 clean:
 	rm -rf $(VENV) $(DEMO_DIR) .pytest_cache .hypothesis
+	find src -name '*.nbi' -delete -o -name '*.nbc' -delete
