@@ -415,3 +415,17 @@ def test_triangulate_conforming_option(method):
     check(mesh, dom, straight=True)
     # Every interior edge is locally Delaunay: the mesh passes the exact empty-circle check.
     mesh.validate(check_delaunay=True)
+
+
+def test_interior_segment_between_loop_vertices_splits_regions():
+    outer = [(0, 0), (1, 0), (2, 0), (2, 1), (1, 1), (0, 1)]
+    dom = g.polygon(outer, segments=[np.array([(1, 0), (1, 1)])], regions=[(0.5, 0.5, 7, None), (1.5, 0.5, 9, None)])
+    mesh = mw.triangulate(dom, size=0.2)
+    check(mesh, dom, min_angle=30, straight=True)
+    tm = mesh.cell_data["marker"]["triangle"]
+    cen = mesh.points[mesh.cells["triangle"]].mean(axis=1)
+    assert (tm[cen[:, 0] < 1] == 7).all() and (tm[cen[:, 0] > 1] == 9).all()
+    # The divider is present as interior line cells covering x = 1 from y = 0 to 1.
+    lines = mesh.cells["line"]
+    on = np.all(mesh.points[lines][:, :, 0] == 1.0, axis=1)
+    assert np.sum(np.abs(np.diff(mesh.points[lines[on]][:, :, 1], axis=1))) == pytest.approx(1.0, rel=1e-12)
