@@ -43,8 +43,36 @@ def child_json(script: str, *args: str, env: dict | None = None) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+def _status_kib(field: str) -> int | None:
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith(field + ":"):
+                    return int(line.split()[1])
+    except OSError:
+        return None
+    return None
+
+
+def reset_peak_rss() -> int:
+    """Reset the peak-RSS mark (Linux ``clear_refs``) and return the current RSS in bytes.
+
+    Without it, the peak left by imports and JIT compilation hides the growth of a run.
+    """
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+    except OSError:
+        pass
+    rss = _status_kib("VmRSS")
+    return 0 if rss is None else rss * 1024
+
+
 def peak_rss_bytes() -> int:
-    """Peak resident set size of this process in bytes (Linux reports KiB)."""
+    """Peak resident set size of this process in bytes (since the last reset, where Linux allows)."""
+    hwm = _status_kib("VmHWM")
+    if hwm is not None:
+        return hwm * 1024
     import resource
 
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
