@@ -11,7 +11,8 @@ Cases (all methods get the same boundary points, in one process, after a JIT war
 * ``disk``: unit disk, 1256 equally spaced boundary points (spacing h = 0.005), minimum
   angle 30 degrees.  Triangle runs ``pq30a<A>Q`` with ``A = sqrt(3)/4 h^2``, the area of the
   equilateral triangle of side h (about 460k triangles); meshwright gets ``size = h`` and
-  ``max_area = A``; Gmsh gets mesh size h at every boundary point.
+  ``max_area = A`` for ``delaunay`` (the other meshwright methods get the size h only);
+  Gmsh gets mesh size h at every boundary point.
 * ``naca0012``: NACA 0012 (unit chord) in a circular far field of radius 10 chords, graded
   size 1e-3 chord at the surface growing by 20 % per unit length up to 1 chord
   (:func:`meshwright.sizing.gradation`).  Triangle runs ``pq30Q`` (its refinement grades
@@ -139,8 +140,11 @@ def methods(gmsh_too: bool) -> dict:
     from meshwright.tri import MESH_METHODS, triangulate
 
     def mw(method):
+        # Delaunay refinement gets Triangle's area bound; the frontal and Weatherill methods,
+        # like Gmsh, only the size h (an area bound would re-refine their regular layers).
         def go(domain, size, max_area, boundary):
-            m = triangulate(domain, size, method=method, max_area=max_area, min_angle=30.0)
+            area = max_area if method == "delaunay" else None
+            m = triangulate(domain, size, method=method, max_area=area, min_angle=30.0)
             return m.points, m.cells["triangle"]
 
         return go

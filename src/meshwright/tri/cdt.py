@@ -474,24 +474,13 @@ class ConstrainedTriangulation:
             raise InputError(f"{what} seeds must be finite")
         return locate_points(self._pts, self._tri, self._nbr, self._meta.copy(), q)
 
-    def locate_inside(self, xy) -> np.ndarray:
-        """Row of :meth:`triangles` (inside ones) holding each point, -1 outside the domain.
+    def inside_slots(self) -> np.ndarray:
+        """(ntri,) bool over the kernel's triangle slots: finite and inside the domain.
 
-        Parameters
-        ----------
-        xy : (k, 2) array_like of float64
-
-        Returns
-        -------
-        (k,) int64
-            A triangle whose closure holds the point; -1 when that one is exterior.
+        Slot order is the order of :meth:`triangles`; kernels that walk the flat arrays
+        (``_tri``, ``_nbr``) use it to stay inside.
         """
-        slots = self._locate(xy, "query")
-        ntri = int(self._meta[M_NTRI])
-        mask = self._mask(True)
-        row = np.cumsum(mask) - 1
-        slots = np.minimum(slots, ntri - 1)
-        return np.where(mask[slots], row[slots], -1)
+        return self._mask(True)
 
     def _regions(self, regions, stack, pside) -> None:
         rows = [tuple(r) for r in regions]

@@ -39,9 +39,11 @@ Rows repeat until no triangle is left unaccepted or no proposal survives.  Termi
 accepted proposals are at least ``SPACING min(h)`` from every vertex, so a bounded domain
 holds finitely many; ``max_rows`` caps the loop all the same.
 
-Array layout: per row, the inside triangles ``tris`` (nt, 3) int32 and neighbours ``nbrs``
-(nt, 3) int32 (-1 across the domain boundary) from :class:`ConstrainedTriangulation`, the
-circumcentres ``(nt, 2)`` float64 and sizes ``h`` (nt,) float64 at them.
+Array layout: the kernel's flat ``tri``/``nbr`` (3 cap,) int32 of the
+:class:`ConstrainedTriangulation`, ``inside`` (ntri,) bool over its slots, and ``acc``
+(3 cap,) int32, the vertex triple of the triangle accepted in each slot (a slot reused by a
+later insertion no longer matches, so only new triangles are examined: a row costs time in
+proportion to the front, not to the mesh).
 """
 
 from __future__ import annotations
@@ -52,6 +54,7 @@ from numba import njit
 from meshwright.core.errors import MeshingError
 from meshwright.core.spatial_sort import hilbert_order
 from meshwright.sizing.field import as_size_field
+from meshwright.tri._kernel2d import walk
 from meshwright.tri.weatherill import select_spaced
 
 __all__ = ["frontal_delaunay", "ACCEPT", "SPACING"]
@@ -61,33 +64,51 @@ SPACING = 0.7  # a proposal keeps this fraction of h away from vertices and othe
 _SQRT3 = np.sqrt(3.0)
 
 
+@njit(inline="always")
+def _settled(t, tri, acc):
+    """Whether slot t still holds the triangle that was accepted there."""
+    return acc[3 * t] == tri[3 * t] and acc[3 * t + 1] == tri[3 * t + 1] and acc[3 * t + 2] == tri[3 * t + 2]
+
+
 @njit(cache=True)
-def _circumcircles(pts, tris):
-    """Circumcentres (nt, 2) and circumradii (nt,) of the triangles."""
-    nt = tris.shape[0]
-    cen = np.empty((nt, 2))
-    rad = np.empty(nt)
+def _waiting(pts, tri, inside, acc):
+    """Inside slots not (or no longer) accepted, with circumcentres and circumradii.
+
+    Accepted triangles are remembered by their vertex triple in ``acc`` (3 cap,) int32, so a
+    slot reused by a later insertion counts as new.  Returns ``(slots (k,) int64,
+    centres (k, 2) float64, radii (k,) float64)``.
+    """
+    nt = inside.shape[0]
+    slots = np.empty(nt, dtype=np.int64)
+    k = 0
     for t in range(nt):
-        ax = pts[tris[t, 0], 0]
-        ay = pts[tris[t, 0], 1]
-        bx = pts[tris[t, 1], 0] - ax
-        by = pts[tris[t, 1], 1] - ay
-        cx = pts[tris[t, 2], 0] - ax
-        cy = pts[tris[t, 2], 1] - ay
+        if inside[t] and not _settled(t, tri, acc):
+            slots[k] = t
+            k += 1
+    cen = np.empty((k, 2))
+    rad = np.empty(k)
+    for i in range(k):
+        t = slots[i]
+        ax = pts[tri[3 * t], 0]
+        ay = pts[tri[3 * t], 1]
+        bx = pts[tri[3 * t + 1], 0] - ax
+        by = pts[tri[3 * t + 1], 1] - ay
+        cx = pts[tri[3 * t + 2], 0] - ax
+        cy = pts[tri[3 * t + 2], 1] - ay
         d = 2.0 * (bx * cy - by * cx)
         b2 = bx * bx + by * by
         c2 = cx * cx + cy * cy
         ux = (cy * b2 - by * c2) / d
         uy = (bx * c2 - cx * b2) / d
-        cen[t, 0] = ax + ux
-        cen[t, 1] = ay + uy
-        rad[t] = np.sqrt(ux * ux + uy * uy)
-    return cen, rad
+        cen[i, 0] = ax + ux
+        cen[i, 1] = ay + uy
+        rad[i] = np.sqrt(ux * ux + uy * uy)
+    return slots[:k], cen, rad
 
 
 @njit(cache=True)
-def _proposals(pts, tris, nbrs, rad, h, accept):
-    """Frontal proposals of one row.
+def _proposals(pts, tri, nbr, inside, acc, slots, rad, h, accept):
+    """Accept the waiting triangles of the right size; propose points for the others.
 
     Returns
     -------
@@ -95,51 +116,68 @@ def _proposals(pts, tris, nbrs, rad, h, accept):
         Ideal points.
     hx : (k,) float64
         Size at the proposing triangle (the spacing radius uses it).
+    src : (k,) int64
+        The proposing slot.
     n_waiting : int
-        Triangles not yet accepted.
+        Triangles still not accepted.
     """
-    nt = tris.shape[0]
-    good = np.empty(nt, dtype=np.bool_)
-    for t in range(nt):
-        good[t] = rad[t] <= accept * h[t] / _SQRT3
-    xy = np.empty((nt, 2))
-    hx = np.empty(nt)
+    m = slots.shape[0]
+    for i in range(m):
+        t = slots[i]
+        if rad[i] <= accept * h[i] / _SQRT3:
+            acc[3 * t] = tri[3 * t]
+            acc[3 * t + 1] = tri[3 * t + 1]
+            acc[3 * t + 2] = tri[3 * t + 2]
+    xy = np.empty((m, 2))
+    hx = np.empty(m)
+    src = np.empty(m, dtype=np.int64)
     k = 0
     waiting = 0
-    for t in range(nt):
-        if good[t]:
+    for i in range(m):
+        t = slots[i]
+        if _settled(t, tri, acc):
             continue
         waiting += 1
         # The front edge: toward an accepted neighbour or the boundary; the longest such.
         best = -1
         blen = -1.0
         for e in range(3):
-            n = nbrs[t, e]
-            if n >= 0 and not good[n]:
+            n = nbr[3 * t + e]
+            if inside[n] and not _settled(n, tri, acc):
                 continue
-            a = tris[t, (e + 1) % 3]
-            b = tris[t, (e + 2) % 3]
+            a = tri[3 * t + (e + 1) % 3]
+            b = tri[3 * t + (e + 2) % 3]
             ln = np.hypot(pts[b, 0] - pts[a, 0], pts[b, 1] - pts[a, 1])
             if ln > blen:
                 blen = ln
                 best = e
         if best < 0:
             continue
-        a = tris[t, (best + 1) % 3]
-        b = tris[t, (best + 2) % 3]
+        a = tri[3 * t + (best + 1) % 3]
+        b = tri[3 * t + (best + 2) % 3]
         mx = 0.5 * (pts[a, 0] + pts[b, 0])
         my = 0.5 * (pts[a, 1] + pts[b, 1])
         p = 0.5 * blen
         # Inward unit normal of a -> b (the triangle lies to its left).
         nx = -(pts[b, 1] - pts[a, 1]) / blen
         ny = (pts[b, 0] - pts[a, 0]) / blen
-        rho = min(max(h[t] / _SQRT3, p), rad[t])
+        rho = min(max(h[i] / _SQRT3, p), rad[i])
         d = rho + np.sqrt(max(rho * rho - p * p, 0.0))
         xy[k, 0] = mx + d * nx
         xy[k, 1] = my + d * ny
-        hx[k] = h[t]
+        hx[k] = h[i]
+        src[k] = t
         k += 1
-    return xy[:k], hx[:k], waiting
+    return xy[:k], hx[:k], src[:k], waiting
+
+
+@njit(cache=True)
+def _locate_near(pts, tri, nbr, meta, src, xy):
+    """Slot holding each proposal, walking from the triangle that proposed it (a step away)."""
+    out = np.empty(xy.shape[0], dtype=np.int64)
+    for i in range(xy.shape[0]):
+        out[i] = walk(pts, tri, nbr, meta, src[i], xy[i, 0], xy[i, 1])
+    return out
 
 
 def frontal_delaunay(ct, size, *, max_rows: int = 10_000, max_points: int | None = None) -> None:
@@ -163,20 +201,22 @@ def frontal_delaunay(ct, size, *, max_rows: int = 10_000, max_points: int | None
     """
     field = as_size_field(size)
     cap = np.iinfo(np.int32).max if max_points is None else int(max_points)
+    acc = np.full(len(ct._tri), -2, dtype=np.int32)  # no triple matches: nothing accepted yet
     for _ in range(int(max_rows)):
-        pts = ct.points
-        tris = ct.triangles(True)
-        nbrs = ct.neighbors(True)
-        cen, rad = _circumcircles(pts, tris)
-        h = field(cen)
-        xy, hx, waiting = _proposals(pts, tris, nbrs, rad, h, ACCEPT)
+        if len(acc) < len(ct._tri):
+            acc = np.concatenate([acc, np.full(len(ct._tri) - len(acc), -2, dtype=np.int32)])
+        pts, inside = ct.points, ct.inside_slots()
+        slots, cen, rad = _waiting(pts, ct._tri, inside, acc)
+        if len(slots) == 0:
+            return
+        xy, hx, src, waiting = _proposals(pts, ct._tri, ct._nbr, inside, acc, slots, rad, field(cen), ACCEPT)
         if waiting == 0 or len(xy) == 0:
             return
         # Spacing: the disk search walks the triangulation from each proposal's triangle.
-        host = ct.locate_inside(xy)
-        keep = host >= 0
+        host = _locate_near(pts, ct._tri, ct._nbr, ct._meta.copy(), src, xy)
+        keep = inside[host]
         xy, hx, host = xy[keep], hx[keep], host[keep]
-        accepted = select_spaced(pts, tris, nbrs, xy, host, SPACING * hx)
+        accepted = select_spaced(pts, ct._tri, ct._nbr, inside, xy, host, SPACING * hx)
         if not accepted.any():
             return
         new = xy[accepted]
@@ -186,4 +226,3 @@ def frontal_delaunay(ct, size, *, max_rows: int = 10_000, max_points: int | None
             )
         ct.insert_points(new[hilbert_order(new)])
     raise MeshingError(f"frontal Delaunay still added points after max_rows = {max_rows} rows")
-

@@ -98,29 +98,32 @@ def _segment_dist2(ax, ay, bx, by, qx, qy):
 
 
 @njit(cache=True)
-def select_spaced(pts, tris, nbrs, cand, host, radius):
+def select_spaced(pts, tri, nbr, inside, cand, host, radius):
     """Accept or reject candidates in order; returns (k,) bool.
 
-    Candidate i, lying in triangle ``host[i]``, is accepted when no vertex of the triangles
-    its disk of radius ``radius[i]`` reaches, and no candidate accepted before it that was
-    listed on one of those triangles, lies strictly inside the disk.  Shared by the frontal
-    Delaunay rows (:mod:`meshwright.tri.frontal_delaunay`).
+    Candidate i, lying in triangle slot ``host[i]``, is accepted when no vertex of the
+    triangles its disk of radius ``radius[i]`` reaches, and no candidate accepted before it
+    that was listed on one of those triangles, lies strictly inside the disk.  Shared by the
+    frontal Delaunay rows (:mod:`meshwright.tri.frontal_delaunay`).
 
     Parameters
     ----------
     pts : (nv, 2) float64
-    tris, nbrs : (nt, 3) int32
-        Inside triangles and their neighbours (-1 across the boundary).
+    tri, nbr : (3 cap,) int32
+        The kernel's flat triangles and neighbours (:mod:`meshwright.tri._kernel2d`).
+    inside : (ntri,) bool
+        Slots of finite triangles inside the domain; the search never leaves them.
     cand : (k, 2) float64
-    host : (k,) int32 or int64
+    host : (k,) int64
+        Inside slot holding each candidate.
     radius : (k,) float64
     """
-    nt = tris.shape[0]
+    nt = inside.shape[0]
     k = cand.shape[0]
     accepted = np.zeros(k, dtype=np.bool_)
-    head = np.full(nt, -1, dtype=np.int32)  # first accepted candidate listed on triangle t
+    head = np.full(nt, -1, dtype=np.int32)  # first accepted candidate listed on slot t
     nxt = np.full(k, -1, dtype=np.int32)
-    stamp = np.full(nt, -1, dtype=np.int32)  # last candidate whose walk visited triangle t
+    stamp = np.full(nt, -1, dtype=np.int32)  # last candidate whose walk visited slot t
     stack = np.empty(nt, dtype=np.int32)
     for i in range(k):
         qx = cand[i, 0]
@@ -134,7 +137,7 @@ def select_spaced(pts, tris, nbrs, cand, host, radius):
             top -= 1
             t = stack[top]
             for m in range(3):
-                v = tris[t, m]
+                v = tri[3 * t + m]
                 dx = pts[v, 0] - qx
                 dy = pts[v, 1] - qy
                 if dx * dx + dy * dy < r2:
@@ -147,11 +150,11 @@ def select_spaced(pts, tris, nbrs, cand, host, radius):
                     ok = False
                 j = nxt[j]
             for m in range(3):
-                n = nbrs[t, m]
-                if n < 0 or stamp[n] == i:
+                n = nbr[3 * t + m]
+                if not inside[n] or stamp[n] == i:
                     continue
-                a = tris[t, (m + 1) % 3]
-                b = tris[t, (m + 2) % 3]
+                a = tri[3 * t + (m + 1) % 3]
+                b = tri[3 * t + (m + 2) % 3]
                 # Only triangles the open disk reaches can hold a point inside it.
                 if _segment_dist2(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], qx, qy) < r2:
                     stamp[n] = i
@@ -229,8 +232,9 @@ def weatherill(
         cand, dpm = _candidates(pts, tris, store)
         if field is not None:
             dpm = np.minimum(dpm, field(cand))
-        host = np.arange(len(tris), dtype=np.int32)
-        accepted = np.flatnonzero(select_spaced(pts, tris, ct.neighbors(True), cand, host, alpha * dpm))
+        inside = ct.inside_slots()
+        host = np.flatnonzero(inside)
+        accepted = np.flatnonzero(select_spaced(pts, ct._tri, ct._nbr, inside, cand, host, alpha * dpm))
         if len(accepted) == 0:
             if callback is not None:
                 callback(p, 0, ct.n_points)
