@@ -429,3 +429,11 @@ def test_interior_segment_between_loop_vertices_splits_regions():
     lines = mesh.cells["line"]
     on = np.all(mesh.points[lines][:, :, 0] == 1.0, axis=1)
     assert np.sum(np.abs(np.diff(mesh.points[lines[on]][:, :, 1], axis=1))) == pytest.approx(1.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_progress_bar_does_not_change_the_mesh(method):
+    quiet = mw.triangulate("circle", 0.1, method=method)
+    shown = mw.triangulate("circle", 0.1, method=method, progress=True)
+    assert np.array_equal(quiet.points, shown.points)
+    assert np.array_equal(quiet.cells["triangle"], shown.cells["triangle"])

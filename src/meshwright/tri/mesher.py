@@ -71,7 +71,17 @@ class MeshMethod(NamedTuple):
 
 
 def _place_delaunay(job: _Job) -> None:
-    refine(job.ct, min_angle=job.min_angle, size=job.field, max_area=job.max_area)
+    if not job.progress:
+        refine(job.ct, min_angle=job.min_angle, size=job.field, max_area=job.max_area)
+        return
+    from tqdm import tqdm
+
+    with tqdm(desc="Delaunay refinement", unit=" vertices", leave=False) as bar:
+
+        def report(n: int) -> None:
+            bar.update(n - bar.n)
+
+        refine(job.ct, min_angle=job.min_angle, size=job.field, max_area=job.max_area, progress=report)
 
 
 def _place_weatherill(job: _Job) -> None:

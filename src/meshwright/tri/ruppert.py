@@ -594,12 +594,17 @@ class _Run:
         prm[P_CX], prm[P_CY], prm[P_CT] = x, y, t
         st[S_CREADY] = 1
 
-    def run(self, size, estimate: int, what: str) -> None:
-        """Call the loop until it is done, serving its requests; raise on caps and errors."""
+    def run(self, size, estimate: int, what: str, progress=None) -> None:
+        """Call the loop until it is done, serving its requests; raise on caps and errors.
+
+        ``progress(n_vertices)`` is called whenever the loop hands control back to Python.
+        """
         ct, st = self.ct, self.st
         try:
             while True:
                 code = refine_loop(*self.args())
+                if progress is not None:
+                    progress(int(st[S_NV]))
                 if code == R_DONE:
                     return
                 if code == R_ROOM:
@@ -666,7 +671,10 @@ def _estimate(ct, amax: float, size) -> float:
     return float(np.sum(area / bound))
 
 
-def refine(ct, *, min_angle: float = 30.0, size=None, max_area=None, max_points=None, max_steps=None, offcenters: bool = True, curves=None):
+def refine(
+    ct, *, min_angle: float = 30.0, size=None, max_area=None, max_points=None, max_steps=None,
+    offcenters: bool = True, curves=None, progress=None,
+):
     """Guaranteed-quality Delaunay refinement of a constrained triangulation, in place.
 
     Parameters
@@ -691,6 +699,8 @@ def refine(ct, *, min_angle: float = 30.0, size=None, max_area=None, max_points=
         Insert Üngör's off-centres instead of circumcentres where nearer (fewer vertices).
     curves : SegmentCurves or callable, optional
         Replaces ``ct.curves`` (true curve of each segment for the split points).
+    progress : callable, optional
+        ``progress(n_vertices)``, called now and then (progress bars).
 
     Returns
     -------
@@ -729,7 +739,7 @@ def refine(ct, *, min_angle: float = 30.0, size=None, max_area=None, max_points=
     sized = field is not None and field.constant is None
     run = _Run(ct, MODE_RUPPERT, sin2, amax, off, sized, int(max_points), int(max_steps))
     run.seed()
-    run.run(field, int(min(max_points, nv + 1.2 * est + 16)), "refine")
+    run.run(field, int(min(max_points, nv + 1.2 * est + 16)), "refine", progress)
     return ct
 
 
