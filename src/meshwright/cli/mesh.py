@@ -15,6 +15,7 @@ from pathlib import Path
 from meshwright.cli._common import Timer, add_output_arguments, emit_mesh
 from meshwright.core.errors import FormatError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
+from meshwright.sizing import BackgroundGrid
 from meshwright.tri import MESH_METHODS, triangulate
 
 NAME = "mesh"
@@ -27,6 +28,11 @@ def add_arguments(parser) -> None:
         help=f"a .poly file, a .json geometry file, or a built-in domain: {', '.join(sorted(BUILTIN_DOMAINS))}",
     )
     parser.add_argument("--size", type=float, metavar="H", help="target edge length (default: the domain's own)")
+    parser.add_argument(
+        "--background",
+        metavar="FILE",
+        help="background grid giving the spacing (format in meshwright.sizing.background); overrides --size",
+    )
     parser.add_argument("--min-angle", type=float, default=30.0, metavar="A", help="minimum angle in degrees")
     parser.add_argument(
         "--method",
@@ -68,10 +74,11 @@ def load_input(spec: str):
 
 def run(args) -> int:
     domain = load_input(args.input)
+    size = BackgroundGrid.read(args.background) if args.background else args.size
     with Timer() as t:
         mesh = triangulate(
             domain,
-            args.size,
+            size,
             min_angle=args.min_angle,
             method=args.method,
             smooth=args.smooth,

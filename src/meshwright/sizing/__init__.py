@@ -1,13 +1,15 @@
-"""How fine: size fields (constant, callable, graded from boundary spacing).
+"""How fine: size fields (constant, callable, graded from boundary spacing, background grids).
 
 Below :mod:`meshwright.geometry` in the layer order; depends only on ``core``.
 """
 
+from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.boundary import boundary_size, gradation, point_distribution
 from meshwright.sizing.field import SizeField, as_size_field, minimum
 
 __all__ = [
     "SizeField",
+    "BackgroundGrid",
     "as_size_field",
     "minimum",
     "point_distribution",

@@ -537,7 +537,7 @@ def _redirect(nbr, t, old, new):
 
 @njit(cache=True)
 def _split_by_flips(v, h, pts, tri, nbr, cons, circ, rank, meta, work):
-    """Insert v into the triangle of half-edge h's edge that holds it, then flip (Lawson).
+    r"""Insert v into the triangle of half-edge h's edge that holds it, then flip (Lawson).
 
     The triangle X = (p0, p1, p2) holding v becomes three, each stored with v first::
 

@@ -31,7 +31,8 @@ from meshwright.core.predicates import orient2d_batch
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.shapes import builtin, polygon
-from meshwright.sizing.boundary import boundary_size, point_distribution
+from meshwright.sizing.background import BackgroundGrid
+from meshwright.sizing.boundary import point_distribution
 from meshwright.sizing.field import SizeField, as_size_field
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
 from meshwright.tri.frontal_delaunay import frontal_delaunay
@@ -118,7 +119,10 @@ def _place_weatherill(job: _Job) -> None:
 def _place_frontal(job: _Job) -> None:
     field = job.field
     if field is None:
-        field = boundary_size(job.disc.points, job.disc.segments)
+        # Chapter 18.3: the background is the triangulation of the boundary nodes with
+        # their point distribution function, interpolated linearly.
+        disc = job.disc
+        field = BackgroundGrid.from_boundary(job.ct.points, job.ct.index_map[disc.segments], job.ct.triangles(False))
     frontal_delaunay(job.ct, field)
     if job.max_area is not None:
         refine(job.ct, min_angle=0.0, max_area=job.max_area)
