@@ -103,3 +103,121 @@ def test_bad_input_is_named(tmp_path):
     bad.write_text("not a grid\n")
     with pytest.raises(FormatError):
         BackgroundGrid.read(bad)
+
+
+# ---------------------------------------------------------------------------- spacing along curves
+def _segment_lengths(disc):
+    """Lengths of the discretisation's segments along x and along y (axis-parallel domains)."""
+    d = np.diff(disc.points[disc.segments], axis=1)[:, 0]
+    length = np.hypot(d[:, 0], d[:, 1])
+    horizontal = np.abs(d[:, 1]) < 1e-12 * length
+    return length[horizontal], length[~horizontal]
+
+
+@pytest.mark.parametrize(
+    "dom",
+    [mw.geometry.polygon([(0, 0), (4, 0), (4, 1), (0, 1)]), mw.geometry.rectangle(0.0, 0.0, 4.0, 1.0)],
+    ids=["polygon", "rectangle"],
+)
+@pytest.mark.parametrize("direction, along_x, along_y", [(0.0, 0.2, 0.05), (math.pi / 2, 0.05, 0.2)])
+def test_boundary_spacing_follows_the_stretching(dom, direction, along_x, along_y):
+    bg = BackgroundGrid.uniform(dom.bbox, delta=0.05, stretch=4, direction=direction)
+    hx, hy = _segment_lengths(dom.discretize(bg))
+    assert hx.mean() == pytest.approx(along_x, rel=0.1)
+    assert hy.mean() == pytest.approx(along_y, rel=0.1)
+    # Polygon corners must not leak one side's direction into the other's spacing.
+    assert hx.std() < 0.05 * hx.mean() and hy.std() < 0.05 * hy.mean()
+
+
+def test_along_matches_the_metric_formula():
+    delta, s, alpha = 0.05, 4.0, math.radians(30)
+    bg = BackgroundGrid.uniform((0, 0, 1, 1), delta, s, alpha)
+    angles = np.radians([0.0, 30.0, 75.0, 120.0, 210.0])
+    tau = np.column_stack([np.cos(angles), np.sin(angles)])
+    xy = np.random.default_rng(2).random((len(angles), 2))
+    r = np.array([[math.cos(alpha), -math.sin(alpha)], [math.sin(alpha), math.cos(alpha)]])
+    t = r @ np.diag([1 / s, 1.0]) @ r.T
+    m = t @ t / delta**2
+    want = 1.0 / np.sqrt(np.einsum("ni,ij,nj->n", tau, m, tau))
+    # Tangent length is irrelevant.
+    got = bg.along(xy, 3.0 * tau)
+    assert np.allclose(got, want, rtol=1e-12)
+    assert got[1] == pytest.approx(s * delta, rel=1e-12)
+    assert got[3] == pytest.approx(delta, rel=1e-12)
+    assert got[4] == pytest.approx(s * delta, rel=1e-12)
+    assert bg.along(xy[:1], np.zeros((1, 2)))[0] == pytest.approx(delta, rel=1e-12)
+
+
+def test_isotropic_along_is_the_size():
+    xy = np.random.default_rng(3).random((40, 2))
+    tau = np.random.default_rng(4).normal(size=(40, 2))
+    tau[0] = 0.0
+    for field in (
+        as_size_field(0.1),
+        as_size_field(lambda p: 0.01 + p[:, 0] ** 2),
+        BackgroundGrid(SQUARE, HALVES, [0.1, 0.2, 0.3, 0.4]),
+    ):
+        assert np.array_equal(field.along(xy, tau), field(xy))
+    with pytest.raises(InputError, match="tangents"):
+        as_size_field(0.1).along(xy, tau[:5])
+    tau[7] = np.nan
+    with pytest.raises(InputError, match="tangent 7"):
+        as_size_field(0.1).along(xy, tau)
+
+
+def test_single_point_tables_and_arcs_do_not_break_along():
+    # A circle (one arc, no corners) under a stretched grid: still a valid polygon, finer
+    # where the boundary runs across the stretching.
+    bg = BackgroundGrid.uniform((-1, -1, 1, 1), 0.05, 3.0, 0.0)
+    disc = mw.geometry.circle().discretize(bg)
+    p = disc.points[disc.segments]
+    mid = p.mean(axis=1)
+    length = np.hypot(*(p[:, 1] - p[:, 0]).T)
+    top = length[np.abs(mid[:, 1]) > 0.95].mean()  # tangent ~ x: stretched
+    side = length[np.abs(mid[:, 0]) > 0.95].mean()  # tangent ~ y: across
+    assert top == pytest.approx(0.15, rel=0.15)
+    assert side == pytest.approx(0.05, rel=0.15)
+    from meshwright.geometry._discretize import _curve_queries
+
+    one = np.array([[0.5, 0.5]])
+    xy, tan, corners = _curve_queries(mw.geometry.Line((0, 0), (1, 0)), np.array([0.0]), one)
+    assert np.array_equal(xy, one) and np.array_equal(tan, np.zeros((1, 2))) and len(corners) == 0
+    assert bg.along(xy, tan)[0] == pytest.approx(0.05)
+
+
+# ---------------------------------------------------------------------------- CLI --stretch
+def test_cli_stretch(tmp_path, capsys):
+    from meshwright.cli import main
+
+    out = tmp_path / "tmp.vtu"
+    args = ["mesh", "rectangle", "--method", "delaunay", "-o", str(out)]
+    assert main([*args, "--size", "0.1", "--stretch", "3", "--direction", "30"]) == 0
+    assert out.exists()
+    assert "triangle" in mw.read(out).cells
+    capsys.readouterr()
+
+    bg = tmp_path / "bg.txt"
+    BackgroundGrid.uniform((0, 0, 2, 1), 0.1).write(bg)
+    for extra, message in [
+        (["--stretch", "3"], "needs --size"),
+        (["--size", "0.1", "--direction", "30"], "needs --stretch"),
+        (["--size", "0.1", "--stretch", "3", "--background", str(bg)], "mutually exclusive"),
+        (["--size", "0.1", "--stretch", "0.5"], "--stretch must be"),
+    ]:
+        assert main([*args, *extra]) == 1
+        assert message in capsys.readouterr().err
+
+
+def test_cli_stretch_raises_meshwright_errors():
+    from meshwright.cli import build_parser
+    from meshwright.cli.mesh import run
+
+    parser = build_parser()
+    with pytest.raises(InputError, match="needs --size"):
+        run(parser.parse_args(["mesh", "rectangle", "--stretch", "3"]))
+    with pytest.raises(InputError, match="needs --stretch"):
+        run(parser.parse_args(["mesh", "rectangle", "--direction", "30"]))
+    with pytest.raises(InputError, match="mutually exclusive"):
+        run(parser.parse_args(["mesh", "rectangle", "--size", "0.1", "--stretch", "3", "--background", "bg.txt"]))
+    with pytest.raises(SizeError, match="--stretch"):
+        run(parser.parse_args(["mesh", "rectangle", "--size", "0.1", "--stretch", "0.5"]))

@@ -5,15 +5,20 @@ INPUT is a Triangle ``.poly`` file, a JSON geometry file (schema in
 (:data:`meshwright.geometry.BUILTIN_DOMAINS`).  The method choices come from
 :data:`meshwright.tri.MESH_METHODS`.  The output format follows the extension of OUT:
 any meshio format, or Triangle ``.node``/``.ele``.
+
+``--stretch S [--direction DEG]`` meshes with a uniform stretched background grid over the
+domain's bounding box (chapter 18.2): spacing ``S * H`` along DEG and ``H`` across it,
+``H`` being ``--size``.  Boundary spacing follows it for every method.
 """
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
 from meshwright.cli._common import Timer, add_output_arguments, emit_mesh
-from meshwright.core.errors import FormatError
+from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
 from meshwright.sizing import BackgroundGrid
 from meshwright.tri import MESH_METHODS, triangulate
@@ -32,6 +37,19 @@ def add_arguments(parser) -> None:
         "--background",
         metavar="FILE",
         help="background grid giving the spacing (format in meshwright.sizing.background); overrides --size",
+    )
+    parser.add_argument(
+        "--stretch",
+        type=float,
+        metavar="S",
+        help="uniform stretched background (18.2): spacing S*H along --direction, H across; "
+        "S >= 1, needs --size H; excludes --background",
+    )
+    parser.add_argument(
+        "--direction",
+        type=float,
+        metavar="DEG",
+        help="stretching direction in degrees from the x axis (default 0; only with --stretch)",
     )
     parser.add_argument("--min-angle", type=float, default=30.0, metavar="A", help="minimum angle in degrees")
     parser.add_argument(
@@ -72,9 +90,59 @@ def load_input(spec: str):
     raise FormatError(f"{spec}: unknown input kind {suffix!r}; expected .poly or .json")
 
 
+def stretched_background(domain, size, stretch, direction):
+    """Uniform background grid over ``domain.bbox`` from the ``--size/--stretch/--direction`` values.
+
+    Parameters
+    ----------
+    domain : Domain
+    size : float or None
+        Spacing ``delta`` across the stretching (``--size``).
+    stretch : float
+        Stretching ``s >= 1`` (``--stretch``).
+    direction : float or None
+        Stretching direction in degrees (``--direction``); None means 0.
+
+    Returns
+    -------
+    BackgroundGrid
+
+    Raises
+    ------
+    InputError
+        ``--size`` missing, or a non-finite ``--direction``.
+    SizeError
+        ``--size`` not positive or ``--stretch`` below 1 (or not finite).
+    """
+    if size is None:
+        raise InputError(f"--stretch {stretch:g} needs --size H: the spacing across the stretching")
+    if not (math.isfinite(size) and size > 0.0):
+        raise SizeError(f"--size must be positive and finite, got {size!r}")
+    if not (math.isfinite(stretch) and stretch >= 1.0):
+        raise SizeError(f"--stretch must be a finite number >= 1, got {stretch!r}")
+    deg = 0.0 if direction is None else direction
+    if not math.isfinite(deg):
+        raise InputError(f"--direction must be a finite angle in degrees, got {direction!r}")
+    return BackgroundGrid.uniform(domain.bbox, size, stretch=stretch, direction=math.radians(deg))
+
+
+def _size_option(args, domain):
+    """The size argument of :func:`triangulate` chosen by ``--size/--background/--stretch``."""
+    if args.stretch is None:
+        if args.direction is not None:
+            raise InputError(f"--direction {args.direction:g} needs --stretch S")
+        return BackgroundGrid.read(args.background) if args.background else args.size
+    if args.background:
+        raise InputError(
+            f"--background {args.background} and --stretch {args.stretch:g} are mutually exclusive: "
+            "the background grid file carries its own stretching"
+        )
+    return stretched_background(domain, args.size, args.stretch, args.direction)
+
+
 def run(args) -> int:
     domain = load_input(args.input)
-    size = BackgroundGrid.read(args.background) if args.background else args.size
+    size = _size_option(args, domain)
     with Timer() as t:
         mesh = triangulate(
             domain,

@@ -4,7 +4,9 @@ vertex deduplication and interior seeds.
 Placement follows the size field ``h``: the number of segments on a curve piece is the
 rounded integral of ``1/h`` along its arc length, and the points sit at equal increments of
 that integral, so spacing tracks ``h`` even where it varies.  The integral is evaluated by
-the trapezoidal rule on a table refined until each interval is below ``h / 2``.
+the trapezoidal rule on a table refined until each interval is below ``h / 2``.  ``h`` is
+the spacing wanted along the curve (:meth:`meshwright.sizing.SizeField.along`), which a
+stretched background grid makes depend on the curve's direction.
 """
 
 from __future__ import annotations
@@ -24,17 +26,78 @@ def _chords(p: np.ndarray) -> np.ndarray:
     return np.hypot(d[:, 0], d[:, 1])
 
 
+def _curve_queries(curve, t: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where and in which direction to ask a size field about one curve's table.
+
+    Tangents are central differences of the table points (one-sided at the ends), taken
+    within each piece: at a corner between pieces (a polyline vertex) the two sides differ,
+    so the corner is asked twice, once with each piece's direction, and each interval uses
+    the answer of its own side.
+
+    Parameters
+    ----------
+    curve : Curve
+    t : (k,) float64
+        Table parameters, ordered along the curve.
+    p : (k, 2) float64
+        The points at ``t``.
+
+    Returns
+    -------
+    xy : (k + c, 2) float64
+        The table points, then the ``c`` corners again.
+    tangents : (k + c, 2) float64
+        Not normalised; zero where the table gives no direction (a single point).
+    corners : (c,) int64
+        Table indices of the corners, in the order they are repeated in ``xy``.
+    """
+    k = len(p)
+    if k < 2:
+        return p, np.zeros_like(p), np.zeros(0, dtype=np.int64)
+    d = np.diff(p, axis=0)
+    piece = curve.piece_index(t[:-1])
+    corners = np.flatnonzero(piece[1:] != piece[:-1]) + 1
+    tan = np.empty_like(p)
+    tan[0], tan[-1] = d[0], d[-1]
+    tan[1:-1] = p[2:] - p[:-2]
+    # A corner's own entry serves the interval leaving it, the repeat the one arriving.
+    tan[corners] = d[corners]
+    return np.concatenate([p, p[corners]]), np.concatenate([tan, d[corners - 1]]), corners
+
+
+def _interval_sizes(curves, size, tables, pts) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Sizes along the curves at both ends of every table interval, in one field call.
+
+    Returns, per curve, ``(h0, h1)``, each (k_i - 1,) float64: the spacing at the start and
+    at the end of each interval, in the interval's direction.  For an isotropic field
+    ``h0 == h[:-1]`` and ``h1 == h[1:]`` of the point sizes ``h``.
+    """
+    queries = [_curve_queries(c, t, p) for c, t, p in zip(curves, tables, pts)]
+    hq = size.along(np.concatenate([q[0] for q in queries]), np.concatenate([q[1] for q in queries]))
+    out = []
+    for (xy, _, corners), h in zip(queries, np.split(hq, np.cumsum([len(q[0]) for q in queries])[:-1])):
+        k = len(xy) - len(corners)
+        h1 = h[1:k].copy()
+        h1[corners - 1] = h[k:]
+        out.append((h[: max(k - 1, 0)], h1))
+    return out
+
+
 def _resolve_size(curves, size, tables):
     """Refine the parameter tables until every interval is at most half the local size.
 
-    Returns the refined tables, their points and the sizes there (lists, one per curve).
+    The size is the spacing wanted along the curve (:meth:`SizeField.along`), so a
+    stretched background grid gives longer segments along its stretching direction.
+
+    Returns the refined tables, their points and the interval end sizes ``(h0, h1)`` of
+    :func:`_interval_sizes` (lists, one entry per curve).
     """
     for _ in range(_MAX_TABLE_ROUNDS):
         pts = [c.evaluate(t) for c, t in zip(curves, tables)]
-        hv = np.split(size(np.concatenate(pts)), np.cumsum([len(t) for t in tables])[:-1])
+        hv = _interval_sizes(curves, size, tables, pts)
         refined = False
-        for k, (t, p, h) in enumerate(zip(tables, pts, hv)):
-            nsub = np.ceil(_chords(p) / (0.5 * np.minimum(h[:-1], h[1:]))).astype(np.int64)
+        for k, (t, p, (h0, h1)) in enumerate(zip(tables, pts, hv)):
+            nsub = np.ceil(_chords(p) / (0.5 * np.minimum(h0, h1))).astype(np.int64)
             if (nsub <= 1).all():
                 continue
             refined = True
@@ -56,7 +119,8 @@ def place_params(curves, size, factors) -> list[np.ndarray]:
     ----------
     curves : sequence of Curve
     size : SizeField or None
-        None places ``min_segments`` segments per piece, evenly in arc length.
+        Spacing along the curves (:meth:`SizeField.along`); None places ``min_segments``
+        segments per piece, evenly in arc length.
     factors : (c,) int
         Multipliers of the segment counts (raised where a coarse polygon is invalid).
 
@@ -73,7 +137,7 @@ def place_params(curves, size, factors) -> list[np.ndarray]:
     out = []
     for c, t, p, h, f in zip(curves, tables, pts, hv, factors):
         ds = _chords(p)
-        w = ds if h is None else ds * 0.5 * (1.0 / h[:-1] + 1.0 / h[1:])
+        w = ds if h is None else ds * 0.5 * (1.0 / h[0] + 1.0 / h[1])
         breaks = c.breaks()
         npieces = len(breaks) - 1
         piece = np.minimum(c.piece_index(t[:-1]), npieces - 1)

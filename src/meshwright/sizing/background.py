@@ -42,7 +42,7 @@ from numba import njit
 
 from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.sizing.boundary import point_distribution
-from meshwright.sizing.field import SizeField, fmt_point
+from meshwright.sizing.field import SizeField, fmt_point, unit_tangents
 
 __all__ = ["BackgroundGrid"]
 
@@ -177,7 +177,8 @@ class BackgroundGrid(SizeField):
     """Spacing delta, stretching s and direction alpha on a background triangulation.
 
     Usable wherever a size is accepted (``size=BackgroundGrid(...)``): as a size field it
-    gives delta.
+    gives delta, and :meth:`along` gives the direction-aware spacing along a curve, which
+    boundary discretisation uses (``s * delta`` along alpha, ``delta`` across it).
 
     Parameters
     ----------
@@ -267,6 +268,47 @@ class BackgroundGrid(SizeField):
         """
         v = self._interp(xy)
         return v[:, 0], v[:, 1], 0.5 * np.arctan2(v[:, 3], v[:, 2])
+
+    def along(self, xy, tangents) -> np.ndarray:
+        r"""Spacing wanted along a curve through ``xy`` (n, 2) with ``tangents`` (n, 2).
+
+        With ``delta``, ``s``, ``alpha`` interpolated at each point and ``tau`` the unit
+        tangent, the spacing is :math:`1 / \sqrt{\tau^T M \tau}` for the metric
+        :math:`M = T^2 / \delta^2`, ``T`` as in :meth:`transform`: ``s * delta`` along
+        alpha, ``delta`` across it, the radius of that ellipse in between.  Because ``T`` is
+        symmetric, :math:`\tau^T M \tau = |T \tau|^2 / \delta^2
+        = (1 - c^2 (1 - 1/s^2)) / \delta^2` with :math:`c = \cos(\angle(\tau, \alpha))`,
+        which is what is evaluated (exactly ``delta`` where ``s = 1``).
+
+        Parameters
+        ----------
+        xy : (n, 2) array_like of float64
+        tangents : (n, 2) array_like of float64
+            Any nonzero length; a zero tangent gets ``delta``.
+
+        Returns
+        -------
+        (n,) float64
+            Positive, finite spacings.
+
+        Raises
+        ------
+        InputError
+            Mismatched shapes or a non-finite tangent (its index named).
+        """
+        tau, _ = unit_tangents(xy, tangents)
+        if np.all(self.stretch == 1.0):
+            # Keeps an unstretched grid bit-for-bit equal to its isotropic size field.
+            return self(xy)
+        d, s, al = self.metric(xy)
+        if self.constant is not None:
+            # The size field's exact constant, not the interpolation's rounding of it.
+            d = np.full(len(d), self.constant)
+        # Interpolating values >= 1 can round a hair below 1.
+        s = np.maximum(s, 1.0)
+        c = tau[:, 0] * np.cos(al) + tau[:, 1] * np.sin(al)
+        # A zero tangent has c = 0 and so gets delta.
+        return d / np.sqrt(1.0 - c * c * (1.0 - 1.0 / (s * s)))
 
     def transform(self, xy) -> np.ndarray:
         """The chapter's local transformation at ``xy`` (k, 2): (k, 2, 2) float64 matrices.

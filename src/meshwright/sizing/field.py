@@ -77,6 +77,72 @@ class SizeField:
             )
         return h
 
+    def along(self, xy, tangents) -> np.ndarray:
+        """Spacing wanted along a curve through ``xy`` with the given tangents.
+
+        An isotropic field asks for the same spacing in every direction, so this default
+        ignores the tangents and returns ``self(xy)``; direction-aware fields (a stretched
+        :class:`~meshwright.sizing.BackgroundGrid`) override it.  Boundary discretisation
+        calls this, so a curve running along a stretching direction gets longer segments.
+
+        Parameters
+        ----------
+        xy : (n, 2) array_like of float64
+            Points on the curve.
+        tangents : (n, 2) array_like of float64
+            Curve tangent at each point; any length (normalised inside), a zero row meaning
+            "direction unknown" (the spacing across any stretching is used).
+
+        Returns
+        -------
+        (n,) float64
+            Positive, finite spacings.
+
+        Raises
+        ------
+        InputError
+            ``xy`` and ``tangents`` not both (n, 2), or a non-finite tangent (its index named).
+        SizeError
+            As for :meth:`__call__`.
+        """
+        unit_tangents(xy, tangents)
+        return self(xy)
+
+
+def unit_tangents(xy, tangents) -> tuple[np.ndarray, np.ndarray]:
+    """Validate tangents against points and normalise them.
+
+    Parameters
+    ----------
+    xy : (n, 2) array_like of float64
+    tangents : (n, 2) array_like of float64
+
+    Returns
+    -------
+    unit : (n, 2) float64
+        ``tangents`` scaled to unit length; zero rows stay zero.
+    zero : (n,) bool
+        Rows that were zero.
+
+    Raises
+    ------
+    InputError
+        Shapes that are not both (n, 2), or a non-finite tangent (its index named).
+    """
+    p = np.asarray(xy, dtype=np.float64)
+    t = np.asarray(tangents, dtype=np.float64)
+    if p.ndim != 2 or p.shape[1] != 2 or t.shape != p.shape:
+        raise InputError(
+            f"size field points and tangents must both have shape (n, 2), got {p.shape} and {t.shape}"
+        )
+    bad = np.flatnonzero(~np.isfinite(t).all(axis=1))
+    if len(bad):
+        raise InputError(f"tangent {bad[0]} at {fmt_point(p[bad[0]])} is not finite: {t[bad[0]].tolist()}")
+    norm = np.hypot(t[:, 0], t[:, 1])
+    zero = norm == 0.0
+    unit = t / np.where(zero, 1.0, norm)[:, None]
+    return unit, zero
+
 
 def as_size_field(size) -> SizeField:
     """Wrap a number, a vectorised callable or a callable object as a :class:`SizeField`.
