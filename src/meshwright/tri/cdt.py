@@ -644,7 +644,7 @@ class ConstrainedTriangulation:
         along = ((self._pts[w] - self._pts[u]) * d).sum(axis=1) > 0.0
         return np.column_stack([u, w])[along].astype(np.int32), self._piece_ids()[p[along]]
 
-    def to_mesh(self, segment_markers=None):
+    def to_mesh(self, segment_markers=None, fill=None):
         """The inside triangles as a :class:`~meshwright.core.mesh.Mesh`.
 
         Parameters
@@ -653,6 +653,11 @@ class ConstrainedTriangulation:
             Boundary marker of each segment id (``segment_markers[id]``); pieces added by
             :meth:`close_hull` get 1.  Default: 1 on boundary subsegments (domain on one
             side only), 0 on interior constraints.
+        fill : tuple of ((n, 2) float64, (t, 3) int32), optional
+            Another triangulation of the inside with the same subsegments, on this
+            triangulation's vertices followed by new ones (an advancing front's output):
+            its triangles replace the inside ones, each taking the region marker of the
+            triangle holding its centroid.
 
         Returns
         -------
@@ -665,9 +670,13 @@ class ConstrainedTriangulation:
         """
         from meshwright.core.mesh import Mesh
 
-        ntri = int(self._meta[M_NTRI])
-        tris = self.triangles(True)
-        used = np.zeros(self._nv, dtype=bool)
+        if fill is None:
+            pts, tris, tmarks = self._pts[: self._nv], self.triangles(True), self.triangle_markers(True)
+        else:
+            pts, tris = fill
+            slots = self._locate(pts[tris].mean(axis=1), "centroid")
+            tmarks = self._rmarker[np.maximum(self._treg[slots], 0)]
+        used = np.zeros(len(pts), dtype=bool)
         used[tris.ravel()] = True
         newid = np.cumsum(used, dtype=np.int64).astype(np.int32) - 1
         h, u, w = self._constrained()
@@ -690,16 +699,15 @@ class ConstrainedTriangulation:
             if len(ids) and ids.max() >= len(sm):
                 raise InputError(f"segment_markers has {len(sm)} entries; segment id {int(ids.max())} needs more")
             marks = np.where(ids >= 0, sm[np.maximum(ids, 0)], 1).astype(np.int32)
-        del ntri
-        pmark = np.zeros(self._nv, dtype=np.int32)
+        pmark = np.zeros(len(pts), dtype=np.int32)
         if len(lines):
             np.maximum.at(pmark, lines[:, 0], marks)
             np.maximum.at(pmark, lines[:, 1], marks)
         return Mesh(
-            self._pts[: self._nv][used],
+            pts[used],
             {"triangle": newid[tris], "line": newid[lines].reshape(-1, 2)},
             point_data={"marker": pmark[used]},
-            cell_data={"marker": {"triangle": self.triangle_markers(True), "line": marks}},
+            cell_data={"marker": {"triangle": tmarks, "line": marks}},
         )
 
     def __repr__(self) -> str:

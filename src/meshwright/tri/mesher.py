@@ -12,7 +12,15 @@ Point placement methods (:data:`MESH_METHODS`, the CLI's ``--method`` choices):
   off-centres, :mod:`meshwright.tri.ruppert`), minimum angle and size field honoured;
 * ``weatherill``: the chapter's automatic point generation (Weatherill 1992, 18.1.3,
   :mod:`meshwright.tri.weatherill`) driven by the boundary point distribution function
-  ``dP`` (capped by the size field if one is given).
+  ``dP`` (capped by the size field if one is given);
+* ``frontal-delaunay``: advancing-front points inserted by the Delaunay kernel (18.3,
+  :mod:`meshwright.tri.frontal_delaunay`);
+* ``front``: the advancing-front method itself (18.2, :mod:`meshwright.tri.front`): its
+  triangles replace the constrained triangulation's, and a background grid's stretching
+  and direction shape them.
+
+Without a size, ``frontal-delaunay`` and ``front`` take the chapter's background: the
+triangulated boundary nodes with their point distribution function (18.3).
 
 Smoothing keeps boundary nodes on their true curves: each boundary node slides along the
 curve of its segments (projected with :meth:`Domain.project`); nodes where two curves meet
@@ -33,8 +41,9 @@ from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.shapes import builtin, polygon
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.boundary import point_distribution
-from meshwright.sizing.field import SizeField, as_size_field
+from meshwright.sizing.field import SizeField, as_size_field, minimum
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
+from meshwright.tri.front import advancing_front
 from meshwright.tri.frontal_delaunay import frontal_delaunay
 from meshwright.tri.ruppert import conform, refine
 from meshwright.tri.smoothing import smooth as smooth_points
@@ -63,12 +72,14 @@ class MeshMethod(NamedTuple):
     summary : str
         One line for ``--help``.
     place : callable
-        ``place(job)`` adds points to ``job.ct`` in place.
+        ``place(job)`` adds points to ``job.ct`` in place and returns None, or returns its
+        own triangulation of the inside ``(points (n, 2) float64, triangles (t, 3) int32)``
+        on ``job.ct``'s vertices followed by new ones (see ``ConstrainedTriangulation.to_mesh``).
     """
 
     name: str
     summary: str
-    place: Callable[[_Job], None]
+    place: Callable[[_Job], tuple | None]
 
 
 def _place_delaunay(job: _Job) -> None:
@@ -116,16 +127,36 @@ def _place_weatherill(job: _Job) -> None:
         refine(ct, min_angle=0.0, max_area=job.max_area)
 
 
+def _background(job: _Job):
+    """The size field, or chapter 18.3's background: the triangulated boundary nodes with
+    their point distribution function, interpolated linearly."""
+    if job.field is not None:
+        return job.field
+    ct = job.ct
+    return BackgroundGrid.from_boundary(ct.points, ct.index_map[job.disc.segments], ct.triangles(False))
+
+
 def _place_frontal(job: _Job) -> None:
-    field = job.field
-    if field is None:
-        # Chapter 18.3: the background is the triangulation of the boundary nodes with
-        # their point distribution function, interpolated linearly.
-        disc = job.disc
-        field = BackgroundGrid.from_boundary(job.ct.points, job.ct.index_map[disc.segments], job.ct.triangles(False))
-    frontal_delaunay(job.ct, field)
+    frontal_delaunay(job.ct, _background(job))
     if job.max_area is not None:
         refine(job.ct, min_angle=0.0, max_area=job.max_area)
+
+
+def _place_front(job: _Job) -> tuple:
+    field = _background(job)
+    if job.max_area is not None:
+        # The side of the equilateral triangle of that area bounds the spacing.
+        field = minimum(field, 0.85 * np.sqrt(4.0 * job.max_area / np.sqrt(3.0)))
+    bar = None
+    if job.progress:
+        from tqdm import tqdm
+
+        bar = tqdm(desc="advancing front", unit=" nodes", leave=False)
+    try:
+        return advancing_front(job.ct, field, progress=None if bar is None else (lambda n: bar.update(n - bar.n)))
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 MESH_METHODS: dict[str, MeshMethod] = {
@@ -134,6 +165,7 @@ MESH_METHODS: dict[str, MeshMethod] = {
         MeshMethod("delaunay", "guaranteed-quality Delaunay refinement (Ruppert, off-centres)", _place_delaunay),
         MeshMethod("weatherill", "Weatherill's automatic point generation (chapter 18.1.3)", _place_weatherill),
         MeshMethod("frontal-delaunay", "frontal Delaunay: advancing-front points, Delaunay insertion (18.3)", _place_frontal),
+        MeshMethod("front", "advancing front with stretched background grids (18.2)", _place_front),
     )
 }
 
@@ -272,10 +304,14 @@ def triangulate(
     ct = cdt_build(disc.points, disc.segments, seed=seed, curves=curves)
     sides = np.where(dom.curve_loop[disc.segment_curve] >= 0, 1, 0)
     ct.classify(segment_sides=sides, holes=disc.holes, regions=_regions(disc))
-    MESH_METHODS[method].place(_Job(ct, disc, field, float(min_angle), max_area, bool(progress)))
+    fill = MESH_METHODS[method].place(_Job(ct, disc, field, float(min_angle), max_area, bool(progress)))
+    if fill is not None and conforming:
+        # A Delaunay mesh was asked for: the method's points, connected by the kernel.
+        ct.insert_points(fill[0][ct.n_points :])
+        fill = None
     if conforming:
         conform(ct)
-    mesh = ct.to_mesh(segment_markers=disc.segment_markers)
+    mesh = ct.to_mesh(segment_markers=disc.segment_markers, fill=fill)
     if smooth:
         mesh = _smooth_mesh(mesh, ct, dom, disc, int(smooth))
     return mesh

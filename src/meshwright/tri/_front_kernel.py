@@ -1,0 +1,544 @@
+r"""Numba kernel of the 2-D advancing-front method (see :mod:`meshwright.tri.front`).
+
+The kernel is resumable: all state lives in the arrays below and :func:`advance` returns
+a code whenever Python must act (grow arrays, evaluate the size field at new nodes) and is
+simply called again.
+
+Array layout (capacities grow by doubling in :mod:`meshwright.tri.front`)::
+
+    pts    (pcap, 2) float64   nodes; [0, meta[M_NIN]) are the input vertices
+    met    (pcap, 3) float64   metric (m11, m12, m22) of each node: a vector v has length
+                               sqrt(v^T M v) in units of the local element size
+    vint   (pcap, 4) int32     per node: first out-face, first triangle slot (3 t + k),
+                               free-point item (-1 none), query stamp
+    face   (fcap, 4) int32     per face: start a, end b, next out-face of a, tries
+    falive (fcap,) int8        1 while the face is on the front
+    qnext, qbox                the loose quadtree's item arrays (item = face id)
+    hkey, hface                binary min-heap of faces by key (length, plus deferrals)
+    tri    (tcap, 3) int32     triangles (a, b, c) counter-clockwise
+    tnext  (tcap, 3) int32     next slot in the triangle list of the k-th vertex
+    talive (tcap,) int8        0 once removed by a back-off
+    meta   (M_LEN,) int64      counters (M_*)
+    par    (P_LEN,) float64    parameters (P_*)
+
+A face a -> b has the region still to be meshed on its left.  A *free point* (an input
+vertex on no segment, or one orphaned by a back-off) is a degenerate item a == b in the
+quadtree only, so every validity test sees it as a front node.
+
+Validity of a new triangle (a, b, c) on face a -> b, every test exact (``orient2d``):
+c strictly left of a -> b; the edges a c and c b meet no front face except at shared
+endpoints; no front node lies in the closed triangle other than its corners.  The open
+triangle then lies in the component of the unmeshed region left of a -> b, so triangles
+never overlap, whatever the floating-point placement of the points.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.predicates import orient2d
+from meshwright.core.quadtree import Q_DEPTH, Q_NODES, STACK_PER_LEVEL, qt_insert, qt_query
+
+R_DONE = 0  # the front is empty
+R_SYNC = 1  # nodes [meta[M_SYNC], meta[M_NP]) carry a provisional metric
+R_ROOM = 2  # an array needs more room
+R_STUCK = 3  # face meta[M_FAIL] cannot be advanced even after backing off
+R_STEPS = 4  # the step cap was hit
+
+M_NP, M_NF, M_NH, M_NT, M_STEPS, M_BACKOFF, M_SYNC, M_FAIL, M_NIN, M_STAMP, M_LEN = range(11)
+P_CLOSE, P_SEARCH, P_CLEAR_N, P_CLEAR_F, P_DEFER, P_SYNC_EVERY, P_MAX_BACKOFF, P_MAX_DEFER, P_LEN = range(9)
+
+V_FACE, V_TRI, V_FREE, V_STAMP = range(4)
+F_A, F_B, F_NEXT, F_TRIES = range(4)
+
+ROOM_FACES = 512  # free face / heap slots required before each step (a back-off adds <= 3 * 96)
+BACKOFF_TRIS = 32  # triangles removed per ring of a back-off
+MAX_LEVEL = 3  # back-off rings before giving up on a face
+_Q = 4.0 * np.sqrt(3.0)
+
+
+# ------------------------------------------------------------------------------- heap
+@njit(cache=True)
+def heap_push(hkey, hface, meta, key, f):
+    """Push face ``f`` with ``key`` (room checked by the caller)."""
+    i = meta[M_NH]
+    meta[M_NH] = i + 1
+    while i > 0:
+        p = (i - 1) >> 1
+        if hkey[p] <= key:
+            break
+        hkey[i] = hkey[p]
+        hface[i] = hface[p]
+        i = p
+    hkey[i] = key
+    hface[i] = f
+
+
+@njit(cache=True)
+def _heap_pop(hkey, hface, meta):
+    n = meta[M_NH] - 1
+    meta[M_NH] = n
+    top_key = hkey[0]
+    top = hface[0]
+    key = hkey[n]
+    f = hface[n]
+    i = 0
+    while True:
+        c = 2 * i + 1
+        if c >= n:
+            break
+        if c + 1 < n and hkey[c + 1] < hkey[c]:
+            c += 1
+        if hkey[c] >= key:
+            break
+        hkey[i] = hkey[c]
+        hface[i] = hface[c]
+        i = c
+    if n > 0:
+        hkey[i] = key
+        hface[i] = f
+    return top_key, top
+
+
+# ------------------------------------------------------------------------------- faces
+@njit(cache=True)
+def _find_face(u, v, vint, face, falive):
+    """The live face u -> v, or -1; dead faces met in u's list are unlinked."""
+    prev = -1
+    f = vint[u, V_FACE]
+    while f >= 0:
+        nxt = face[f, F_NEXT]
+        if falive[f] == 0:
+            if prev < 0:
+                vint[u, V_FACE] = nxt
+            else:
+                face[prev, F_NEXT] = nxt
+        else:
+            if face[f, F_B] == v:
+                return f
+            prev = f
+        f = nxt
+    return -1
+
+
+@njit(cache=True)
+def add_item(u, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, meta):
+    """New quadtree item u -> v (a face, or a free point when u == v); returns its id."""
+    f = meta[M_NF]
+    meta[M_NF] = f + 1
+    face[f, F_A] = u
+    face[f, F_B] = v
+    face[f, F_NEXT] = -1
+    face[f, F_TRIES] = 0
+    falive[f] = 1
+    qbox[f, 0] = min(pts[u, 0], pts[v, 0])
+    qbox[f, 1] = min(pts[u, 1], pts[v, 1])
+    qbox[f, 2] = max(pts[u, 0], pts[v, 0])
+    qbox[f, 3] = max(pts[u, 1], pts[v, 1])
+    qt_insert(f, qgeo, qmeta, qchild, qhead, qnext, qbox)
+    return f
+
+
+@njit(cache=True)
+def add_face(u, v, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface, meta):
+    """New front face u -> v: quadtree, u's out-list and the heap (key: its length)."""
+    f = add_item(u, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, meta)
+    face[f, F_NEXT] = vint[u, V_FACE]
+    vint[u, V_FACE] = f
+    heap_push(hkey, hface, meta, np.hypot(pts[v, 0] - pts[u, 0], pts[v, 1] - pts[u, 1]), f)
+    return f
+
+
+# ------------------------------------------------------------------------------- geometry
+@njit(inline="always")
+def _orient(pts, a, b, c):
+    return orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1])
+
+
+@njit(inline="always")
+def _between(pts, p, a, b):
+    """Collinear p lies on the closed segment ab."""
+    return (
+        min(pts[a, 0], pts[b, 0]) <= pts[p, 0] <= max(pts[a, 0], pts[b, 0])
+        and min(pts[a, 1], pts[b, 1]) <= pts[p, 1] <= max(pts[a, 1], pts[b, 1])
+    )
+
+
+@njit(cache=True)
+def _meets(pts, p, q, r, s):
+    """Segments pq and rs share a point other than a common endpoint (exact)."""
+    if p == r or p == s or q == r or q == s:
+        # A shared corner: an overlap would put the other end on the segment, which the
+        # node-in-triangle test catches.
+        return False
+    o1 = _orient(pts, p, q, r)
+    o2 = _orient(pts, p, q, s)
+    if (o1 > 0.0 and o2 > 0.0) or (o1 < 0.0 and o2 < 0.0):
+        return False
+    o3 = _orient(pts, r, s, p)
+    o4 = _orient(pts, r, s, q)
+    if (o3 > 0.0 and o4 > 0.0) or (o3 < 0.0 and o4 < 0.0):
+        return False
+    if o1 == 0.0 and o2 == 0.0:
+        return _between(pts, r, p, q) or _between(pts, s, p, q) or _between(pts, p, r, s) or _between(pts, q, r, s)
+    return True
+
+
+@njit(cache=True)
+def _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn):
+    """Triangle (a, b, c) on face f = a -> b may be added (module docstring)."""
+    if _orient(pts, a, b, c) <= 0.0:
+        return False
+    x0 = min(pts[a, 0], pts[b, 0], pts[c, 0])
+    x1 = max(pts[a, 0], pts[b, 0], pts[c, 0])
+    y0 = min(pts[a, 1], pts[b, 1], pts[c, 1])
+    y1 = max(pts[a, 1], pts[b, 1], pts[c, 1])
+    for i in range(ni):
+        g = items[i]
+        r = face[g, F_A]
+        s = face[g, F_B]
+        if g == f or r == s:
+            continue
+        if qbox[g, 2] < x0 or qbox[g, 0] > x1 or qbox[g, 3] < y0 or qbox[g, 1] > y1:
+            continue
+        if _meets(pts, a, c, r, s) or _meets(pts, c, b, r, s):
+            return False
+    for i in range(nn):
+        v = nodes[i]
+        if v == c or pts[v, 0] < x0 or pts[v, 0] > x1 or pts[v, 1] < y0 or pts[v, 1] > y1:
+            continue
+        if _orient(pts, a, b, v) >= 0.0 and _orient(pts, b, c, v) >= 0.0 and _orient(pts, c, a, v) >= 0.0:
+            return False
+    return True
+
+
+@njit(inline="always")
+def _to_metric(l11, l21, l22, dx, dy):
+    """x' = L^T x, where M = L L^T (Cholesky): |x'| is the metric length of x."""
+    return l11 * dx + l21 * dy, l22 * dy
+
+
+@njit(inline="always")
+def _seg_dist(ux, uy, vx, vy):
+    """Distance from the origin to segment uv."""
+    ex = vx - ux
+    ey = vy - uy
+    den = ex * ex + ey * ey
+    t = 0.0 if den == 0.0 else min(1.0, max(0.0, -(ux * ex + uy * ey) / den))
+    return np.hypot(ux + t * ex, uy + t * ey)
+
+
+@njit(inline="always")
+def _quality(ax, ay, bx, by, cx, cy):
+    """4 sqrt(3) area / sum of squared edges: 1 for an equilateral triangle."""
+    area = 0.5 * ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax))
+    s = (bx - ax) ** 2 + (by - ay) ** 2 + (cx - bx) ** 2 + (cy - by) ** 2 + (ax - cx) ** 2 + (ay - cy) ** 2
+    return _Q * area / s if s > 0.0 else 0.0
+
+
+# ------------------------------------------------------------------------------- steps
+@njit(cache=True)
+def _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext,
+                   hkey, hface, tri, tnext, talive, meta):
+    """Add triangle (a, b, c) on face f = a -> b and update the front (module docstring)."""
+    if c == meta[M_NP]:
+        meta[M_NP] = c + 1
+        for k in range(3):
+            met[c, k] = 0.5 * (met[a, k] + met[b, k])
+        vint[c, V_FACE] = -1
+        vint[c, V_TRI] = -1
+        vint[c, V_FREE] = -1
+        vint[c, V_STAMP] = -1
+    t = meta[M_NT]
+    meta[M_NT] = t + 1
+    tri[t, 0] = a
+    tri[t, 1] = b
+    tri[t, 2] = c
+    talive[t] = 1
+    for k in range(3):
+        v = tri[t, k]
+        tnext[t, k] = vint[v, V_TRI]
+        vint[v, V_TRI] = 3 * t + k
+    falive[f] = 0
+    if vint[c, V_FREE] >= 0:
+        falive[vint[c, V_FREE]] = 0
+        vint[c, V_FREE] = -1
+    # Edge b -> c (and c -> a) of the new triangle fills the front face of the same
+    # direction if there is one; otherwise its reverse joins the front:
+    #
+    #            c                    c
+    #           / \                  ^ \
+    #          /   \     ->         /   v      new faces a -> c, c -> b
+    #         a --> b              a     b     (face a -> b is gone)
+    for e in range(2):
+        u = b if e == 0 else c
+        v = c if e == 0 else a
+        g = _find_face(u, v, vint, face, falive)
+        if g >= 0:
+            falive[g] = 0
+        else:
+            add_face(v, u, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface, meta)
+
+
+@njit(cache=True)
+def _has_live_face(v, vint, face, falive):
+    """Whether v starts a live face (looking for a face to no vertex unlinks the dead)."""
+    _find_face(v, -2, vint, face, falive)
+    return vint[v, V_FACE] >= 0
+
+
+@njit(cache=True)
+def _has_live_triangle(v, vint, tnext, talive):
+    slot = vint[v, V_TRI]
+    prev = -1
+    while slot >= 0:
+        t = slot // 3
+        nxt = tnext[t, slot % 3]
+        if talive[t]:
+            return True
+        # Unlink removed triangles from v's list.
+        if prev < 0:
+            vint[v, V_TRI] = nxt
+        else:
+            tnext[prev // 3, prev % 3] = nxt
+        slot = nxt
+    return False
+
+
+@njit(cache=True)
+def _backoff(f, level, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
+             tri, tnext, talive, meta, tbuf, vbuf):
+    """Remove the triangles within ``level`` rings of face f's ends; reopen their faces.
+
+    The removed triangles become unmeshed: each of their edges u -> v cancels the front
+    face v -> u when the other side is unmeshed too, and otherwise joins the front.
+    Input vertices left with no triangle and no face become free points; orphaned
+    generated nodes simply drop out of the front (they are not in the output).
+    """
+    meta[M_STAMP] += 1
+    stamp = meta[M_STAMP]
+    nv = 2
+    vbuf[0] = face[f, F_A]
+    vbuf[1] = face[f, F_B]
+    vint[vbuf[0], V_STAMP] = stamp
+    vint[vbuf[1], V_STAMP] = stamp
+    nt = 0
+    lo = 0
+    cap = min(tbuf.shape[0], BACKOFF_TRIS * level)
+    for _ in range(level):
+        hi = nv
+        for i in range(lo, hi):
+            v = vbuf[i]
+            slot = vint[v, V_TRI]
+            while slot >= 0 and nt < cap:
+                t = slot // 3
+                if talive[t]:
+                    talive[t] = 0
+                    tbuf[nt] = t
+                    nt += 1
+                    for k in range(3):
+                        w = tri[t, k]
+                        if vint[w, V_STAMP] != stamp and nv < vbuf.shape[0]:
+                            vint[w, V_STAMP] = stamp
+                            vbuf[nv] = w
+                            nv += 1
+                slot = tnext[t, slot % 3]
+        lo = hi
+    for i in range(nt):
+        t = tbuf[i]
+        for k in range(3):
+            u = tri[t, k]
+            v = tri[t, (k + 1) % 3]
+            g = _find_face(v, u, vint, face, falive)
+            if g >= 0:
+                falive[g] = 0
+            else:
+                add_face(u, v, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface, meta)
+    for i in range(nv):
+        v = vbuf[i]
+        if v >= meta[M_NIN] or vint[v, V_FREE] >= 0 or _has_live_triangle(v, vint, tnext, talive):
+            continue
+        if not _has_live_face(v, vint, face, falive):
+            vint[v, V_FREE] = add_item(v, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, meta)
+    return nt
+
+
+@njit(cache=True)
+def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
+              tri, tnext, talive, meta, par, items, nodes, cand, ckey, stack, fstack):
+    """Advance face f by one triangle if any valid apex exists; returns (ok, items)."""
+    a = np.int64(face[f, F_A])
+    b = np.int64(face[f, F_B])
+    m11 = 0.5 * (met[a, 0] + met[b, 0])
+    m12 = 0.5 * (met[a, 1] + met[b, 1])
+    m22 = 0.5 * (met[a, 2] + met[b, 2])
+    l11 = np.sqrt(m11)
+    l21 = m12 / l11
+    l22 = np.sqrt(max(m22 - l21 * l21, 1e-12 * m22))
+    ax = pts[a, 0]
+    ay = pts[a, 1]
+    bx = pts[b, 0]
+    by = pts[b, 1]
+    u0, u1 = _to_metric(l11, l21, l22, bx - ax, by - ay)
+    ln = np.hypot(u0, u1)
+    # Ideal apex (Peraire et al. 1987): equilateral of unit metric size, its sides kept
+    # within [0.55, 2] face lengths so the element neither collapses nor jumps in size.
+    rho = min(max(1.0, 0.55 * ln), 2.0 * ln)
+    hgt = np.sqrt(max(rho * rho - 0.25 * ln * ln, 0.0))
+    w0 = -u1 / ln * hgt
+    w1 = u0 / ln * hgt
+    oy = w1 / l22
+    ox = (w0 - l21 * oy) / l11
+    p = meta[M_NP]
+    px = 0.5 * (ax + bx) + ox
+    py = 0.5 * (ay + by) + oy
+    pts[p, 0] = px
+    pts[p, 1] = py
+    # Search box: the metric disc of radius SEARCH rho about the apex, and the face.
+    det = m11 * m22 - m12 * m12
+    rad = par[P_SEARCH] * rho
+    wx = rad * np.sqrt(m22 / det)
+    wy = rad * np.sqrt(m11 / det)
+    x0 = min(px - wx, ax, bx)
+    x1 = max(px + wx, ax, bx)
+    y0 = min(py - wy, ay, by)
+    y1 = max(py + wy, ay, by)
+    ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
+    if ni > items.shape[0]:
+        items = np.empty(2 * ni, dtype=np.int32)
+        ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
+    meta[M_STAMP] += 1
+    stamp = meta[M_STAMP]
+    vint[a, V_STAMP] = stamp
+    vint[b, V_STAMP] = stamp
+    nn = 0
+    p_ok = True
+    clear_f = par[P_CLEAR_F] * rho
+    for i in range(ni):
+        g = items[i]
+        r = np.int64(face[g, F_A])
+        s = np.int64(face[g, F_B])
+        for v in (r, s):
+            if vint[v, V_STAMP] != stamp:
+                vint[v, V_STAMP] = stamp
+                if nn >= nodes.shape[0]:
+                    bigger = np.empty(2 * nodes.shape[0], dtype=np.int32)
+                    bigger[:nn] = nodes[:nn]
+                    nodes = bigger
+                nodes[nn] = v
+                nn += 1
+        if g != f and r != s and p_ok:
+            rx, ry = _to_metric(l11, l21, l22, pts[r, 0] - px, pts[r, 1] - py)
+            sx, sy = _to_metric(l11, l21, l22, pts[s, 0] - px, pts[s, 1] - py)
+            if _seg_dist(rx, ry, sx, sy) < clear_f:
+                p_ok = False
+    if cand.shape[0] < nn:
+        cand = np.empty(2 * nn, dtype=np.int32)
+        ckey = np.empty(2 * nn)
+    nc = 0
+    close = par[P_CLOSE] * rho
+    clear_n = par[P_CLEAR_N] * rho
+    for i in range(nn):
+        v = nodes[i]
+        dx, dy = _to_metric(l11, l21, l22, pts[v, 0] - px, pts[v, 1] - py)
+        d = np.hypot(dx, dy)
+        if d < clear_n:
+            p_ok = False
+        # A candidate outside the search box would make a triangle reaching faces the
+        # query did not return.
+        inbox = x0 <= pts[v, 0] <= x1 and y0 <= pts[v, 1] <= y1
+        if inbox and _orient(pts, a, b, v) > 0.0:
+            # Nodes near the apex come first, nearest first (keys < 1); the others after
+            # the new point, best triangle first (keys 2 - quality, in (1, 2]).
+            if d < close:
+                key = d / close
+            else:
+                qx, qy = _to_metric(l11, l21, l22, pts[v, 0] - ax, pts[v, 1] - ay)
+                key = 2.0 - _quality(0.0, 0.0, u0, u1, qx, qy)
+            j = nc
+            while j > 0 and ckey[j - 1] > key:
+                cand[j] = cand[j - 1]
+                ckey[j] = ckey[j - 1]
+                j -= 1
+            cand[j] = v
+            ckey[j] = key
+            nc += 1
+    n_close = 0
+    while n_close < nc and ckey[n_close] < 1.0:
+        n_close += 1
+    for i in range(nc + 1):
+        # Order of trial: close nodes, the new point, the other nodes.
+        if i == n_close:
+            if not p_ok:
+                continue
+            c = p
+        else:
+            c = np.int64(cand[i if i < n_close else i - 1])
+        if _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn):
+            _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext,
+                           hkey, hface, tri, tnext, talive, meta)
+            return True, items, nodes, cand, ckey
+    return False, items, nodes, cand, ckey
+
+
+@njit(cache=True)
+def advance(pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
+            tri, tnext, talive, meta, par):
+    """Run the front until it is empty or Python must act; returns an ``R_*`` code."""
+    items = np.empty(256, dtype=np.int32)
+    nodes = np.empty(256, dtype=np.int32)
+    cand = np.empty(256, dtype=np.int32)
+    ckey = np.empty(256)
+    depth = qmeta[Q_DEPTH]
+    stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
+    fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
+    tbuf = np.empty(BACKOFF_TRIS * MAX_LEVEL, dtype=np.int32)
+    vbuf = np.empty(3 * BACKOFF_TRIS * MAX_LEVEL + 2, dtype=np.int32)
+    sync_every = int(par[P_SYNC_EVERY])
+    max_defer = int(par[P_MAX_DEFER])
+    while True:
+        if (
+            meta[M_NP] + 2 > pts.shape[0]
+            or meta[M_NF] + ROOM_FACES > face.shape[0]
+            or meta[M_NH] + ROOM_FACES > hkey.shape[0]
+            or meta[M_NT] + 2 > tri.shape[0]
+            or qmeta[Q_NODES] + ROOM_FACES * (depth + 1) > qhead.shape[0]
+        ):
+            return R_ROOM
+        if meta[M_NP] - meta[M_SYNC] >= sync_every:
+            return R_SYNC
+        if meta[M_STEPS] > 16 * meta[M_NF] + 100_000:
+            return R_STEPS
+        f = -1
+        key = 0.0
+        while meta[M_NH] > 0:
+            key, f = _heap_pop(hkey, hface, meta)
+            if falive[f]:
+                break
+            f = -1
+        if f < 0:
+            return R_DONE
+        meta[M_STEPS] += 1
+        ok, items, nodes, cand, ckey = _try_face(
+            f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
+            tri, tnext, talive, meta, par, items, nodes, cand, ckey, stack, fstack,
+        )
+        if ok:
+            continue
+        tries = face[f, F_TRIES] + 1
+        face[f, F_TRIES] = tries
+        if tries <= max_defer:
+            # Postponed behind every ordinary face: the front around it moves on first.
+            heap_push(hkey, hface, meta, key + par[P_DEFER], f)
+            continue
+        level = tries - max_defer
+        if level > MAX_LEVEL or meta[M_BACKOFF] >= par[P_MAX_BACKOFF]:
+            meta[M_FAIL] = f
+            return R_STUCK
+        meta[M_BACKOFF] += 1
+        _backoff(f, level, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
+                 tri, tnext, talive, meta, tbuf, vbuf)
+        if falive[f]:
+            heap_push(hkey, hface, meta, np.hypot(pts[face[f, F_B], 0] - pts[face[f, F_A], 0],
+                                                  pts[face[f, F_B], 1] - pts[face[f, F_A], 1]), f)

@@ -1,0 +1,289 @@
+r"""Advancing-front triangulation (chapter 18.2), stretched through the background grid.
+
+Sources: S. H. Lo, "A new mesh generation scheme for arbitrary planar domains", Int. J.
+Numer. Meth. Eng. 21, 1985; J. Peraire, M. Vahdati, K. Morgan and O. C. Zienkiewicz,
+"Adaptive remeshing for compressible flow computations", J. Comput. Phys. 72, 1987 (the
+background grid of spacing delta, stretching s and direction alpha, the ideal point and the
+candidate search); R. Löhner and P. Parikh, "Generation of three-dimensional unstructured
+grids by the advancing-front method", Int. J. Numer. Meth. Fluids 8, 1988 (search
+structures, back-off).
+
+Procedure (the numbered steps of 18.2)
+--------------------------------------
+1. The background grid gives, at every node, the metric ``M = T^2 / delta^2`` of the
+   chapter's local transformation ``T = R(alpha) diag(1/s, 1) R(-alpha)``: in the space
+   ``x' = L^T x`` (``M = L L^T``) the wanted triangles are equilateral of unit side.  A size
+   field without stretching gives ``M = I / h^2``.
+2.-3. The initial front is the boundary of the classified constrained triangulation of the
+   boundary points: every segment with the domain on its left (outer loops counter-clockwise,
+   holes clockwise, both sides of an interior segment), and every input point on no segment
+   as a free point that the front must reach.
+4. The next face is the shortest one (a binary heap): small elements advance first, so
+   large ones never cross regions of small ones.
+5. For face AB, in the metric of its ends: (a) the ideal point P makes an equilateral
+   triangle of unit side, the sides kept within [0.55, 2] face lengths; (b) the front nodes
+   within ``CLOSE rho`` of P, left of AB, are tried first, nearest first, then P itself if it
+   keeps ``CLEAR_NODE rho`` from every node and ``CLEAR_FACE rho`` from every face, then the
+   other nodes of the search box, best triangle first; (c) a candidate is taken only if the
+   triangle crosses no front face and contains no front node (exact tests, see
+   :mod:`meshwright.tri._front_kernel`).
+6.-8. The triangle is added; each of its two new sides either closes the front face lying on
+   it or joins the front; the face AB leaves the front.
+9. Repeat until the front is empty.
+
+A face with no valid candidate is postponed (``MAX_DEFER`` times, behind every ordinary
+face); if it still fails, the triangles around its ends (one ring, then two, then three) are
+removed and their region re-opened (back-off).  A face that fails after three rings, or more
+than ``max_backoff`` back-offs in all, raises :class:`MeshingError` naming the face.
+
+Sizes: nodes carry their metric; a new node starts with the mean of its face's ends and
+receives the field's value in batches of ``SYNC_EVERY`` nodes (the field is a Python
+callable), so faces use the exact metric from the next batch on.
+
+Array layout: :mod:`meshwright.tri._front_kernel`.  Output: the constrained triangulation's
+vertices followed by the generated nodes (``points`` (n, 2) float64) and counter-clockwise
+``triangles`` (t, 3) int32 covering exactly the domain.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from meshwright.core.errors import MeshingError
+from meshwright.core.quadtree import Q_NODES, qt_new
+from meshwright.sizing.field import as_size_field
+from meshwright.tri import _front_kernel as fk
+from meshwright.tri._kernel2d import M_NTRI
+
+__all__ = ["advancing_front", "metric_at", "CLOSE", "SEARCH", "CLEAR_NODE", "CLEAR_FACE", "MAX_DEFER", "SYNC_EVERY"]
+
+CLOSE = 0.55  # nodes within CLOSE rho (metric) of the ideal point are preferred to it
+SEARCH = 1.5  # the candidate search box covers SEARCH rho about the ideal point
+CLEAR_NODE = 0.5  # a new point keeps this fraction of rho from every front node
+CLEAR_FACE = 0.35  # ... and this from every front face
+MAX_DEFER = 2  # postponements of a face before backing off
+SYNC_EVERY = 512  # new nodes between two evaluations of the size field
+
+
+def metric_at(field, xy) -> np.ndarray:
+    """Metric ``(m11, m12, m22)`` of the size field at ``xy`` (k, 2); returns (k, 3) float64.
+
+    A :class:`~meshwright.sizing.BackgroundGrid` contributes its stretching (``T^2 /
+    delta^2``); any other field the isotropic ``I / h^2``.
+    """
+    xy = np.ascontiguousarray(xy, dtype=np.float64)
+    out = np.empty((len(xy), 3))
+    if hasattr(field, "metric"):
+        delta, s, al = field.metric(xy)
+        c, sn = np.cos(al), np.sin(al)
+        inv_s2 = 1.0 / (s * s)
+        # T^2 = R diag(1/s^2, 1) R^T.
+        out[:, 0] = (c * c * inv_s2 + sn * sn) / delta**2
+        out[:, 1] = c * sn * (inv_s2 - 1.0) / delta**2
+        out[:, 2] = (sn * sn * inv_s2 + c * c) / delta**2
+        return out
+    h = field(xy)
+    out[:, 0] = 1.0 / h**2
+    out[:, 1] = 0.0
+    out[:, 2] = out[:, 0]
+    return out
+
+
+def _grow(a: np.ndarray, need: int, fill=None) -> np.ndarray:
+    if len(a) >= need:
+        return a
+    shape = (max(need, 2 * len(a)),) + a.shape[1:]
+    out = np.empty(shape, dtype=a.dtype) if fill is None else np.full(shape, fill, dtype=a.dtype)
+    out[: len(a)] = a
+    return out
+
+
+def _initial_front(ct):
+    """Front faces (k, 2) and free points (j,) of a classified constrained triangulation."""
+    ntri = int(ct._meta[M_NTRI])
+    inside = ct.inside_slots()
+    tri = ct._tri[: 3 * ntri].reshape(ntri, 3)
+    nbr = ct._nbr[: 3 * ntri].reshape(ntri, 3)
+    cons = ct._cons[: 3 * ntri].reshape(ntri, 3) != 0
+    # Edge k of a counter-clockwise triangle runs (k+1) -> (k+2) with the triangle on its left.
+    open_edge = inside[:, None] & (cons | ~inside[np.maximum(nbr, 0)] | (nbr < 0))
+    t, k = np.nonzero(open_edge)
+    faces = np.column_stack([tri[t, (k + 1) % 3], tri[t, (k + 2) % 3]]).astype(np.int32)
+    used = np.zeros(ct.n_points, dtype=bool)
+    used[tri[inside].ravel()] = True
+    on_front = np.zeros(ct.n_points, dtype=bool)
+    on_front[faces.ravel()] = True
+    return faces, np.flatnonzero(used & ~on_front).astype(np.int32), used, tri[inside]
+
+
+class _Front:
+    """The kernel's arrays (module :mod:`meshwright.tri._front_kernel`) and their growth."""
+
+    def __init__(self, points, faces, free, metric, estimate: int):
+        n = len(points)
+        pcap = max(64, n + 2 * estimate // 3 + 16)
+        fcap = max(4 * fk.ROOM_FACES, len(faces) + 2 * len(free) + 3 * estimate)
+        tcap = max(64, estimate + 16)
+        self.pts = np.zeros((pcap, 2))
+        self.pts[:n] = points
+        self.met = np.zeros((pcap, 3))
+        self.met[:n] = metric
+        self.vint = np.full((pcap, 4), -1, dtype=np.int32)
+        self.face = np.empty((fcap, 4), dtype=np.int32)
+        self.falive = np.zeros(fcap, dtype=np.int8)
+        self.qbox = np.empty((fcap, 4))
+        self.qnext = np.empty(fcap, dtype=np.int32)
+        self.hkey = np.empty(fcap)
+        self.hface = np.empty(fcap, dtype=np.int32)
+        self.tri = np.empty((tcap, 3), dtype=np.int32)
+        self.tnext = np.empty((tcap, 3), dtype=np.int32)
+        self.talive = np.zeros(tcap, dtype=np.int8)
+        lo, hi = points.min(axis=0), points.max(axis=0)
+        lens = np.hypot(*(points[faces[:, 1]] - points[faces[:, 0]]).T) if len(faces) else np.ones(1)
+        self.qgeo, self.qmeta, self.qchild, self.qhead = qt_new(
+            (lo[0], lo[1], hi[0], hi[1]), 0.25 * float(lens.min()), nodes=max(1024, 4 * fcap)
+        )
+        self.meta = np.zeros(fk.M_LEN, dtype=np.int64)
+        self.meta[fk.M_NP] = n
+        self.meta[fk.M_NIN] = n
+        self.meta[fk.M_SYNC] = n
+        self.meta[fk.M_STAMP] = 0
+        self.room()
+        args = (self.pts, self.face, self.falive, self.qbox, self.qgeo, self.qmeta, self.qchild, self.qhead, self.qnext, self.meta)
+        for u, v in faces.tolist():
+            fk.add_face(u, v, self.pts, self.vint, *args[1:9], self.hkey, self.hface, self.meta)
+        for v in free.tolist():
+            self.vint[v, fk.V_FREE] = fk.add_item(v, v, *args)
+
+    def room(self) -> None:
+        """Grow every array the kernel asked room in (doubling)."""
+        m = self.meta
+        need_p = int(m[fk.M_NP]) + 2
+        if need_p > len(self.pts):
+            self.pts = _grow(self.pts, need_p)
+            self.met = _grow(self.met, need_p)
+            self.vint = _grow(self.vint, need_p, -1)
+        need_f = int(m[fk.M_NF]) + fk.ROOM_FACES
+        if need_f > len(self.face):
+            self.face = _grow(self.face, need_f)
+            self.falive = _grow(self.falive, need_f, 0)
+            self.qbox = _grow(self.qbox, need_f)
+            self.qnext = _grow(self.qnext, need_f)
+        need_h = int(m[fk.M_NH]) + fk.ROOM_FACES
+        if need_h > len(self.hkey):
+            self.hkey = _grow(self.hkey, need_h)
+            self.hface = _grow(self.hface, need_h)
+        need_t = int(m[fk.M_NT]) + 2
+        if need_t > len(self.tri):
+            self.tri = _grow(self.tri, need_t)
+            self.tnext = _grow(self.tnext, need_t)
+            self.talive = _grow(self.talive, need_t, 0)
+        need_q = int(self.qmeta[Q_NODES]) + fk.ROOM_FACES * (int(self.qmeta[1]) + 1)
+        if need_q > len(self.qhead):
+            self.qhead = _grow(self.qhead, need_q, -1)
+            self.qchild = _grow(self.qchild, 4 * len(self.qhead), -1)
+
+    def advance(self, par) -> int:
+        return int(
+            fk.advance(
+                self.pts, self.met, self.vint, self.face, self.falive, self.qbox, self.qgeo, self.qmeta,
+                self.qchild, self.qhead, self.qnext, self.hkey, self.hface, self.tri, self.tnext,
+                self.talive, self.meta, par,
+            )
+        )
+
+
+def _fmt(p) -> str:
+    return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
+
+
+def _estimate(points, tris, field) -> int:
+    """Triangles a mesh of the given metric needs: metric area / equilateral unit area."""
+    a, b, c = points[tris[:, 0]], points[tris[:, 1]], points[tris[:, 2]]
+    area = 0.5 * np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    m = metric_at(field, (a + b + c) / 3.0)
+    det = np.maximum(m[:, 0] * m[:, 2] - m[:, 1] ** 2, 0.0)
+    return int(min(1.3 * np.sum(area * np.sqrt(det)) / (np.sqrt(3.0) / 4.0), 2**31 - 1)) + 16
+
+
+def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int | None = None, progress=None):
+    """Mesh the inside of a classified constrained triangulation by the advancing front.
+
+    Parameters
+    ----------
+    ct : ConstrainedTriangulation
+        From :func:`meshwright.tri.cdt.cdt_build`, classified; its segments are the
+        initial front (they are never split).
+    size : number, callable, SizeField or BackgroundGrid
+        Spacing; a background grid also gives stretching and direction.
+    max_points : int, optional
+        Cap on the number of nodes.
+    max_backoff : int, optional
+        Cap on back-offs in all (default: 100 plus one per 1000 estimated triangles).
+    progress : callable, optional
+        Called with the number of nodes after every batch.
+
+    Returns
+    -------
+    points : (n, 2) float64
+        The triangulation's vertices (``ct.points``) followed by the generated nodes.
+    triangles : (t, 3) int32
+        Counter-clockwise, covering exactly the inside of ``ct``.
+
+    Raises
+    ------
+    MeshingError
+        A face could not be advanced even after backing off (its ends are named), or a cap
+        was hit.
+    """
+    field = as_size_field(size)
+    faces, free, used, inside_tris = _initial_front(ct)
+    pts0 = np.ascontiguousarray(ct.points, dtype=np.float64)
+    metric = np.zeros((len(pts0), 3))
+    metric[:, 0] = metric[:, 2] = 1.0
+    metric[used] = metric_at(field, pts0[used])
+    estimate = _estimate(pts0, inside_tris, field)
+    cap = np.iinfo(np.int32).max if max_points is None else int(max_points)
+    fr = _Front(pts0, faces, free, metric, estimate)
+    par = np.zeros(fk.P_LEN)
+    par[fk.P_CLOSE], par[fk.P_SEARCH] = CLOSE, SEARCH
+    par[fk.P_CLEAR_N], par[fk.P_CLEAR_F] = CLEAR_NODE, CLEAR_FACE
+    lo, hi = pts0[used].min(axis=0), pts0[used].max(axis=0)
+    par[fk.P_DEFER] = 4.0 * float(np.hypot(*(hi - lo))) + 1.0
+    par[fk.P_SYNC_EVERY] = SYNC_EVERY
+    par[fk.P_MAX_BACKOFF] = 100 + estimate // 1000 if max_backoff is None else int(max_backoff)
+    par[fk.P_MAX_DEFER] = MAX_DEFER
+    while True:
+        code = fr.advance(par)
+        m = fr.meta
+        if code == fk.R_ROOM:
+            fr.room()
+        elif code == fk.R_SYNC:
+            lo_i, hi_i = int(m[fk.M_SYNC]), int(m[fk.M_NP])
+            fr.met[lo_i:hi_i] = metric_at(field, fr.pts[lo_i:hi_i])
+            m[fk.M_SYNC] = hi_i
+            if hi_i > cap:
+                raise MeshingError(f"the advancing front made {hi_i} nodes, above max_points = {cap}")
+            if progress is not None:
+                progress(hi_i)
+        elif code == fk.R_DONE:
+            break
+        elif code == fk.R_STUCK:
+            f = int(m[fk.M_FAIL])
+            a, b = fr.face[f, 0], fr.face[f, 1]
+            raise MeshingError(
+                f"advancing front: no valid triangle on front face {_fmt(fr.pts[a])} -> {_fmt(fr.pts[b])} "
+                f"after {int(m[fk.M_BACKOFF])} back-offs (max_backoff = {int(par[fk.P_MAX_BACKOFF])}); "
+                "the size field may vary too fast there for the boundary spacing"
+            )
+        else:
+            raise MeshingError(f"advancing front: step cap hit after {int(m[fk.M_STEPS])} steps")
+    nt = int(fr.meta[fk.M_NT])
+    tris = fr.tri[:nt][fr.talive[:nt] == 1]
+    n0 = len(pts0)
+    npts = int(fr.meta[fk.M_NP])
+    keep = np.zeros(npts, dtype=bool)
+    keep[:n0] = True
+    keep[tris.ravel()] = True
+    newid = (np.cumsum(keep) - 1).astype(np.int32)
+    return fr.pts[:npts][keep].copy(), newid[tris]
