@@ -47,7 +47,7 @@ R_STUCK = 3  # face meta[M_FAIL] cannot be advanced even after backing off
 R_STEPS = 4  # the step cap was hit
 
 M_NP, M_NF, M_NH, M_NT, M_STEPS, M_BACKOFF, M_SYNC, M_FAIL, M_NIN, M_STAMP, M_LEN = range(11)
-P_CLOSE, P_SEARCH, P_CLEAR_N, P_CLEAR_F, P_DEFER, P_SYNC_EVERY, P_MAX_BACKOFF, P_MAX_DEFER, P_LEN = range(9)
+P_CLOSE, P_SEARCH, P_CLEAR_N, P_CLEAR_F, P_DEFER, P_SYNC_EVERY, P_MAX_BACKOFF, P_MAX_DEFER, P_QMIN, P_CLEAR_E, P_LONG, P_LEN = range(12)
 
 V_FACE, V_TRI, V_FREE, V_STAMP = range(4)
 F_A, F_B, F_NEXT, F_TRIES = range(4)
@@ -186,14 +186,31 @@ def _meets(pts, p, q, r, s):
 
 
 @njit(cache=True)
-def _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn):
-    """Triangle (a, b, c) on face f = a -> b may be added (module docstring)."""
+def _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
+    """Triangle (a, b, c) on face f = a -> b may be added (module docstring).
+
+    With ``clear > 0`` also every front node must keep the metric distance ``clear`` from
+    the new sides a c and c b (a quality rule, not a validity one: a side grazing a node
+    leaves a sliver to fill later).
+    """
     if _orient(pts, a, b, c) <= 0.0:
         return False
     x0 = min(pts[a, 0], pts[b, 0], pts[c, 0])
     x1 = max(pts[a, 0], pts[b, 0], pts[c, 0])
     y0 = min(pts[a, 1], pts[b, 1], pts[c, 1])
     y1 = max(pts[a, 1], pts[b, 1], pts[c, 1])
+    if clear > 0.0:
+        cx = pts[c, 0]
+        cy = pts[c, 1]
+        sax, say = _to_metric(l11, l21, l22, pts[a, 0] - cx, pts[a, 1] - cy)
+        sbx, sby = _to_metric(l11, l21, l22, pts[b, 0] - cx, pts[b, 1] - cy)
+        for i in range(nn):
+            v = nodes[i]
+            if v == c:
+                continue
+            vx, vy = _to_metric(l11, l21, l22, pts[v, 0] - cx, pts[v, 1] - cy)
+            if _seg_dist(sax - vx, say - vy, -vx, -vy) < clear or _seg_dist(sbx - vx, sby - vy, -vx, -vy) < clear:
+                return False
     for i in range(ni):
         g = items[i]
         r = face[g, F_A]
@@ -397,7 +414,10 @@ def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead,
     pts[p, 1] = py
     # Search box: the metric disc of radius SEARCH rho about the apex, and the face.
     det = m11 * m22 - m12 * m12
-    rad = par[P_SEARCH] * rho
+    # A face on its last try before backing off searches four times as far, and at least
+    # four element sizes (a short face in a narrow gap needs its far neighbours).
+    last = face[f, F_TRIES] >= par[P_MAX_DEFER]
+    rad = par[P_SEARCH] * (4.0 * max(rho, 1.0) if last else rho)
     wx = rad * np.sqrt(m22 / det)
     wy = rad * np.sqrt(m11 / det)
     x0 = min(px - wx, ax, bx)
@@ -467,15 +487,28 @@ def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead,
     n_close = 0
     while n_close < nc and ckey[n_close] < 1.0:
         n_close += 1
-    for i in range(nc + 1):
-        # Order of trial: close nodes, the new point, the other nodes.
-        if i == n_close:
+    qmin = par[P_QMIN]
+    longest = par[P_LONG] * rho
+    # The first round keeps nodes clear of the new sides; the second, on a face's last try
+    # before backing off, only asks validity.
+    rounds = 2 if last else 1
+    for i in range(rounds * (nc + n_close + 1)):
+        clear = par[P_CLEAR_E] * rho if i < nc + n_close + 1 else 0.0
+        i = i % (nc + n_close + 1)
+        # Order of trial: close nodes making a good triangle, the new point, then every
+        # node, best triangle first.
+        if i < n_close:
+            c = np.int64(cand[i])
+            qx, qy = _to_metric(l11, l21, l22, pts[c, 0] - ax, pts[c, 1] - ay)
+            if _quality(0.0, 0.0, u0, u1, qx, qy) < qmin or max(np.hypot(qx, qy), np.hypot(qx - u0, qy - u1)) > longest:
+                continue
+        elif i == n_close:
             if not p_ok:
                 continue
             c = p
         else:
-            c = np.int64(cand[i if i < n_close else i - 1])
-        if _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn):
+            c = np.int64(cand[i - n_close - 1])
+        if _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
             _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext,
                            hkey, hface, tri, tnext, talive, meta)
             return True, items, nodes, cand, ckey

@@ -55,14 +55,18 @@ from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
 from meshwright.tri._kernel2d import M_NTRI
 
-__all__ = ["advancing_front", "metric_at", "CLOSE", "SEARCH", "CLEAR_NODE", "CLEAR_FACE", "MAX_DEFER", "SYNC_EVERY"]
+__all__ = ["advancing_front", "metric_at", "split_long_segments", "MAX_AREA_SIDE", "CLOSE", "SEARCH", "CLEAR_NODE", "CLEAR_FACE", "CLEAR_EDGE", "GOOD", "LONG", "MAX_DEFER", "SYNC_EVERY"]
 
-CLOSE = 0.55  # nodes within CLOSE rho (metric) of the ideal point are preferred to it
-SEARCH = 1.5  # the candidate search box covers SEARCH rho about the ideal point
-CLEAR_NODE = 0.5  # a new point keeps this fraction of rho from every front node
-CLEAR_FACE = 0.35  # ... and this from every front face
+CLOSE = 0.8  # nodes within CLOSE rho (metric) of the ideal point are preferred to it
+SEARCH = 0.8  # the candidate search box covers SEARCH rho about the ideal point
+GOOD = 0.6  # a close node is taken before the new point only if its triangle is this good
+LONG = 1.3  # ... and its new sides are at most LONG rho
+CLEAR_NODE = 0.75  # a new point keeps this fraction of rho from every front node
+CLEAR_FACE = 0.55  # ... and this from every front face
+CLEAR_EDGE = 0.2  # a new side keeps this fraction of rho from every other front node
 MAX_DEFER = 2  # postponements of a face before backing off
 SYNC_EVERY = 512  # new nodes between two evaluations of the size field
+MAX_AREA_SIDE = 0.8  # an area bound A caps the spacing at this fraction of sqrt(4 A / sqrt(3))
 
 
 def metric_at(field, xy) -> np.ndarray:
@@ -206,6 +210,25 @@ def _estimate(points, tris, field) -> int:
     return int(min(1.3 * np.sum(area * np.sqrt(det)) / (np.sqrt(3.0) / 4.0), 2**31 - 1)) + 16
 
 
+def split_long_segments(ct, h: float, max_rounds: int = 64) -> int:
+    """Split every subsegment of ``ct`` longer than ``h`` (at split points on the true curve).
+
+    Returns the number of splits; raises :class:`MeshingError` if ``max_rounds`` halvings
+    do not suffice (``h`` far below the geometry's scale).
+    """
+    count = 0
+    for _ in range(max_rounds):
+        edges, _ = ct.segments()
+        p = ct.points
+        long = edges[np.hypot(*(p[edges[:, 1]] - p[edges[:, 0]]).T) > h]
+        if not len(long):
+            return count
+        for a, b in long.tolist():
+            ct.split_segment(a, b)
+        count += len(long)
+    raise MeshingError(f"segments still longer than {h!r} after {max_rounds} rounds of halving")
+
+
 def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int | None = None, progress=None):
     """Mesh the inside of a classified constrained triangulation by the advancing front.
 
@@ -253,6 +276,9 @@ def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int
     par[fk.P_SYNC_EVERY] = SYNC_EVERY
     par[fk.P_MAX_BACKOFF] = 100 + estimate // 1000 if max_backoff is None else int(max_backoff)
     par[fk.P_MAX_DEFER] = MAX_DEFER
+    par[fk.P_QMIN] = GOOD
+    par[fk.P_CLEAR_E] = CLEAR_EDGE
+    par[fk.P_LONG] = LONG
     while True:
         code = fr.advance(par)
         m = fr.meta

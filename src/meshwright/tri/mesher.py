@@ -43,7 +43,7 @@ from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.boundary import point_distribution
 from meshwright.sizing.field import SizeField, as_size_field, minimum
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
-from meshwright.tri.front import advancing_front
+from meshwright.tri.front import MAX_AREA_SIDE, advancing_front, split_long_segments
 from meshwright.tri.frontal_delaunay import frontal_delaunay
 from meshwright.tri.ruppert import conform, refine
 from meshwright.tri.smoothing import smooth as smooth_points
@@ -145,8 +145,11 @@ def _place_frontal(job: _Job) -> None:
 def _place_front(job: _Job) -> tuple:
     field = _background(job)
     if job.max_area is not None:
-        # The side of the equilateral triangle of that area bounds the spacing.
-        field = minimum(field, 0.85 * np.sqrt(4.0 * job.max_area / np.sqrt(3.0)))
+        # The area bound becomes a spacing bound (a fraction of the side of the equilateral
+        # triangle of that area), on the boundary as well: the front never splits segments.
+        cap = MAX_AREA_SIDE * np.sqrt(4.0 * job.max_area / np.sqrt(3.0))
+        field = minimum(field, cap)
+        split_long_segments(job.ct, cap)
     bar = None
     if job.progress:
         from tqdm import tqdm
@@ -264,14 +267,19 @@ def triangulate(
     smooth : int
         Spring-analogy smoothing passes afterwards (chapter 18.2); 0 for none.
     max_area : float, optional
-        Largest triangle area (region seeds may lower it locally).
+        Largest triangle area (region seeds may lower it locally).  ``method="front"``
+        honours it through the spacing (``MAX_AREA_SIDE`` times the side of the
+        equilateral triangle of that area, boundary segments split to it), so a few
+        closing triangles may exceed it (by less than twice); the Delaunay methods refine
+        until it holds exactly.
     seed : int
         Randomness of the insertion order (results are reproducible for a seed).
     progress : bool
         Show a progress bar for long runs.
     conforming : bool
         Also split segments until every triangle is Delaunay (not only constrained
-        Delaunay), like Triangle's ``-D``.
+        Delaunay), like Triangle's ``-D``.  With ``method="front"`` the front's points
+        are then connected by the Delaunay kernel instead of by the front.
 
     Returns
     -------
