@@ -20,7 +20,8 @@ Cases (all methods get the same boundary points, in one process, after a JIT war
 
 Reported per method: wall time (best of ``--repeat``), triangles per second, minimum angle,
 mean and minimum radius ratio (``2r/R``, 1 for equilateral), and the time and triangle
-count relative to Triangle.  The JIT compile time of ``import meshwright`` plus a first
+count relative to Triangle, and the throughput relative to Gmsh's Frontal-Delaunay (issue
+targets for the frontal methods are multiples of it).  The JIT compile time of ``import meshwright`` plus a first
 small :func:`meshwright.tri.triangulate` is reported cold (empty Numba cache) and cached.
 """
 
@@ -202,15 +203,17 @@ def main(argv=None) -> int:
             results[name] = (t, len(tris), quality(pts, tris))
             print(f"done {label}: {name} {t:.2f} s", file=sys.stderr)
         ref = results.get("triangle")
+        gfd = results.get("gmsh frontal-delaunay (6)")
         for name, (t, nt, q) in results.items():
             rows.append([
                 label, name, f"{t:.3f}", f"{nt:,}", f"{nt / t:,.0f}", f"{q['min_angle']:.2f}",
                 f"{q['rr_mean']:.4f}", f"{q['rr_min']:.4f}",
                 f"{t / ref[0]:.2f}" if ref else "-", f"{nt / ref[1]:.2f}" if ref else "-",
+                f"{(nt / t) / (gfd[1] / gfd[0]):.1f}" if gfd else "-",
             ])
     print_table(
         ["case", "method", "time [s]", "triangles", "tri/s", "min angle", "mean 2r/R", "min 2r/R",
-         "time x Triangle", "tris x Triangle"],
+         "time x Triangle", "tris x Triangle", "tri/s x Gmsh (6)"],
         rows,
     )
     return 0

@@ -15,6 +15,7 @@ Array layout (capacities grow by doubling in :mod:`meshwright.tri.front`)::
     falive (fcap,) int8        1 while the face is on the front
     qnext, qbox                the loose quadtree's item arrays (item = face id)
     hkey, hface                binary min-heap of faces by key (length, plus deferrals)
+    wkey, wface                faces waiting for the metric of a new end (meta[M_NW] of them)
     tri    (tcap, 3) int32     triangles (a, b, c) counter-clockwise
     tnext  (tcap, 3) int32     next slot in the triangle list of the k-th vertex
     talive (tcap,) int8        0 once removed by a back-off
@@ -41,13 +42,14 @@ from meshwright.core.predicates import orient2d
 from meshwright.core.quadtree import Q_DEPTH, Q_NODES, STACK_PER_LEVEL, qt_insert, qt_query
 
 R_DONE = 0  # the front is empty
-R_SYNC = 1  # nodes [meta[M_SYNC], meta[M_NP]) carry a provisional metric
+R_SYNC = 1  # nodes [meta[M_SYNC], meta[M_NP]) await their metric
 R_ROOM = 2  # an array needs more room
 R_STUCK = 3  # face meta[M_FAIL] cannot be advanced even after backing off
 R_STEPS = 4  # the step cap was hit
+R_POINTS = 5  # the node cap par[P_MAX_POINTS] was passed
 
-M_NP, M_NF, M_NH, M_NT, M_STEPS, M_BACKOFF, M_SYNC, M_FAIL, M_NIN, M_STAMP, M_LEN = range(11)
-P_CLOSE, P_SEARCH, P_CLEAR_N, P_CLEAR_F, P_DEFER, P_SYNC_EVERY, P_MAX_BACKOFF, P_MAX_DEFER, P_QMIN, P_CLEAR_E, P_LONG, P_LEN = range(12)
+M_NP, M_NF, M_NH, M_NT, M_STEPS, M_BACKOFF, M_SYNC, M_FAIL, M_NIN, M_STAMP, M_NW, M_LEN = range(12)
+P_CLOSE, P_SEARCH, P_CLEAR_N, P_CLEAR_F, P_DEFER, P_SYNC_EVERY, P_MAX_BACKOFF, P_MAX_DEFER, P_QMIN, P_CLEAR_E, P_LONG, P_UNIFORM, P_MAX_POINTS, P_LEN = range(14)
 
 V_FACE, V_TRI, V_FREE, V_STAMP = range(4)
 F_A, F_B, F_NEXT, F_TRIES = range(4)
@@ -257,12 +259,14 @@ def _quality(ax, ay, bx, by, cx, cy):
 # ------------------------------------------------------------------------------- steps
 @njit(cache=True)
 def _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext,
-                   hkey, hface, tri, tnext, talive, meta):
+                   hkey, hface, tri, tnext, talive, meta, uniform):
     """Add triangle (a, b, c) on face f = a -> b and update the front (module docstring)."""
     if c == meta[M_NP]:
         meta[M_NP] = c + 1
         for k in range(3):
-            met[c, k] = 0.5 * (met[a, k] + met[b, k])
+            met[c, k] = met[a, k]
+        if uniform:
+            meta[M_SYNC] = c + 1
         vint[c, V_FACE] = -1
         vint[c, V_TRI] = -1
         vint[c, V_FREE] = -1
@@ -510,15 +514,24 @@ def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead,
             c = np.int64(cand[i - n_close - 1])
         if _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
             _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext,
-                           hkey, hface, tri, tnext, talive, meta)
+                           hkey, hface, tri, tnext, talive, meta, par[P_UNIFORM] != 0.0)
             return True, items, nodes, cand, ckey
     return False, items, nodes, cand, ckey
 
 
 @njit(cache=True)
 def advance(pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
-            tri, tnext, talive, meta, par):
-    """Run the front until it is empty or Python must act; returns an ``R_*`` code."""
+            wkey, wface, tri, tnext, talive, meta, par):
+    """Run the front until it is empty or Python must act; returns an ``R_*`` code.
+
+    A face with an end whose metric is not known yet (a node made since the last
+    evaluation of the size field) waits; when only waiting faces are left, or enough nodes
+    are new, Python evaluates the field (``R_SYNC``) and the waiting faces return.
+    """
+    for i in range(meta[M_NW]):
+        if falive[wface[i]]:
+            heap_push(hkey, hface, meta, wkey[i], wface[i])
+    meta[M_NW] = 0
     items = np.empty(256, dtype=np.int32)
     nodes = np.empty(256, dtype=np.int32)
     cand = np.empty(256, dtype=np.int32)
@@ -535,12 +548,15 @@ def advance(pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnex
             meta[M_NP] + 2 > pts.shape[0]
             or meta[M_NF] + ROOM_FACES > face.shape[0]
             or meta[M_NH] + ROOM_FACES > hkey.shape[0]
+            or meta[M_NW] + 2 > wface.shape[0]
             or meta[M_NT] + 2 > tri.shape[0]
             or qmeta[Q_NODES] + ROOM_FACES * (depth + 1) > qhead.shape[0]
         ):
             return R_ROOM
         if meta[M_NP] - meta[M_SYNC] >= sync_every:
             return R_SYNC
+        if meta[M_NP] > par[P_MAX_POINTS]:
+            return R_POINTS
         if meta[M_STEPS] > 16 * meta[M_NF] + 100_000:
             return R_STEPS
         f = -1
@@ -548,10 +564,14 @@ def advance(pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnex
         while meta[M_NH] > 0:
             key, f = _heap_pop(hkey, hface, meta)
             if falive[f]:
-                break
+                if face[f, F_A] < meta[M_SYNC] and face[f, F_B] < meta[M_SYNC]:
+                    break
+                wkey[meta[M_NW]] = key
+                wface[meta[M_NW]] = f
+                meta[M_NW] += 1
             f = -1
         if f < 0:
-            return R_DONE
+            return R_SYNC if meta[M_NW] > 0 else R_DONE
         meta[M_STEPS] += 1
         ok, items, nodes, cand, ckey = _try_face(
             f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,

@@ -674,8 +674,11 @@ class ConstrainedTriangulation:
             pts, tris, tmarks = self._pts[: self._nv], self.triangles(True), self.triangle_markers(True)
         else:
             pts, tris = fill
-            slots = self._locate(pts[tris].mean(axis=1), "centroid")
-            tmarks = self._rmarker[np.maximum(self._treg[slots], 0)]
+            if len(self._rmarker) > 1:
+                slots = self._locate(pts[tris].mean(axis=1), "centroid")
+                tmarks = self._rmarker[np.maximum(self._treg[slots], 0)]
+            else:
+                tmarks = np.zeros(len(tris), dtype=np.int32)
         used = np.zeros(len(pts), dtype=bool)
         used[tris.ravel()] = True
         newid = np.cumsum(used, dtype=np.int64).astype(np.int32) - 1

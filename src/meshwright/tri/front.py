@@ -36,9 +36,10 @@ face); if it still fails, the triangles around its ends (one ring, then two, the
 removed and their region re-opened (back-off).  A face that fails after three rings, or more
 than ``max_backoff`` back-offs in all, raises :class:`MeshingError` naming the face.
 
-Sizes: nodes carry their metric; a new node starts with the mean of its face's ends and
-receives the field's value in batches of ``SYNC_EVERY`` nodes (the field is a Python
-callable), so faces use the exact metric from the next batch on.
+Sizes: nodes carry their metric, evaluated in batches (the field is a Python callable): a
+face whose end is a node made since the last evaluation waits, and the field is evaluated
+when only waiting faces are left or ``SYNC_EVERY`` nodes are new.  Every face is thus
+advanced with the exact metric of its ends; a uniform metric needs no evaluation at all.
 
 Array layout: :mod:`meshwright.tri._front_kernel`.  Output: the constrained triangulation's
 vertices followed by the generated nodes (``points`` (n, 2) float64) and counter-clockwise
@@ -139,6 +140,8 @@ class _Front:
         self.qnext = np.empty(fcap, dtype=np.int32)
         self.hkey = np.empty(fcap)
         self.hface = np.empty(fcap, dtype=np.int32)
+        self.wkey = np.empty(fcap)
+        self.wface = np.empty(fcap, dtype=np.int32)
         self.tri = np.empty((tcap, 3), dtype=np.int32)
         self.tnext = np.empty((tcap, 3), dtype=np.int32)
         self.talive = np.zeros(tcap, dtype=np.int8)
@@ -173,7 +176,9 @@ class _Front:
             self.falive = _grow(self.falive, need_f, 0)
             self.qbox = _grow(self.qbox, need_f)
             self.qnext = _grow(self.qnext, need_f)
-        need_h = int(m[fk.M_NH]) + fk.ROOM_FACES
+            self.wkey = _grow(self.wkey, need_f)
+            self.wface = _grow(self.wface, need_f)
+        need_h = int(m[fk.M_NH]) + int(m[fk.M_NW]) + fk.ROOM_FACES
         if need_h > len(self.hkey):
             self.hkey = _grow(self.hkey, need_h)
             self.hface = _grow(self.hface, need_h)
@@ -191,7 +196,7 @@ class _Front:
         return int(
             fk.advance(
                 self.pts, self.met, self.vint, self.face, self.falive, self.qbox, self.qgeo, self.qmeta,
-                self.qchild, self.qhead, self.qnext, self.hkey, self.hface, self.tri, self.tnext,
+                self.qchild, self.qhead, self.qnext, self.hkey, self.hface, self.wkey, self.wface, self.tri, self.tnext,
                 self.talive, self.meta, par,
             )
         )
@@ -199,6 +204,13 @@ class _Front:
 
 def _fmt(p) -> str:
     return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
+
+
+def _is_uniform(field) -> bool:
+    """Whether the metric is the same everywhere (a constant, or a uniform background grid)."""
+    if hasattr(field, "metric"):
+        return all(np.ptp(v) == 0.0 for v in (field.delta, field.stretch, field.direction))
+    return field.constant is not None
 
 
 def _estimate(points, tris, field) -> int:
@@ -279,6 +291,8 @@ def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int
     par[fk.P_QMIN] = GOOD
     par[fk.P_CLEAR_E] = CLEAR_EDGE
     par[fk.P_LONG] = LONG
+    par[fk.P_MAX_POINTS] = cap
+    par[fk.P_UNIFORM] = float(np.all(metric[used] == metric[used][0]) and _is_uniform(field))
     while True:
         code = fr.advance(par)
         m = fr.meta
@@ -288,12 +302,12 @@ def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int
             lo_i, hi_i = int(m[fk.M_SYNC]), int(m[fk.M_NP])
             fr.met[lo_i:hi_i] = metric_at(field, fr.pts[lo_i:hi_i])
             m[fk.M_SYNC] = hi_i
-            if hi_i > cap:
-                raise MeshingError(f"the advancing front made {hi_i} nodes, above max_points = {cap}")
             if progress is not None:
                 progress(hi_i)
         elif code == fk.R_DONE:
             break
+        elif code == fk.R_POINTS:
+            raise MeshingError(f"the advancing front made {int(m[fk.M_NP])} nodes, above max_points = {cap}")
         elif code == fk.R_STUCK:
             f = int(m[fk.M_FAIL])
             a, b = fr.face[f, 0], fr.face[f, 1]
