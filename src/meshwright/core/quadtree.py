@@ -60,7 +60,7 @@ def qt_new(bbox, finest: float, nodes: int = 1024):
     return qgeo, qmeta, qchild, qhead
 
 
-@njit(cache=True)
+@njit(inline="always")
 def qt_insert(item, qgeo, qmeta, qchild, qhead, qnext, qbox):
     """Link ``item`` (its box already in ``qbox[item]``) into the tree.
 
@@ -100,7 +100,7 @@ def qt_insert(item, qgeo, qmeta, qchild, qhead, qnext, qbox):
     qhead[node] = item
 
 
-@njit(cache=True)
+@njit(inline="always")
 def qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, alive, out, stack, fstack):
     """Items whose box meets ``[x0, x1] x [y0, y1]`` (closed), written to ``out``.
 

@@ -61,7 +61,7 @@ _Q = 4.0 * np.sqrt(3.0)
 
 
 # ------------------------------------------------------------------------------- heap
-@njit(cache=True)
+@njit(inline="always")
 def heap_push(hkey, hface, meta, key, f):
     """Push face ``f`` with ``key`` (room checked by the caller)."""
     i = meta[M_NH]
@@ -77,7 +77,7 @@ def heap_push(hkey, hface, meta, key, f):
     hface[i] = f
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _heap_pop(hkey, hface, meta):
     n = meta[M_NH] - 1
     meta[M_NH] = n
@@ -104,7 +104,7 @@ def _heap_pop(hkey, hface, meta):
 
 
 # ------------------------------------------------------------------------------- faces
-@njit(cache=True)
+@njit(inline="always")
 def _find_face(u, v, vint, face, falive):
     """The live face u -> v, or -1; dead faces met in u's list are unlinked."""
     prev = -1
@@ -124,7 +124,7 @@ def _find_face(u, v, vint, face, falive):
     return -1
 
 
-@njit(cache=True)
+@njit(inline="always")
 def add_item(u, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, meta):
     """New quadtree item u -> v (a face, or a free point when u == v); returns its id."""
     f = meta[M_NF]
@@ -142,7 +142,7 @@ def add_item(u, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, m
     return f
 
 
-@njit(cache=True)
+@njit(inline="always")
 def add_face(u, v, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface, meta):
     """New front face u -> v: quadtree, u's out-list and the heap (key: its length)."""
     f = add_item(u, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, meta)
@@ -167,7 +167,7 @@ def _between(pts, p, a, b):
     )
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _meets(pts, p, q, r, s):
     """Segments pq and rs share a point other than a common endpoint (exact)."""
     if p == r or p == s or q == r or q == s:
@@ -187,7 +187,7 @@ def _meets(pts, p, q, r, s):
     return True
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
     """Triangle (a, b, c) on face f = a -> b may be added (module docstring).
 
@@ -257,7 +257,7 @@ def _quality(ax, ay, bx, by, cx, cy):
 
 
 # ------------------------------------------------------------------------------- steps
-@njit(cache=True)
+@njit(inline="always")
 def _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext,
                    hkey, hface, tri, tnext, talive, meta, uniform):
     """Add triangle (a, b, c) on face f = a -> b and update the front (module docstring)."""
@@ -385,7 +385,7 @@ def _backoff(f, level, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead
     return nt
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
               tri, tnext, talive, meta, par, items, nodes, cand, ckey, stack, fstack):
     """Advance face f by one triangle if any valid apex exists; returns (ok, items)."""
