@@ -158,6 +158,22 @@ def test_max_area_bounds_the_spacing():
     assert np.hypot(*(edges[:, 1] - edges[:, 0]).T).max() <= F.MAX_AREA_SIDE * math.sqrt(4 * 0.002 / math.sqrt(3))
 
 
+def test_region_area_bounds_through_the_spacing():
+    outer = [(0, 0), (2, 0), (2, 1), (0, 1)]
+    inner = np.array([(0.25, 0.25), (0.75, 0.25), (0.75, 0.75), (0.25, 0.75), (0.25, 0.25)])
+    dom = g.polygon(outer, segments=[inner], regions=[(0.5, 0.5, 7, 0.001), (1.5, 0.5, 9, None)])
+    mesh = mw.triangulate(dom, size=0.2, method="front")
+    check(mesh, dom, straight=True)
+    cen = mesh.points[mesh.cells["triangle"]].mean(axis=1)
+    box = (np.abs(cen[:, 0] - 0.5) < 0.25) & (np.abs(cen[:, 1] - 0.5) < 0.25)
+    tm = mesh.cell_data["marker"]["triangle"]
+    assert (tm[box] == 7).all() and (tm[~box] == 9).all()
+    area = mesh.quality()["triangle"]["area"]
+    assert np.mean(area[box] <= 0.001) > 0.95 and area[box].max() < 2 * 0.001
+    # Outside the bounded region the size 0.2 takes over: far larger triangles.
+    assert area[~box].max() > 5 * 0.001
+
+
 def test_smoothing_after_front_keeps_validity():
     dom = g.circle()
     raw = mw.triangulate(dom, 0.1, method="front")

@@ -56,7 +56,11 @@ from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
 from meshwright.tri._kernel2d import M_NTRI
 
-__all__ = ["advancing_front", "metric_at", "split_long_segments", "MAX_AREA_SIDE", "CLOSE", "SEARCH", "CLEAR_NODE", "CLEAR_FACE", "CLEAR_EDGE", "GOOD", "LONG", "MAX_DEFER", "SYNC_EVERY"]
+__all__ = [
+    "advancing_front", "metric_at", "area_cap", "split_long_segments",
+    "CLOSE", "SEARCH", "GOOD", "LONG", "CLEAR_NODE", "CLEAR_FACE", "CLEAR_EDGE", "MAX_DEFER", "SYNC_EVERY",
+    "MAX_AREA_SIDE",
+]
 
 CLOSE = 0.8  # nodes within CLOSE rho (metric) of the ideal point are preferred to it
 SEARCH = 0.8  # the candidate search box covers SEARCH rho about the ideal point
@@ -70,11 +74,12 @@ SYNC_EVERY = 512  # new nodes between two evaluations of the size field
 MAX_AREA_SIDE = 0.8  # an area bound A caps the spacing at this fraction of sqrt(4 A / sqrt(3))
 
 
-def metric_at(field, xy) -> np.ndarray:
+def metric_at(field, xy, cap=None) -> np.ndarray:
     """Metric ``(m11, m12, m22)`` of the size field at ``xy`` (k, 2); returns (k, 3) float64.
 
     A :class:`~meshwright.sizing.BackgroundGrid` contributes its stretching (``T^2 /
-    delta^2``); any other field the isotropic ``I / h^2``.
+    delta^2``); any other field the isotropic ``I / h^2``.  ``cap(xy) -> (k,)``, if given,
+    bounds the spacing: the metric is scaled so that no element side exceeds it.
     """
     xy = np.ascontiguousarray(xy, dtype=np.float64)
     out = np.empty((len(xy), 3))
@@ -86,12 +91,37 @@ def metric_at(field, xy) -> np.ndarray:
         out[:, 0] = (c * c * inv_s2 + sn * sn) / delta**2
         out[:, 1] = c * sn * (inv_s2 - 1.0) / delta**2
         out[:, 2] = (sn * sn * inv_s2 + c * c) / delta**2
-        return out
-    h = field(xy)
-    out[:, 0] = 1.0 / h**2
-    out[:, 1] = 0.0
-    out[:, 2] = out[:, 0]
+        longest = s * delta
+    else:
+        h = field(xy)
+        out[:, 0] = 1.0 / h**2
+        out[:, 1] = 0.0
+        out[:, 2] = out[:, 0]
+        longest = h
+    if cap is not None:
+        out *= np.maximum(1.0, (longest / cap(xy)) ** 2)[:, None]
     return out
+
+
+def area_cap(ct, max_area=None):
+    """Spacing bound ``cap(xy) -> (k,)`` from an area bound and the regions' bounds, or None.
+
+    ``MAX_AREA_SIDE`` times the side of the equilateral triangle of the smaller of
+    ``max_area`` and the bound of the region holding each point.
+    """
+    rarea = np.asarray(ct._rarea, dtype=np.float64)
+    glob = np.inf if max_area is None else float(max_area)
+    if not np.isfinite(glob) and not np.isfinite(rarea).any():
+        return None
+
+    def cap(xy):
+        area = np.full(len(xy), glob)
+        if np.isfinite(rarea).any():
+            slots = ct._locate(xy, "size query")
+            area = np.minimum(area, rarea[np.maximum(ct._treg[slots], 0)])
+        return MAX_AREA_SIDE * np.sqrt(4.0 * area / np.sqrt(3.0))
+
+    return cap
 
 
 def _grow(a: np.ndarray, need: int, fill=None) -> np.ndarray:
@@ -213,35 +243,39 @@ def _is_uniform(field) -> bool:
     return field.constant is not None
 
 
-def _estimate(points, tris, field) -> int:
+def _estimate(points, tris, field, cap) -> int:
     """Triangles a mesh of the given metric needs: metric area / equilateral unit area."""
     a, b, c = points[tris[:, 0]], points[tris[:, 1]], points[tris[:, 2]]
     area = 0.5 * np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
-    m = metric_at(field, (a + b + c) / 3.0)
+    m = metric_at(field, (a + b + c) / 3.0, cap)
     det = np.maximum(m[:, 0] * m[:, 2] - m[:, 1] ** 2, 0.0)
     return int(min(1.3 * np.sum(area * np.sqrt(det)) / (np.sqrt(3.0) / 4.0), 2**31 - 1)) + 16
 
 
-def split_long_segments(ct, h: float, max_rounds: int = 64) -> int:
-    """Split every subsegment of ``ct`` longer than ``h`` (at split points on the true curve).
+def split_long_segments(ct, cap, max_rounds: int = 64) -> int:
+    """Split every subsegment of ``ct`` longer than ``cap(midpoint)`` (split points on the true curve).
 
     Returns the number of splits; raises :class:`MeshingError` if ``max_rounds`` halvings
-    do not suffice (``h`` far below the geometry's scale).
+    do not suffice (a bound far below the geometry's scale).
     """
     count = 0
     for _ in range(max_rounds):
         edges, _ = ct.segments()
         p = ct.points
-        long = edges[np.hypot(*(p[edges[:, 1]] - p[edges[:, 0]]).T) > h]
+        a, b = p[edges[:, 0]], p[edges[:, 1]]
+        long = edges[np.hypot(*(b - a).T) > cap(0.5 * (a + b))]
         if not len(long):
             return count
-        for a, b in long.tolist():
-            ct.split_segment(a, b)
+        for u, w in long.tolist():
+            ct.split_segment(u, w)
         count += len(long)
-    raise MeshingError(f"segments still longer than {h!r} after {max_rounds} rounds of halving")
+    raise MeshingError(f"segments still longer than the area bound allows after {max_rounds} rounds of halving")
 
 
-def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int | None = None, progress=None):
+def advancing_front(
+    ct, size, *, max_area: float | None = None, max_points: int | None = None, max_backoff: int | None = None,
+    progress=None,
+):
     """Mesh the inside of a classified constrained triangulation by the advancing front.
 
     Parameters
@@ -251,6 +285,10 @@ def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int
         initial front (they are never split).
     size : number, callable, SizeField or BackgroundGrid
         Spacing; a background grid also gives stretching and direction.
+    max_area : float, optional
+        Area bound, honoured with the regions' own bounds through the spacing (see
+        :func:`area_cap`); subsegments longer than that spacing are split first.  Closing
+        triangles may still exceed it, by less than twice.
     max_points : int, optional
         Cap on the number of nodes.
     max_backoff : int, optional
@@ -272,13 +310,16 @@ def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int
         was hit.
     """
     field = as_size_field(size)
+    cap = area_cap(ct, max_area)
+    if cap is not None:
+        split_long_segments(ct, cap)
     faces, free, used, inside_tris = _initial_front(ct)
     pts0 = np.ascontiguousarray(ct.points, dtype=np.float64)
     metric = np.zeros((len(pts0), 3))
     metric[:, 0] = metric[:, 2] = 1.0
-    metric[used] = metric_at(field, pts0[used])
-    estimate = _estimate(pts0, inside_tris, field)
-    cap = np.iinfo(np.int32).max if max_points is None else int(max_points)
+    metric[used] = metric_at(field, pts0[used], cap)
+    estimate = _estimate(pts0, inside_tris, field, cap)
+    point_cap = np.iinfo(np.int32).max if max_points is None else int(max_points)
     fr = _Front(pts0, faces, free, metric, estimate)
     par = np.zeros(fk.P_LEN)
     par[fk.P_CLOSE], par[fk.P_SEARCH] = CLOSE, SEARCH
@@ -291,8 +332,8 @@ def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int
     par[fk.P_QMIN] = GOOD
     par[fk.P_CLEAR_E] = CLEAR_EDGE
     par[fk.P_LONG] = LONG
-    par[fk.P_MAX_POINTS] = cap
-    par[fk.P_UNIFORM] = float(np.all(metric[used] == metric[used][0]) and _is_uniform(field))
+    par[fk.P_MAX_POINTS] = point_cap
+    par[fk.P_UNIFORM] = float(np.all(metric[used] == metric[used][0]) and _is_uniform(field) and cap is None)
     while True:
         code = fr.advance(par)
         m = fr.meta
@@ -300,14 +341,14 @@ def advancing_front(ct, size, *, max_points: int | None = None, max_backoff: int
             fr.room()
         elif code == fk.R_SYNC:
             lo_i, hi_i = int(m[fk.M_SYNC]), int(m[fk.M_NP])
-            fr.met[lo_i:hi_i] = metric_at(field, fr.pts[lo_i:hi_i])
+            fr.met[lo_i:hi_i] = metric_at(field, fr.pts[lo_i:hi_i], cap)
             m[fk.M_SYNC] = hi_i
             if progress is not None:
                 progress(hi_i)
         elif code == fk.R_DONE:
             break
         elif code == fk.R_POINTS:
-            raise MeshingError(f"the advancing front made {int(m[fk.M_NP])} nodes, above max_points = {cap}")
+            raise MeshingError(f"the advancing front made {int(m[fk.M_NP])} nodes, above max_points = {point_cap}")
         elif code == fk.R_STUCK:
             f = int(m[fk.M_FAIL])
             a, b = fr.face[f, 0], fr.face[f, 1]

@@ -41,9 +41,9 @@ from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.shapes import builtin, polygon
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.boundary import point_distribution
-from meshwright.sizing.field import SizeField, as_size_field, minimum
+from meshwright.sizing.field import SizeField, as_size_field
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
-from meshwright.tri.front import MAX_AREA_SIDE, advancing_front, split_long_segments
+from meshwright.tri.front import advancing_front
 from meshwright.tri.frontal_delaunay import frontal_delaunay
 from meshwright.tri.ruppert import conform, refine
 from meshwright.tri.smoothing import smooth as smooth_points
@@ -144,19 +144,15 @@ def _place_frontal(job: _Job) -> None:
 
 def _place_front(job: _Job) -> tuple:
     field = _background(job)
-    if job.max_area is not None:
-        # The area bound becomes a spacing bound (a fraction of the side of the equilateral
-        # triangle of that area), on the boundary as well: the front never splits segments.
-        cap = MAX_AREA_SIDE * np.sqrt(4.0 * job.max_area / np.sqrt(3.0))
-        field = minimum(field, cap)
-        split_long_segments(job.ct, cap)
     bar = None
     if job.progress:
         from tqdm import tqdm
 
         bar = tqdm(desc="advancing front", unit=" nodes", leave=False)
     try:
-        return advancing_front(job.ct, field, progress=None if bar is None else (lambda n: bar.update(n - bar.n)))
+        return advancing_front(
+            job.ct, field, max_area=job.max_area, progress=None if bar is None else (lambda n: bar.update(n - bar.n))
+        )
     finally:
         if bar is not None:
             bar.close()
