@@ -44,7 +44,7 @@ from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.sizing.boundary import point_distribution
 from meshwright.sizing.field import SizeField, fmt_point, unit_tangents
 
-__all__ = ["BackgroundGrid"]
+__all__ = ["BackgroundGrid", "interpolate_one", "interpolate_walk"]
 
 _MAGIC = "meshwright-background 1"
 
@@ -111,56 +111,113 @@ def _closest_on_segment(ax, ay, bx, by, x, y):
 
 
 @njit(cache=True)
-def _interpolate(pts, tris, start, items, x0, y0, cell, nx, ny, xy, values):
-    """Linear interpolation of ``values`` (n, k) at ``xy`` (q, 2); returns (q, k).
+def _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y):
+    """Background triangle and barycentric weights ``(t, w0, w1, w2)`` for the point (x, y).
 
     The containing triangle is searched in the query's cell; a point in no triangle takes
-    the values at the nearest point of the nearest triangle, searched in growing rings.
+    the weights of the nearest point of the nearest triangle, searched in growing rings.
     """
+    ci = min(nx - 1, max(0, int((x - x0) / cell)))
+    cj = min(ny - 1, max(0, int((y - y0) / cell)))
+    best = -1
+    best_d2 = np.inf
+    bx_ = x
+    by_ = y
+    ring = 0
+    found_ring = -1
+    while ring <= max(nx, ny):
+        for j in range(max(0, cj - ring), min(ny, cj + ring + 1)):
+            for i in range(max(0, ci - ring), min(nx, ci + ring + 1)):
+                if max(abs(i - ci), abs(j - cj)) != ring:
+                    continue
+                c = j * nx + i
+                for s in range(start[c], start[c + 1]):
+                    t = items[s]
+                    w0, w1, w2 = _barycentric(pts, tris, t, x, y)
+                    if min(w0, w1, w2) >= 0.0:
+                        best, best_d2, bx_, by_ = t, 0.0, x, y
+                        continue
+                    for e in range(3):
+                        u = tris[t, (e + 1) % 3]
+                        w = tris[t, (e + 2) % 3]
+                        cx, cy = _closest_on_segment(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y)
+                        d2 = (cx - x) ** 2 + (cy - y) ** 2
+                        if d2 < best_d2:
+                            best, best_d2, bx_, by_ = t, d2, cx, cy
+        if best >= 0 and found_ring < 0:
+            found_ring = ring
+        # Once something is found, one more ring covers every nearer candidate.
+        if best_d2 == 0.0 or (found_ring >= 0 and ring > found_ring):
+            break
+        ring += 1
+    w0, w1, w2 = _barycentric(pts, tris, best, bx_, by_)
+    return best, w0, w1, w2
+
+
+def _neighbours(tris: np.ndarray) -> np.ndarray:
+    """(m, 3) int32: the triangle across the edge opposite vertex k, -1 on the border."""
+    m = len(tris)
+    a = tris[:, [1, 2, 0]].ravel().astype(np.int64)
+    b = tris[:, [2, 0, 1]].ravel().astype(np.int64)
+    n = int(tris.max()) + 1
+    key = a * n + b
+    rev = b * n + a
+    order = np.argsort(key)
+    pos = np.searchsorted(key[order], rev)
+    pos = np.minimum(pos, len(key) - 1)
+    hit = key[order][pos] == rev
+    out = np.full(3 * m, -1, dtype=np.int32)
+    out[hit] = (order[pos[hit]] // 3).astype(np.int32)
+    return out.reshape(m, 3)
+
+
+@njit(cache=True)
+def interpolate_walk(pts, tris, nbr, start, items, x0, y0, cell, nx, ny, values, col, hint, x, y):
+    """:func:`interpolate_one` walking from the triangle ``hint[0]`` (updated), for queries
+    that move a little at a time (a front): O(distance) instead of a bucket scan, which a
+    graded background (many small triangles in one bucket) makes slow."""
+    t = hint[0]
+    if t < 0 or t >= tris.shape[0]:
+        t = 0
+    for step in range(4096):
+        moved = False
+        for j in range(3):
+            e = (j + step) % 3
+            u = tris[t, (e + 1) % 3]
+            w = tris[t, (e + 2) % 3]
+            side = (pts[w, 0] - pts[u, 0]) * (y - pts[u, 1]) - (pts[w, 1] - pts[u, 1]) * (x - pts[u, 0])
+            if side < 0.0:
+                n = nbr[t, e]
+                if n < 0:
+                    return interpolate_one(pts, tris, start, items, x0, y0, cell, nx, ny, x, y, values, col)
+                t = n
+                moved = True
+                break
+        if not moved:
+            hint[0] = t
+            w0, w1, w2 = _barycentric(pts, tris, t, x, y)
+            return w0 * values[tris[t, 0], col] + w1 * values[tris[t, 1], col] + w2 * values[tris[t, 2], col]
+    return interpolate_one(pts, tris, start, items, x0, y0, cell, nx, ny, x, y, values, col)
+
+
+@njit(cache=True)
+def interpolate_one(pts, tris, start, items, x0, y0, cell, nx, ny, x, y, values, col):
+    """Linear interpolation of column ``col`` of ``values`` (n, k) at one point (x, y);
+    kernels that need sizes inside their loops call this directly."""
+    t, w0, w1, w2 = _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y)
+    return w0 * values[tris[t, 0], col] + w1 * values[tris[t, 1], col] + w2 * values[tris[t, 2], col]
+
+
+@njit(cache=True)
+def _interpolate(pts, tris, start, items, x0, y0, cell, nx, ny, xy, values):
+    """Linear interpolation of ``values`` (n, k) at ``xy`` (q, 2); returns (q, k)."""
     q = xy.shape[0]
     k = values.shape[1]
     out = np.empty((q, k))
     for p in range(q):
-        x = xy[p, 0]
-        y = xy[p, 1]
-        ci = min(nx - 1, max(0, int((x - x0) / cell)))
-        cj = min(ny - 1, max(0, int((y - y0) / cell)))
-        best = -1
-        best_d2 = np.inf
-        bx_ = x
-        by_ = y
-        ring = 0
-        found_ring = -1
-        while ring <= max(nx, ny):
-            for j in range(max(0, cj - ring), min(ny, cj + ring + 1)):
-                for i in range(max(0, ci - ring), min(nx, ci + ring + 1)):
-                    if max(abs(i - ci), abs(j - cj)) != ring:
-                        continue
-                    c = j * nx + i
-                    for s in range(start[c], start[c + 1]):
-                        t = items[s]
-                        w0, w1, w2 = _barycentric(pts, tris, t, x, y)
-                        if min(w0, w1, w2) >= 0.0:
-                            best, best_d2, bx_, by_ = t, 0.0, x, y
-                            continue
-                        for e in range(3):
-                            u = tris[t, (e + 1) % 3]
-                            w = tris[t, (e + 2) % 3]
-                            cx, cy = _closest_on_segment(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y)
-                            d2 = (cx - x) ** 2 + (cy - y) ** 2
-                            if d2 < best_d2:
-                                best, best_d2, bx_, by_ = t, d2, cx, cy
-            if best >= 0 and found_ring < 0:
-                found_ring = ring
-            # Once something is found, one more ring covers every nearer candidate.
-            if best_d2 == 0.0 or (found_ring >= 0 and ring > found_ring):
-                break
-            ring += 1
-        w0, w1, w2 = _barycentric(pts, tris, best, bx_, by_)
+        t, w0, w1, w2 = _weights(pts, tris, start, items, x0, y0, cell, nx, ny, xy[p, 0], xy[p, 1])
         for c in range(k):
-            out[p, c] = (
-                w0 * values[tris[best, 0], c] + w1 * values[tris[best, 1], c] + w2 * values[tris[best, 2], c]
-            )
+            out[p, c] = w0 * values[tris[t, 0], c] + w1 * values[tris[t, 1], c] + w2 * values[tris[t, 2], c]
     return out
 
 
@@ -245,6 +302,7 @@ class BackgroundGrid(SizeField):
         self._ny = max(1, int(np.ceil((hi[1] - lo[1]) / self._cell)) + 1)
         self._x0, self._y0 = float(lo[0]), float(lo[1])
         self._start, self._items = _bucket_grid(pts, tris, self._x0, self._y0, self._cell, self._nx, self._ny)
+        self._nbr = _neighbours(tris)
         constant = float(d[0]) if np.all(d == d[0]) else None
         super().__init__(self._spacing, constant=constant, name="background grid")
 
@@ -256,6 +314,15 @@ class BackgroundGrid(SizeField):
         return _interpolate(
             self.points, self.triangles, self._start, self._items, self._x0, self._y0, self._cell,
             self._nx, self._ny, q, self._values,
+        )
+
+    def kernel_args(self) -> tuple:
+        """``(points, triangles, neighbours, start, items, x0, y0, cell, nx, ny, values)``: the
+        grid as :func:`interpolate_walk` takes it (``values`` columns: delta, s, cos 2 alpha,
+        sin 2 alpha)."""
+        return (
+            self.points, self.triangles, self._nbr, self._start, self._items, self._x0, self._y0, self._cell,
+            self._nx, self._ny, self._values,
         )
 
     def _spacing(self, xy) -> np.ndarray:
