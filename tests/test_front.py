@@ -262,3 +262,12 @@ def test_cli_front_with_stretch(tmp_path):
     mesh = mw.read(out)
     aspect, _ = _principal(mesh)
     assert np.median(aspect) == pytest.approx(3.0, rel=0.15)
+
+
+def test_demo_writes_every_mesh_and_picture(tmp_path):
+    from meshwright.cli import main
+
+    assert main(["demo", str(tmp_path)]) == 0
+    for stem in ("naca0012-front", "three-element-frontal-delaunay", "naca0012-delaunay"):
+        assert (tmp_path / f"{stem}.vtu").exists() and (tmp_path / f"{stem}.png").exists()
+        mw.read(tmp_path / f"{stem}.vtu").validate()

@@ -3,8 +3,9 @@
 The demo reproduces chapter 18.1's circle example (Figure 18.1.5): points on a circle
 and inside it, triangulated by Bowyer's and Watson's algorithms, with the Voronoi
 diagram of the same points (Figure 18.1.1); then quality meshes of NACA 0012 in a far
-field and of the three-element airfoil (Figure 18.3.1) by Delaunay refinement, and of the
-same airfoil by Weatherill's point generation with smoothing (18.1.3, 18.2).
+field by Delaunay refinement, Weatherill's point generation with smoothing (18.1.3, 18.2)
+and the advancing front (18.2), and of the three-element airfoil (Figure 18.3.1) by
+Delaunay refinement and by the frontal Delaunay method (18.3).
 """
 
 from __future__ import annotations
@@ -68,7 +69,13 @@ def run(args) -> int:
     plot_voronoi(vor, path=str(png))
     print(f"wrote {png}")
 
-    for name, method, smooth in (("naca0012", "delaunay", 0), ("naca0012", "weatherill", 8), ("three-element", "delaunay", 0)):
+    for name, method, smooth in (
+        ("naca0012", "delaunay", 0),
+        ("naca0012", "weatherill", 8),
+        ("naca0012", "front", 0),
+        ("three-element", "delaunay", 0),
+        ("three-element", "frontal-delaunay", 0),
+    ):
         with Timer() as t:
             mesh = triangulate(builtin(name), method=method, smooth=smooth, min_angle=30)
         mesh.validate()
