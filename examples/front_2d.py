@@ -7,7 +7,7 @@
 * a rectangle under a uniform background grid with spacing delta = 0.05, stretching s = 4
   along alpha = 30 degrees: elements 4 delta long along alpha (printed: the median aspect
   ratio and direction of the triangles);
-* NACA 0012 in a far field, spacing from the triangulated boundary nodes (the default).
+* NACA 0012 in a far field (the built-in domain and its graded size).
 
 Run::
 
@@ -20,7 +20,7 @@ import numpy as np
 from _figures import output_dir, panels, save, zoom
 
 import meshwright as mw
-from meshwright.geometry import airfoil_in_farfield, circle, polygon
+from meshwright.geometry import circle, polygon
 from meshwright.sizing import BackgroundGrid
 
 
@@ -62,7 +62,7 @@ def main() -> None:
     zoom(axes[2], (0, 2), (0, 1))
     axes[2].set_title("s = 4 along 30 degrees")
 
-    naca = mw.triangulate(airfoil_in_farfield("0012"), method="front")
+    naca = mw.triangulate("naca0012", method="front")
     naca.validate()
     naca.plot(ax=axes[3])
     zoom(axes[3], (-0.2, 1.2), (-0.5, 0.5))

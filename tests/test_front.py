@@ -120,6 +120,22 @@ def test_graded_size_ratio_above_1e4():
 
 
 # ---------------------------------------------------------------------------- domains
+def test_coarse_boundary_with_a_size_jump_closes():
+    # Seven boundary points (a 3-point airfoil in a 4-point far field), the chapter's
+    # default background from them: spacing 14 at the far field, 0.7 at the airfoil.  The
+    # last front loop is a long thin triangle whose third node lies far from every search box.
+    dom = g.airfoil_in_farfield("0012")
+    mesh = mw.triangulate(dom, method="front")
+    mesh.validate()
+    assert mesh.area() == pytest.approx(_shoelace_of(mesh), rel=1e-12)
+
+
+def _shoelace_of(mesh):
+    p, lines = mesh.points, mesh.boundary_facets()
+    a, b = p[lines[:, 0]], p[lines[:, 1]]
+    return 0.5 * float(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
+
+
 def test_free_points_are_reached():
     inner = np.array([(0.3, 0.3), (0.7, 0.35), (0.5, 0.71)])
     dom = g.polygon([(0, 0), (1, 0), (1, 1), (0, 1)], points=inner)
@@ -228,9 +244,11 @@ def test_backoff_reopens_the_front_and_the_mesh_still_closes(monkeypatch):
 
 
 def test_stuck_face_raises_naming_it(monkeypatch):
-    # A search box too small to see any existing node: the last triangle cannot close.
+    # No new points (none keeps clear of the nodes) and a search box too small to see any
+    # node but the next one along the front: a straight side cannot advance.
     ct, _ = _square_ct()
     monkeypatch.setattr(F, "SEARCH", 1e-9)
+    monkeypatch.setattr(F, "CLEAR_NODE", 1e9)
     with pytest.raises(MeshingError, match=r"no valid triangle on front face \(.*\) -> \(.*\) after 0 back-offs"):
         F.advancing_front(ct, 0.1, max_backoff=0)
 
