@@ -194,7 +194,7 @@ def _conflict(pts, tri, circ, rank, t, v, px, py):
     return bowyer.conflict(pts, tri, rank, t, v, px, py)
 
 
-@njit(cache=True)
+@njit(inline="always")
 def walk(pts, tri, nbr, meta, t, px, py):
     """Stochastic visibility walk from triangle t towards the point p.
 
@@ -257,7 +257,7 @@ def _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
     )
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _grow_cavity(v, seed0, seed1, pts, tri, nbr, cons, circ, rank, work):
     """Breadth-first cavity from ``seed0`` (and ``seed1`` across the split edge, if >= 0).
 
@@ -318,7 +318,7 @@ def _mark_split(h, tri, cons, meta):
     meta[M_SPLIT_C] = cons[h]
 
 
-@njit(cache=True)
+@njit(inline="always")
 def cavity(v, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     """Cavity of vertex v (coordinates in ``pts[v]``) from triangle t0, which contains it.
 
@@ -372,7 +372,7 @@ def cavity(v, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     return _grow_cavity(v, t0, seed1, pts, tri, nbr, cons, circ, rank, work)
 
 
-@njit(cache=True)
+@njit(inline="always")
 def fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     """Replace the cavity found by :func:`cavity` with the fan of v; returns a new triangle.
 
@@ -431,7 +431,7 @@ def fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     return result
 
 
-@njit(cache=True)
+@njit(inline="always")
 def insert_vertex(v, t, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     """Insert vertex v (row v of ``pts``) by cavity re-triangulation, walking from triangle t.
 
