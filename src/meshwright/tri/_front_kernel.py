@@ -167,7 +167,7 @@ def _between(pts, p, a, b):
     )
 
 
-@njit(inline="always")
+@njit(cache=True)
 def _meets(pts, p, q, r, s):
     """Segments pq and rs share a point other than a common endpoint (exact)."""
     if p == r or p == s or q == r or q == s:
@@ -187,7 +187,7 @@ def _meets(pts, p, q, r, s):
     return True
 
 
-@njit(inline="always")
+@njit(cache=True)
 def _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
     """Triangle (a, b, c) on face f = a -> b may be added (module docstring).
 

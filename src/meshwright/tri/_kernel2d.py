@@ -431,7 +431,7 @@ def fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     return result
 
 
-@njit(inline="always")
+@njit(cache=True)
 def insert_vertex(v, t, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     """Insert vertex v (row v of ``pts``) by cavity re-triangulation, walking from triangle t.
 
