@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_triangulate import check
 
 import meshwright as mw
 from meshwright import geometry as g
@@ -22,9 +23,6 @@ from meshwright.sizing import BackgroundGrid
 from meshwright.tri import _front_kernel as fk
 from meshwright.tri import front as F
 from meshwright.tri.cdt import cdt_build
-
-from test_triangulate import check
-
 
 # ---------------------------------------------------------------------------- quadtree
 boxes = st.lists(

@@ -39,7 +39,13 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.predicates import orient2d
-from meshwright.core.quadtree import Q_DEPTH, Q_NODES, STACK_PER_LEVEL, qt_insert, qt_query
+from meshwright.core.quadtree import (
+    Q_DEPTH,
+    Q_NODES,
+    STACK_PER_LEVEL,
+    qt_insert,
+    qt_query,
+)
 
 R_DONE = 0  # the front is empty
 R_SYNC = 1  # nodes [meta[M_SYNC], meta[M_NP]) await their metric
@@ -388,7 +394,11 @@ def _backoff(f, level, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead
 @njit(inline="always")
 def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
               tri, tnext, talive, meta, par, items, nodes, cand, ckey, stack, fstack):
-    """Advance face f by one triangle if any valid apex exists; returns (ok, items)."""
+    """Advance face f by one triangle if any valid apex exists.
+
+    Returns ``(ok, items, nodes, cand, ckey)``: the scratch arrays come back because they
+    may have been replaced by larger ones.
+    """
     a = np.int64(face[f, F_A])
     b = np.int64(face[f, F_B])
     m11 = 0.5 * (met[a, 0] + met[b, 0])
@@ -511,8 +521,9 @@ def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead,
     for i in range(rounds * (nc + n_close + 1)):
         clear = par[P_CLEAR_E] * rho if i < nc + n_close + 1 else 0.0
         i = i % (nc + n_close + 1)
-        # Order of trial: close nodes making a good triangle, the new point, then every
-        # node, best triangle first.
+        # Order of trial: close nodes making a good, not over-long triangle, the new
+        # point, then every node in list order (close ones nearest first, the others best
+        # triangle first).
         if i < n_close:
             c = np.int64(cand[i])
             qx, qy = _to_metric(l11, l21, l22, pts[c, 0] - ax, pts[c, 1] - ay)

@@ -137,7 +137,7 @@ def _size(par, bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell
 def classify(t, pts, tri, acc, ratio, par,
              bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint):
     """Store slot t's ``R sqrt(3) / h`` in ``ratio[t]``; accept t if it is within ACCEPT."""
-    cx, cy, r = _circle(pts, tri, t)
+    r = _circle(pts, tri, t)[2]
     gx = (pts[tri[3 * t], 0] + pts[tri[3 * t + 1], 0] + pts[tri[3 * t + 2], 0]) / 3.0
     gy = (pts[tri[3 * t], 1] + pts[tri[3 * t + 1], 1] + pts[tri[3 * t + 2], 1]) / 3.0
     h = _size(par, bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint, gx, gy)
@@ -227,7 +227,7 @@ def run(pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg, vp
         e = _front_edge(t, pts, tri, nbr, treg, acc)
         if e < 0:
             continue
-        cx, cy, rad = _circle(pts, tri, t)
+        rad = _circle(pts, tri, t)[2]
         # Rebay's point on the perpendicular bisector of the front edge ab (module
         # docstring of frontal_delaunay), sized at the edge: a long waiting triangle's
         # circumcentre may lie where the size is far larger.
@@ -255,7 +255,7 @@ def run(pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg, vp
         q[0, 0] = px
         q[0, 1] = py
         meta[M_LAST] = host
-        i, code = enc.insert_points(q, 0, out, pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg,
+        _, code = enc.insert_points(q, 0, out, pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg,
                                     vpar, vacute, seg, pkind, pdat, st)
         if code == enc.R_ROOM:
             _heap_push(hkey, htri, fmeta, -ratio[t], t, tri)
