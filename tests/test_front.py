@@ -128,6 +128,18 @@ def test_coarse_boundary_with_a_size_jump_closes():
     assert mesh.area() == pytest.approx(_shoelace_of(mesh), rel=1e-12)
 
 
+def test_hole_in_a_gap_narrower_than_the_spacing_closes():
+    # A diamond hole 0.05 from a long outer segment, spacing from the boundary (0.17 at the
+    # hole, 0.85 at the outer vertices): the gap closes only with the far ends of that
+    # segment, outside every ordinary search box.
+    outer = [(-0.588, 0.442), (-0.592, 0.289), (-0.821, 0.139), (-0.081, -0.693), (0.008, -0.785),
+             (0.831, -0.351), (0.771, -0.069)]
+    r = 0.12063938427325001
+    dom = g.polygon(outer, holes=[[(r, 0.0), (0.0, -r), (-r, 0.0), (0.0, r)]])
+    mesh = mw.triangulate(dom, method="front")
+    check(mesh, dom, straight=True)
+
+
 def _shoelace_of(mesh):
     p, lines = mesh.points, mesh.boundary_facets()
     a, b = p[lines[:, 0]], p[lines[:, 1]]

@@ -422,7 +422,13 @@ class BackgroundGrid(SizeField):
         if lonely.all():
             raise SizeError("a background from the boundary needs at least one segment")
         dp[lonely] = np.nanmean(dp)
-        return cls(points, triangles, dp)
+        pts = np.asarray(points, dtype=np.float64)
+        tris = np.asarray(triangles)
+        a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
+        # A triangulation's slivers may be exactly counter-clockwise yet round to zero area;
+        # they carry nothing to interpolate.
+        area2 = (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+        return cls(pts, tris[area2 > 0.0], dp)
 
     # ------------------------------------------------------------------ files
     def write(self, path) -> None:

@@ -438,22 +438,22 @@ def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead,
     x1 = max(px + wx, ax, bx)
     y0 = min(py - wy, ay, by)
     y1 = max(py + wy, ay, by)
-    if last:
-        # The far ends of b's out-faces too: a front loop of three faces closes with the
-        # third node, however far it lies.
-        g = vint[b, V_FACE]
-        while g >= 0:
-            if falive[g]:
-                y = face[g, F_B]
-                x0 = min(x0, pts[y, 0])
-                x1 = max(x1, pts[y, 0])
-                y0 = min(y0, pts[y, 1])
-                y1 = max(y1, pts[y, 1])
-            g = face[g, F_NEXT]
-    ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
-    if ni > items.shape[0]:
-        items = np.empty(2 * ni, dtype=np.int32)
+    for rnd in range(2 if last else 1):
         ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
+        if ni > items.shape[0]:
+            items = np.empty(2 * ni, dtype=np.int32)
+            ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
+        if last and rnd == 0:
+            # On the last try the box grows to the far ends of every face it met, so that
+            # they become candidates: a gap narrower than the spacing, or a front loop of
+            # three faces, closes with nodes however far they lie.
+            for i in range(ni):
+                g = items[i]
+                for v in (face[g, F_A], face[g, F_B]):
+                    x0 = min(x0, pts[v, 0])
+                    x1 = max(x1, pts[v, 0])
+                    y0 = min(y0, pts[v, 1])
+                    y1 = max(y1, pts[v, 1])
     meta[M_STAMP] += 1
     stamp = meta[M_STAMP]
     vint[a, V_STAMP] = stamp
