@@ -193,7 +193,7 @@ def _meets(pts, p, q, r, s):
     return True
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
     """Triangle (a, b, c) on face f = a -> b may be added (module docstring).
 
