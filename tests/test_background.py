@@ -221,3 +221,23 @@ def test_cli_stretch_raises_meshwright_errors():
         run(parser.parse_args(["mesh", "rectangle", "--size", "0.1", "--stretch", "3", "--background", "bg.txt"]))
     with pytest.raises(SizeError, match="--stretch"):
         run(parser.parse_args(["mesh", "rectangle", "--size", "0.1", "--stretch", "0.5"]))
+
+
+def test_walk_interpolation_matches_the_bucket_search():
+    """interpolate_walk (the frontal kernel's size lookup) gives interpolate_one's value from
+    any start triangle, inside the grid and outside it (nearest-point fallback)."""
+    from meshwright.sizing.background import interpolate_one, interpolate_walk
+    from meshwright.tri import delaunay
+
+    rng = np.random.default_rng(3)
+    pts = rng.random((300, 2))
+    tri = delaunay(pts)
+    bg = BackgroundGrid(tri.points, tri.triangles, 0.01 + rng.random(len(tri.points)))
+    args = bg.kernel_args()
+    p, t, nbr, start, items, x0, y0, cell, nx, ny, values = args
+    hint = np.zeros(1, dtype=np.int64)
+    for q in np.vstack([rng.random((200, 2)), rng.uniform(-0.5, 1.5, (50, 2))]):
+        hint[0] = rng.integers(0, len(t))
+        a = interpolate_walk(p, t, nbr, start, items, x0, y0, cell, nx, ny, values, 0, hint, q[0], q[1])
+        b = interpolate_one(p, t, start, items, x0, y0, cell, nx, ny, q[0], q[1], values, 0)
+        assert a == pytest.approx(b, rel=1e-12, abs=1e-12)
