@@ -22,18 +22,22 @@ Procedure (the numbered steps of 18.2)
    large ones never cross regions of small ones.
 5. For face AB, in the metric of its ends: (a) the ideal point P makes an equilateral
    triangle of unit side, the sides kept within [0.55, 2] face lengths; (b) the front nodes
-   within ``CLOSE rho`` of P, left of AB, are tried first, nearest first, then P itself if it
-   keeps ``CLEAR_NODE rho`` from every node and ``CLEAR_FACE rho`` from every face, then the
-   other nodes of the search box, best triangle first; (c) a candidate is taken only if the
-   triangle crosses no front face and contains no front node (exact tests, see
-   :mod:`meshwright.tri._front_kernel`).
+   within ``CLOSE rho`` of P, left of AB, are tried first, nearest first, if their triangle
+   has quality ``GOOD`` and sides below ``LONG rho``; then P itself if it keeps ``CLEAR_NODE
+   rho`` from every node and ``CLEAR_FACE rho`` from every face; then the other nodes of the
+   search box, best triangle first; (c) a candidate is taken only if the triangle crosses no
+   front face and contains no front node (exact tests, see
+   :mod:`meshwright.tri._front_kernel`), and, as a quality rule, its new sides keep
+   ``CLEAR_EDGE rho`` from every other node.
 6.-8. The triangle is added; each of its two new sides either closes the front face lying on
    it or joins the front; the face AB leaves the front.
 9. Repeat until the front is empty.
 
 A face with no valid candidate is postponed (``MAX_DEFER`` times, behind every ordinary
-face); if it still fails, the triangles around its ends (one ring, then two, then three) are
-removed and their region re-opened (back-off).  A face that fails after three rings, or more
+face).  Its last try searches four times as far, and to the far ends of every face the box
+meets (a gap narrower than the spacing closes with a long segment's ends), and ends with a
+round that asks validity only.  If it still fails, the triangles around its ends (one ring,
+then two, then three) are removed and their region re-opened (back-off).  A face that fails after three rings, or more
 than ``max_backoff`` back-offs in all, raises :class:`MeshingError` naming the face.
 
 Sizes: nodes carry their metric, evaluated in batches (the field is a Python callable): a
