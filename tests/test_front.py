@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_triangulate import check
+from test_triangulate import _shoelace, check
 
 import meshwright as mw
 from meshwright import geometry as g
@@ -125,7 +125,7 @@ def test_coarse_boundary_with_a_size_jump_closes():
     dom = g.airfoil_in_farfield("0012")
     mesh = mw.triangulate(dom, method="front")
     mesh.validate()
-    assert mesh.area() == pytest.approx(_shoelace_of(mesh), rel=1e-12)
+    assert mesh.area() == pytest.approx(_shoelace(mesh.points, mesh.boundary_facets()), rel=1e-12)
 
 
 def test_hole_in_a_gap_narrower_than_the_spacing_closes():
@@ -138,12 +138,6 @@ def test_hole_in_a_gap_narrower_than_the_spacing_closes():
     dom = g.polygon(outer, holes=[[(r, 0.0), (0.0, -r), (-r, 0.0), (0.0, r)]])
     mesh = mw.triangulate(dom, method="front")
     check(mesh, dom, straight=True)
-
-
-def _shoelace_of(mesh):
-    p, lines = mesh.points, mesh.boundary_facets()
-    a, b = p[lines[:, 0]], p[lines[:, 1]]
-    return 0.5 * float(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
 
 
 def test_free_points_are_reached():

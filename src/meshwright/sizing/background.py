@@ -221,6 +221,12 @@ def _interpolate(pts, tris, start, items, x0, y0, cell, nx, ny, xy, values):
     return out
 
 
+def _area2(pts: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """(m,) float64: twice the signed area of each triangle."""
+    a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
+    return (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+
+
 def _per_node(value, n: int, name: str) -> np.ndarray:
     v = np.asarray(value, dtype=np.float64)
     if v.ndim == 0:
@@ -271,8 +277,7 @@ class BackgroundGrid(SizeField):
         if tris.min() < 0 or tris.max() >= len(pts):
             raise InputError(f"background triangles refer to nodes outside [0, {len(pts)})")
         tris = np.ascontiguousarray(tris, dtype=np.int32)
-        a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
-        area2 = (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+        area2 = _area2(pts, tris)
         flat = np.flatnonzero(area2 <= 0.0)
         if len(flat):
             raise InputError(
@@ -422,13 +427,19 @@ class BackgroundGrid(SizeField):
         if lonely.all():
             raise SizeError("a background from the boundary needs at least one segment")
         dp[lonely] = np.nanmean(dp)
+        return cls.on_triangulation(points, triangles, dp)
+
+    @classmethod
+    def on_triangulation(cls, points, triangles, delta) -> BackgroundGrid:
+        """Spacing ``delta`` (n,) on a mesh's triangles, its slivers left out.
+
+        A triangulation built with exact predicates may hold triangles that are exactly
+        counter-clockwise yet whose floating-point area rounds to zero; they carry nothing to
+        interpolate, so they are dropped instead of rejected.
+        """
         pts = np.asarray(points, dtype=np.float64)
         tris = np.asarray(triangles)
-        a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
-        # A triangulation's slivers may be exactly counter-clockwise yet round to zero area;
-        # they carry nothing to interpolate.
-        area2 = (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
-        return cls(pts, tris[area2 > 0.0], dp)
+        return cls(pts, tris[_area2(pts, tris) > 0.0], delta)
 
     # ------------------------------------------------------------------ files
     def write(self, path) -> None:

@@ -190,11 +190,11 @@ class _Front:
         self.meta[fk.M_SYNC] = n
         self.meta[fk.M_STAMP] = 0
         self.room()
-        args = (self.pts, self.face, self.falive, self.qbox, self.qgeo, self.qmeta, self.qchild, self.qhead, self.qnext, self.meta)
+        tree = (self.face, self.falive, self.qbox, self.qgeo, self.qmeta, self.qchild, self.qhead, self.qnext)
         for u, v in faces.tolist():
-            fk.add_face(u, v, self.pts, self.vint, *args[1:9], self.hkey, self.hface, self.meta)
+            fk.add_face(u, v, self.pts, self.vint, *tree, self.hkey, self.hface, self.meta)
         for v in free.tolist():
-            self.vint[v, fk.V_FREE] = fk.add_item(v, v, *args)
+            self.vint[v, fk.V_FREE] = fk.add_item(v, v, self.pts, *tree, self.meta)
 
     def room(self) -> None:
         """Grow every array the kernel asked room in (doubling)."""

@@ -83,12 +83,8 @@ def _background(ct, field) -> BackgroundGrid:
 
     sample = copy.deepcopy(ct)
     refine(sample, min_angle=20.0, size=lambda xy: SAMPLE * field(xy))
-    # The inside triangles cover the domain; slivers whose floating-point area rounds to
-    # zero (exactly counter-clockwise all the same) carry nothing to interpolate.
-    pts, tris = sample.points, sample.triangles(True)
-    a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
-    area2 = (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
-    return BackgroundGrid(pts, tris[area2 > 0.0], field(pts))
+    # The inside triangles cover the domain.
+    return BackgroundGrid.on_triangulation(sample.points, sample.triangles(True), field(sample.points))
 
 
 def frontal_delaunay(ct, size, *, max_points: int | None = None) -> None:
