@@ -10,6 +10,20 @@ callers can write ``a = grown(a, need)`` unconditionally.
 
 ``GHOST = -1`` is the vertex id of the symbolic vertex at infinity in connectivity arrays
 (ghost triangles close the convex hull; see :mod:`meshwright.tri._kernel2d`).
+
+Tetrahedra (4 slots per tet, ``tet[4*t + k]``) are positively oriented,
+``orient3d(v0, v1, v2, v3) > 0`` (v3 on the side of plane v0 v1 v2 that its normal
+``(v1 - v0) x (v2 - v0)`` points to), and ``nbr[4*t + k]`` is the tet across the face
+opposite vertex k.  ``TET_FACES[k]`` lists the local vertices of that face in the order
+whose right-hand normal points *out* of the tet (counter-clockwise seen from outside)::
+
+              v3
+             /|\          face 0: v1 v2 v3     face 2: v0 v1 v3
+            / | \         face 1: v0 v3 v2     face 3: v0 v2 v1
+          v0--|--v2
+            \ | /
+             \|/
+              v1
 """
 
 from __future__ import annotations
@@ -17,9 +31,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["GHOST", "grown"]
+__all__ = ["GHOST", "TET_FACES", "grown"]
 
 GHOST = -1
+
+# Outward-oriented faces of a positively oriented tet, by the local vertex they are opposite.
+TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]], dtype=np.int64)
 
 
 @njit(cache=True)
