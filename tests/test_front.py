@@ -18,7 +18,7 @@ from test_triangulate import _shoelace, check
 import meshwright as mw
 from meshwright import geometry as g
 from meshwright.core.errors import MeshingError
-from meshwright.core.quadtree import STACK_PER_LEVEL, qt_insert, qt_new, qt_query
+from meshwright.core.spatial.loose_quadtree import STACK_PER_LEVEL, qt_insert, qt_new, qt_query
 from meshwright.sizing import BackgroundGrid
 from meshwright.tri import _front_kernel as fk
 from meshwright.tri import front as F
@@ -226,18 +226,15 @@ def test_backoff_reopens_the_front_and_the_mesh_still_closes(monkeypatch):
         code = real(self, par)
         if code == fk.R_SYNC and calls["n"] < 3:
             calls["n"] += 1
-            live = np.flatnonzero(self.falive[: self.meta[fk.M_NF]] == 1)
-            live = live[self.face[live, 0] != self.face[live, 1]]
-            before = int((self.talive[: self.meta[fk.M_NT]] == 1).sum())
+            fs = self.fs
+            live = np.flatnonzero(fs.falive[: fs.meta[fk.M_NF]] == 1)
+            live = live[fs.face[live, 0] != fs.face[live, 1]]
+            before = int((fs.talive[: fs.meta[fk.M_NT]] == 1).sum())
             tbuf = np.empty(fk.BACKOFF_TRIS * fk.MAX_LEVEL, dtype=np.int32)
             vbuf = np.empty(3 * len(tbuf) + 2, dtype=np.int32)
-            removed = fk._backoff(
-                int(live[-1]), 2, self.pts, self.vint, self.face, self.falive, self.qbox, self.qgeo,
-                self.qmeta, self.qchild, self.qhead, self.qnext, self.hkey, self.hface, self.tri,
-                self.tnext, self.talive, self.meta, tbuf, vbuf,
-            )
+            removed = fk._backoff(int(live[-1]), 2, fs, tbuf, vbuf)
             assert removed > 0
-            assert int((self.talive[: self.meta[fk.M_NT]] == 1).sum()) == before - removed
+            assert int((fs.talive[: fs.meta[fk.M_NT]] == 1).sum()) == before - removed
         return code
 
     monkeypatch.setattr(F._Front, "advance", advance)

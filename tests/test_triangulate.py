@@ -113,8 +113,9 @@ def check_structure(ct):
     from meshwright.core.flat import GHOST
     from meshwright.core.predicates import orient2d
 
-    ntri = int(ct._meta[0])
-    tri, nbr, cons, treg, P = ct._tri, ct._nbr, ct._cons, ct._treg, ct._pts
+    s = ct.state
+    ntri = int(s.meta[0])
+    tri, nbr, cons, treg, P = s.tri, s.nbr, s.cons, ct.constraints.treg, s.pts
     for t in range(ntri):
         for k in range(3):
             n = int(nbr[3 * t + k])

@@ -1,4 +1,4 @@
-"""Flat-array helpers shared by the ``@njit`` kernels: capacity growth, the ghost sentinel.
+r"""Flat-array helpers shared by the ``@njit`` kernels: capacity growth, the ghost sentinel.
 
 Kernels keep their data in flat, preallocated NumPy arrays (``tri[3*t + k]``,
 ``nbr[3*t + k]``, ...) and a count of used entries.  When a kernel may outgrow its
@@ -7,6 +7,10 @@ to obtain a larger copy; amortised over the insertions the copying costs O(1) ea
 
 Invariant: ``grown(a, need)`` returns ``a`` itself when it is already large enough, so
 callers can write ``a = grown(a, need)`` unconditionally.
+
+Triangle index helpers (:func:`next3`, :func:`prev3`, :func:`index3`, :func:`back3`) are
+``inline="always"``: they are called on every step of every 2-D kernel.  Edge k of triangle t
+runs from ``tri[3t + next3(k)]`` to ``tri[3t + prev3(k)]``; ``nbr[3t + k]`` lies across it.
 
 ``GHOST = -1`` is the vertex id of the symbolic vertex at infinity in connectivity arrays
 (ghost triangles close the convex hull; see :mod:`meshwright.tri._kernel2d`).
@@ -31,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["GHOST", "TET_FACES", "grown"]
+__all__ = ["GHOST", "TET_FACES", "grown", "grown_rows", "next3", "prev3", "index3", "back3"]
 
 GHOST = -1
 
@@ -62,3 +66,53 @@ def grown(a, need):
     out = np.empty(max(need, 2 * m), dtype=a.dtype)
     out[:m] = a
     return out
+
+
+def grown_rows(a: np.ndarray, need: int, fill=None) -> np.ndarray:
+    """Python-side :func:`grown` for arrays of any rank (rows are the first axis).
+
+    Parameters
+    ----------
+    a : (m, ...) array
+    need : int
+        Required number of rows.
+    fill : scalar, optional
+        Value of the new rows (default: uninitialised).
+
+    Returns
+    -------
+    (max(m, need, 2m), ...) array of ``a.dtype``
+        ``a`` itself when it already has ``need`` rows, else a copy with the first ``m`` rows
+        of ``a``.
+    """
+    m = a.shape[0]
+    if need <= m:
+        return a
+    shape = (max(need, 2 * m),) + a.shape[1:]
+    out = np.empty(shape, dtype=a.dtype) if fill is None else np.full(shape, fill, dtype=a.dtype)
+    out[:m] = a
+    return out
+
+
+@njit(inline="always")
+def next3(k):
+    """``(k + 1) % 3`` without a division."""
+    return 0 if k == 2 else k + 1
+
+
+@njit(inline="always")
+def prev3(k):
+    """``(k + 2) % 3`` without a division."""
+    return 2 if k == 0 else k - 1
+
+
+@njit(inline="always")
+def index3(tri, t, v):
+    """Position (0, 1, 2) of vertex v in triangle t of ``tri`` (3 cap,); 2 if absent."""
+    return 0 if tri[3 * t] == v else (1 if tri[3 * t + 1] == v else 2)
+
+
+@njit(inline="always")
+def back3(nbr, n, t):
+    """Position of the link back to triangle t in its neighbour n: ``nbr[3n + back3] == t``."""
+    return 0 if nbr[3 * n] == t else (1 if nbr[3 * n + 1] == t else 2)

@@ -41,6 +41,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import FormatError, InputError, SizeError
+from meshwright.core.geom2d import closest_on_segment
 from meshwright.sizing.boundary import point_distribution
 from meshwright.sizing.field import SizeField, fmt_point, unit_tangents
 
@@ -101,15 +102,6 @@ def _barycentric(pts, tris, t, x, y):
     return 1.0 - l1 - l2, l1, l2
 
 
-@njit(inline="always")
-def _closest_on_segment(ax, ay, bx, by, x, y):
-    ex = bx - ax
-    ey = by - ay
-    den = ex * ex + ey * ey
-    u = 0.0 if den == 0.0 else min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / den))
-    return ax + u * ex, ay + u * ey
-
-
 @njit(cache=True)
 def _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y):
     """Background triangle and barycentric weights ``(t, w0, w1, w2)`` for the point (x, y).
@@ -140,7 +132,7 @@ def _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y):
                     for e in range(3):
                         u = tris[t, (e + 1) % 3]
                         w = tris[t, (e + 2) % 3]
-                        cx, cy = _closest_on_segment(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y)
+                        cx, cy = closest_on_segment(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y)
                         d2 = (cx - x) ** 2 + (cy - y) ** 2
                         if d2 < best_d2:
                             best, best_d2, bx_, by_ = t, d2, cx, cy

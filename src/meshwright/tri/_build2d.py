@@ -3,7 +3,9 @@
 Helpers of :class:`meshwright.tri.triangulation.Triangulation` around the insertion kernel
 (:mod:`meshwright.tri._kernel2d`, whose module docstring gives the flat array layout):
 :func:`find_start` / :func:`promote` choose three non-collinear points to start from
-(:func:`init_triangle` builds them with their three ghosts), and after the insertions
+(:func:`init_triangle` builds them with their three ghosts), :func:`insert_batch` inserts
+the rest (growing the :class:`~meshwright.tri._kernel2d.TriState` as needed),
+:func:`locate_points` answers point location, and after the insertions
 :func:`compact` moves finite triangles before ghosts, :func:`relabel` and
 :func:`scatter_rows` renumber vertices from insertion order to input order, and
 :func:`hull_loop` reads the convex hull off the ghosts.
@@ -14,12 +16,17 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from meshwright.core.flat import GHOST
+from meshwright.core.flat import GHOST, grown
 from meshwright.core.predicates import orient2d
 from meshwright.tri import watson
-from meshwright.tri._kernel2d import M_LAST, M_NTRI
+from meshwright.tri._kernel2d import (
+    BROKEN, DUP_BASE, M_LAST, M_NTRI, M_SHORT_WORK, NEED_SPACE, TriState, insert_vertex, walk,
+)
 
-__all__ = ["find_start", "promote", "init_triangle", "compact", "relabel", "scatter_rows", "hull_loop"]
+__all__ = [
+    "find_start", "promote", "init_triangle", "make_room", "insert_batch", "locate_points", "compact", "relabel",
+    "scatter_rows", "hull_loop",
+]
 
 
 @njit(cache=True)
@@ -64,17 +71,17 @@ def promote(order, src, dst):
 
 
 @njit(cache=True)
-def init_triangle(pts, a, b, c, tri, nbr, circ, meta):
+def init_triangle(s, a, b, c):
     """Write the first triangle (made counter-clockwise) and its three ghosts into slots 0-3.
 
     Parameters
     ----------
-    pts : (rows, 2) float64
+    s : TriState
+        Kernel state with room for four triangles.
     a, b, c : int
         Non-collinear vertices.
-    tri, nbr, circ, meta
-        Kernel state with room for four triangles.
     """
+    pts, tri, nbr, meta = s.pts, s.tri, s.nbr, s.meta
     if orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1]) < 0.0:
         b, c = c, b
     # 0: (a, b, c); 1: (c, b, G) across b->c; 2: (a, c, G) across c->a; 3: (b, a, G) across a->b
@@ -84,8 +91,113 @@ def init_triangle(pts, a, b, c, tri, nbr, circ, meta):
     tri[9], tri[10], tri[11], nbr[9], nbr[10], nbr[11] = b, a, GHOST, 2, 1, 0
     meta[M_NTRI] = 4
     meta[M_LAST] = 0
-    if circ.shape[0] > 0:
-        watson.circle(pts, tri, circ, 0)
+    if s.circ.shape[0] > 0:
+        watson.circle(pts, tri, s.circ, 0)
+
+
+@njit(cache=True)
+def make_room(s, rows):
+    """Inside a kernel: the bundle grown where ``insert_vertex`` found it short (the in-kernel
+    twin of :func:`meshwright.tri._kernel2d.grow`).
+
+    Parameters
+    ----------
+    s : TriState
+    rows : int
+        Rows of the points array the next insertion uses.
+
+    Returns
+    -------
+    TriState
+        A new bundle of grown copies (unchanged arrays shared).
+    """
+    tri, nbr, cons, circ, work, vmark = s.tri, s.nbr, s.cons, s.circ, s.work, s.vmark
+    need = s.meta[M_NTRI] + 2
+    if (
+        3 * need > tri.shape[0]
+        or 3 * need > nbr.shape[0]
+        or (cons.shape[0] > 0 and 3 * need > cons.shape[0])
+        or (circ.shape[0] > 0 and 4 * need > circ.shape[0])
+    ):
+        tri = grown(tri, 3 * need)
+        nbr = grown(nbr, 3 * need)
+        if cons.shape[0] > 0:
+            m = cons.shape[0]
+            cons = grown(cons, 3 * need)
+            cons[m:] = 0
+        if circ.shape[0] > 0:
+            circ = grown(circ, 4 * need)
+    if vmark.shape[0] <= rows:
+        vmark = grown(vmark, rows + 1)
+    if s.meta[M_SHORT_WORK] != 0:
+        s.meta[M_SHORT_WORK] = 0
+        work = np.empty(2 * work.shape[0], dtype=np.int32)
+    return TriState(s.pts, tri, nbr, circ, s.rank, cons, s.meta, work, vmark)
+
+@njit(cache=True)
+def insert_batch(order, start, stop, vbase, s, vmap):
+    """Insert ``order[start:stop]`` one by one, each walk starting where the last one ended.
+
+    Parameters
+    ----------
+    order : (m,) int32 or (0,)
+        Vertices (rows of ``pts``) in insertion order; empty means vertices start..stop-1.
+    start, stop : int
+        Positions of ``order`` to insert.
+    vbase : int
+        ``vmap`` is indexed by ``v - vbase``.
+    s : TriState
+    vmap : (m,) int32
+        Output: ``vmap[v - vbase] = v`` for an inserted vertex v, else the vertex v coincides
+        with.
+
+    Returns
+    -------
+    tuple
+        ``(bad, s)``: ``bad`` is -1, or the vertex whose insertion found an inconsistent
+        cavity (the triangulation is then unchanged by it and the later vertices are not
+        inserted); ``s`` the bundle, grown if it had to be.
+    """
+    t = s.meta[M_LAST]
+    rows = s.pts.shape[0]
+    for i in range(start, stop):
+        v = order[i] if order.shape[0] > 0 else i
+        st = insert_vertex(v, t, s)
+        while st == NEED_SPACE:
+            s = make_room(s, rows)
+            st = insert_vertex(v, t, s)
+        if st >= 0:
+            vmap[v - vbase] = v
+            t = st
+        elif st == BROKEN:
+            return v, s
+        else:
+            vmap[v - vbase] = DUP_BASE - st
+    return -1, s
+
+
+@njit(cache=True)
+def locate_points(s, xy):
+    """Finite triangle containing each query point (in its closure), -1 outside the hull.
+
+    Parameters
+    ----------
+    s : TriState
+        Its walk state ``meta[M_RNG]`` advances (pass a bundle with a copied ``meta`` to
+        leave it alone).
+    xy : (m, 2) float64
+
+    Returns
+    -------
+    (m,) int32
+    """
+    m = xy.shape[0]
+    out = np.empty(m, dtype=np.int32)
+    t = s.meta[M_LAST]
+    for i in range(m):
+        t, _ = walk(s, t, xy[i, 0], xy[i, 1], False)
+        out[i] = -1 if s.tri[3 * t + 2] == GHOST else t
+    return out
 
 
 @njit(cache=True)
@@ -124,21 +236,22 @@ def _swap_slots(i, j, tri, nbr, circ, back):
 
 
 @njit(cache=True)
-def compact(tri, nbr, circ, meta):
+def compact(s):
     """Reorder slots so finite triangles come first and ghosts last; return their count.
 
     At most h (hull size) slot exchanges, each fixing the pointers of the neighbours.
 
     Parameters
     ----------
-    tri, nbr, circ, meta
-        Kernel state; modified in place, ``meta[M_LAST]`` reset to 0.
+    s : TriState
+        Modified in place, ``meta[M_LAST]`` reset to 0.
 
     Returns
     -------
     int
         ``nt``: triangles ``[0, nt)`` are finite, ``[nt, meta[M_NTRI])`` are ghosts.
     """
+    tri, meta = s.tri, s.meta
     ntri = meta[M_NTRI]
     nt = 0
     for t in range(ntri):
@@ -154,7 +267,7 @@ def compact(tri, nbr, circ, meta):
             j -= 1
         if i >= nt or j < nt:
             break
-        _swap_slots(i, j, tri, nbr, circ, back)
+        _swap_slots(i, j, tri, s.nbr, s.circ, back)
     meta[M_LAST] = 0
     return nt
 

@@ -4,7 +4,9 @@ The kernel is resumable: all state lives in the arrays below and :func:`advance`
 a code whenever Python must act (grow arrays, evaluate the size field at new nodes) and is
 simply called again.
 
-Array layout (capacities grow by doubling in :mod:`meshwright.tri.front`)::
+State: one :class:`FrontState` bundle (fields below, in order, passed whole to the kernel
+functions; capacities grow by doubling in :mod:`meshwright.tri.front`) and the parameters
+``par``::
 
     pts    (pcap, 2) float64   nodes; [0, meta[M_NIN]) are the input vertices
     met    (pcap, 3) float64   metric (m11, m12, m22) of each node: a vector v has length
@@ -13,8 +15,11 @@ Array layout (capacities grow by doubling in :mod:`meshwright.tri.front`)::
                                free-point item (-1 none), query stamp
     face   (fcap, 4) int32     per face: start a, end b, next out-face of a, tries
     falive (fcap,) int8        1 while the face is on the front
-    qnext, qbox                the loose quadtree's item arrays (item = face id)
-    hkey, hface                binary min-heap of faces by key (length, plus deferrals)
+    qbox   (fcap, 4) float64   the loose quadtree (:mod:`meshwright.core.spatial.loose_quadtree`):
+    qgeo, qmeta, qchild,       item boxes (item = face id), root geometry, header, children,
+    qhead, qnext               node lists and item links
+    hkey, hface (fcap, 1)      binary min-heap (:mod:`meshwright.core.heap`) of faces by key
+                               (length, plus deferrals)
     wkey, wface                faces waiting for the metric of a new end (meta[M_NW] of them)
     tri    (tcap, 3) int32     triangles (a, b, c) counter-clockwise
     tnext  (tcap, 3) int32     next slot in the triangle list of the k-th vertex
@@ -35,11 +40,15 @@ never overlap, whatever the floating-point placement of the points.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
+from meshwright.core.heap import heap_pop as core_heap_pop
+from meshwright.core.heap import heap_push as core_heap_push
 from meshwright.core.predicates import orient2d
-from meshwright.core.quadtree import (
+from meshwright.core.spatial.loose_quadtree import (
     Q_DEPTH,
     Q_NODES,
     STACK_PER_LEVEL,
@@ -66,46 +75,47 @@ MAX_LEVEL = 3  # back-off rings before giving up on a face
 _Q = 4.0 * np.sqrt(3.0)
 
 
+class FrontState(NamedTuple):
+    """The advancing front's arrays (layout in the module docstring), one kernel argument."""
+
+    pts: np.ndarray
+    met: np.ndarray
+    vint: np.ndarray
+    face: np.ndarray
+    falive: np.ndarray
+    qbox: np.ndarray
+    qgeo: np.ndarray
+    qmeta: np.ndarray
+    qchild: np.ndarray
+    qhead: np.ndarray
+    qnext: np.ndarray
+    hkey: np.ndarray
+    hface: np.ndarray
+    wkey: np.ndarray
+    wface: np.ndarray
+    tri: np.ndarray
+    tnext: np.ndarray
+    talive: np.ndarray
+    meta: np.ndarray
+
+
 # ------------------------------------------------------------------------------- heap
 @njit(inline="always")
 def heap_push(hkey, hface, meta, key, f):
-    """Push face ``f`` with ``key`` (room checked by the caller)."""
-    i = meta[M_NH]
-    meta[M_NH] = i + 1
-    while i > 0:
-        p = (i - 1) >> 1
-        if hkey[p] <= key:
-            break
-        hkey[i] = hkey[p]
-        hface[i] = hface[p]
-        i = p
-    hkey[i] = key
-    hface[i] = f
+    """Push face ``f`` with ``key`` on the heap of :mod:`meshwright.core.heap` (room checked by
+    the caller)."""
+    i = core_heap_push(hkey, hface, meta[M_NH], key)
+    meta[M_NH] += 1
+    hface[i, 0] = f
 
 
 @njit(inline="always")
 def _heap_pop(hkey, hface, meta):
-    n = meta[M_NH] - 1
-    meta[M_NH] = n
+    """Remove the shortest face; returns (key, face)."""
     top_key = hkey[0]
-    top = hface[0]
-    key = hkey[n]
-    f = hface[n]
-    i = 0
-    while True:
-        c = 2 * i + 1
-        if c >= n:
-            break
-        if c + 1 < n and hkey[c + 1] < hkey[c]:
-            c += 1
-        if hkey[c] >= key:
-            break
-        hkey[i] = hkey[c]
-        hface[i] = hface[c]
-        i = c
-    if n > 0:
-        hkey[i] = key
-        hface[i] = f
+    top = hface[0, 0]
+    core_heap_pop(hkey, hface, meta[M_NH])
+    meta[M_NH] -= 1
     return top_key, top
 
 
@@ -131,8 +141,10 @@ def _find_face(u, v, vint, face, falive):
 
 
 @njit(inline="always")
-def add_item(u, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, meta):
+def add_item(u, v, fs):
     """New quadtree item u -> v (a face, or a free point when u == v); returns its id."""
+    pts, face, falive, qbox, qgeo, qmeta = fs.pts, fs.face, fs.falive, fs.qbox, fs.qgeo, fs.qmeta
+    qchild, qhead, qnext, meta = fs.qchild, fs.qhead, fs.qnext, fs.meta
     f = meta[M_NF]
     meta[M_NF] = f + 1
     face[f, F_A] = u
@@ -149,9 +161,10 @@ def add_item(u, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, m
 
 
 @njit(inline="always")
-def add_face(u, v, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface, meta):
+def add_face(u, v, fs):
     """New front face u -> v: quadtree, u's out-list and the heap (key: its length)."""
-    f = add_item(u, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, meta)
+    pts, vint, face, hkey, hface, meta = fs.pts, fs.vint, fs.face, fs.hkey, fs.hface, fs.meta
+    f = add_item(u, v, fs)
     face[f, F_NEXT] = vint[u, V_FACE]
     vint[u, V_FACE] = f
     heap_push(hkey, hface, meta, np.hypot(pts[v, 0] - pts[u, 0], pts[v, 1] - pts[u, 1]), f)
@@ -264,9 +277,10 @@ def _quality(ax, ay, bx, by, cx, cy):
 
 # ------------------------------------------------------------------------------- steps
 @njit(inline="always")
-def _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext,
-                   hkey, hface, tri, tnext, talive, meta, uniform):
+def _make_triangle(f, a, b, c, fs, uniform):
     """Add triangle (a, b, c) on face f = a -> b and update the front (module docstring)."""
+    met, vint, face, falive, tri, tnext = fs.met, fs.vint, fs.face, fs.falive, fs.tri, fs.tnext
+    talive, meta = fs.talive, fs.meta
     if c == meta[M_NP]:
         meta[M_NP] = c + 1
         for k in range(3):
@@ -305,7 +319,7 @@ def _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, 
         if g >= 0:
             falive[g] = 0
         else:
-            add_face(v, u, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface, meta)
+            add_face(v, u, fs)
 
 
 @njit(cache=True)
@@ -334,8 +348,7 @@ def _has_live_triangle(v, vint, tnext, talive):
 
 
 @njit(cache=True)
-def _backoff(f, level, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
-             tri, tnext, talive, meta, tbuf, vbuf):
+def _backoff(f, level, fs, tbuf, vbuf):
     """Remove the triangles within ``level`` rings of face f's ends; reopen their faces.
 
     The removed triangles become unmeshed: each of their edges u -> v cancels the front
@@ -343,6 +356,8 @@ def _backoff(f, level, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead
     Input vertices left with no triangle and no face become free points; orphaned
     generated nodes simply drop out of the front (they are not in the output).
     """
+    vint, face, falive, tri, tnext, talive = fs.vint, fs.face, fs.falive, fs.tri, fs.tnext, fs.talive
+    meta = fs.meta
     meta[M_STAMP] += 1
     stamp = meta[M_STAMP]
     nv = 2
@@ -381,24 +396,25 @@ def _backoff(f, level, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead
             if g >= 0:
                 falive[g] = 0
             else:
-                add_face(u, v, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface, meta)
+                add_face(u, v, fs)
     for i in range(nv):
         v = vbuf[i]
         if v >= meta[M_NIN] or vint[v, V_FREE] >= 0 or _has_live_triangle(v, vint, tnext, talive):
             continue
         if not _has_live_face(v, vint, face, falive):
-            vint[v, V_FREE] = add_item(v, v, pts, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, meta)
+            vint[v, V_FREE] = add_item(v, v, fs)
     return nt
 
 
 @njit(inline="always")
-def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
-              tri, tnext, talive, meta, par, items, nodes, cand, ckey, stack, fstack):
+def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
     """Advance face f by one triangle if any valid apex exists.
 
     Returns ``(ok, items, nodes, cand, ckey)``: the scratch arrays come back because they
     may have been replaced by larger ones.
     """
+    pts, met, vint, face, falive, qbox, qgeo = fs.pts, fs.met, fs.vint, fs.face, fs.falive, fs.qbox, fs.qgeo
+    qchild, qhead, qnext, meta = fs.qchild, fs.qhead, fs.qnext, fs.meta
     a = np.int64(face[f, F_A])
     b = np.int64(face[f, F_B])
     m11 = 0.5 * (met[a, 0] + met[b, 0])
@@ -536,21 +552,21 @@ def _try_face(f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead,
         else:
             c = np.int64(cand[i - n_close - 1])
         if _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
-            _make_triangle(f, a, b, c, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext,
-                           hkey, hface, tri, tnext, talive, meta, par[P_UNIFORM] != 0.0)
+            _make_triangle(f, a, b, c, fs, par[P_UNIFORM] != 0.0)
             return True, items, nodes, cand, ckey
     return False, items, nodes, cand, ckey
 
 
 @njit(cache=True)
-def advance(pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
-            wkey, wface, tri, tnext, talive, meta, par):
+def advance(fs, par):
     """Run the front until it is empty or Python must act; returns an ``R_*`` code.
 
     A face with an end whose metric is not known yet (a node made since the last
     evaluation of the size field) waits; when only waiting faces are left, or enough nodes
     are new, Python evaluates the field (``R_SYNC``) and the waiting faces return.
     """
+    pts, face, falive, qmeta, qhead, hkey = fs.pts, fs.face, fs.falive, fs.qmeta, fs.qhead, fs.hkey
+    hface, wkey, wface, tri, meta = fs.hface, fs.wkey, fs.wface, fs.tri, fs.meta
     for i in range(meta[M_NW]):
         if falive[wface[i]]:
             heap_push(hkey, hface, meta, wkey[i], wface[i])
@@ -596,10 +612,7 @@ def advance(pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnex
         if f < 0:
             return R_SYNC if meta[M_NW] > 0 else R_DONE
         meta[M_STEPS] += 1
-        ok, items, nodes, cand, ckey = _try_face(
-            f, pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
-            tri, tnext, talive, meta, par, items, nodes, cand, ckey, stack, fstack,
-        )
+        ok, items, nodes, cand, ckey = _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack)
         if ok:
             continue
         tries = face[f, F_TRIES] + 1
@@ -613,8 +626,7 @@ def advance(pts, met, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnex
             meta[M_FAIL] = f
             return R_STUCK
         meta[M_BACKOFF] += 1
-        _backoff(f, level, pts, vint, face, falive, qbox, qgeo, qmeta, qchild, qhead, qnext, hkey, hface,
-                 tri, tnext, talive, meta, tbuf, vbuf)
+        _backoff(f, level, fs, tbuf, vbuf)
         if falive[f]:
             heap_push(hkey, hface, meta, np.hypot(pts[face[f, F_B], 0] - pts[face[f, F_A], 0],
                                                   pts[face[f, F_B], 1] - pts[face[f, F_A], 1]), f)

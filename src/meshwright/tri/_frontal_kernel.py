@@ -1,37 +1,57 @@
 r"""Numba kernel of the frontal Delaunay method (see :mod:`meshwright.tri.frontal_delaunay`).
 
-State between calls (the kernel returns ``F_ROOM`` whenever the constrained triangulation or
-the heap must grow, and is called again):
+State between calls, the method's :class:`FrontalState` bundle (the kernel returns
+``F_ROOM`` whenever the constrained triangulation or the heap must grow, and is called
+again):
 
     acc    (3 cap,) int32    vertex triple of the triangle accepted in each slot (a slot
                              reused by a later insertion no longer matches)
     ratio  (cap,) float64    R sqrt(3) / h of each slot's triangle, set when it is made
-    hkey   (hcap,) float64   min-heap of -ratio (largest circumradius / ideal first)
-    htri   (hcap, 4) int32   slot and vertex triple of each heap entry (stale when changed)
+    hkey   (hcap,) float64   min-heap (:mod:`meshwright.core.heap`) of -ratio (largest
+    htri   (hcap, 4) int32   circumradius / ideal first); payload: slot and vertex triple
+                             of each entry (stale when the slot changed)
     stamp  (cap,) int64      visit marks of the spacing search (never reset: a counter)
     fmeta  (F_LEN,) int64    heap size, stamp counter, points added
     par    (P_LEN,) float64  ACCEPT, SPACING, max points, constant size (0: background)
 
-The constrained triangulation's arrays are those of
-:class:`~meshwright.tri.cdt.ConstrainedTriangulation`; insertion goes through
-:func:`meshwright.tri._encroach.insert_points`, one point at a time.
+The constrained triangulation is passed as its two bundles, ``s`` (``TriState``) and ``c``
+(``CdtState``) of :class:`~meshwright.tri.cdt.ConstrainedTriangulation`; insertion goes
+through :func:`meshwright.tri._encroach.insert_points`, one point at a time.  ``bg`` is the
+background grid's kernel tuple (:meth:`meshwright.sizing.BackgroundGrid.kernel_args`) plus
+the walk's hint, passed as one tuple argument.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from meshwright.core.flat import GHOST
+from meshwright.core.geom2d import circumcircle, corners, segment_dist2
+from meshwright.core.heap import heap_pop, heap_push
 from meshwright.sizing.background import interpolate_walk
 from meshwright.tri import _encroach as enc
-from meshwright.tri._kernel2d import M_LAST, M_NTRI, walk
+from meshwright.tri._kernel2d import M_LAST, M_NTRI, M_NV, walk
 
 F_DONE, F_ROOM, F_BROKEN, F_POINTS = range(4)
 FM_HN, FM_STAMP, FM_ADDED, FM_LEN = range(4)
 P_ACCEPT, P_SPACING, P_MAX_POINTS, P_CONST, P_LEN = range(5)
 HEAP_ROOM = 256  # free heap entries needed before an insertion (one star pushes far fewer)
 _SQRT3 = np.sqrt(3.0)
+
+
+class FrontalState(NamedTuple):
+    """The frontal method's arrays (layout in the module docstring), one kernel argument."""
+
+    acc: np.ndarray
+    ratio: np.ndarray
+    hkey: np.ndarray
+    htri: np.ndarray
+    stamp: np.ndarray
+    fmeta: np.ndarray
+    par: np.ndarray
 
 
 @njit(inline="always")
@@ -45,20 +65,10 @@ def _inside(t, tri, treg):
 
 
 @njit(inline="always")
-def _circle(pts, tri, t):
-    """Circumcentre and circumradius of triangle slot t."""
-    ax = pts[tri[3 * t], 0]
-    ay = pts[tri[3 * t], 1]
-    bx = pts[tri[3 * t + 1], 0] - ax
-    by = pts[tri[3 * t + 1], 1] - ay
-    cx = pts[tri[3 * t + 2], 0] - ax
-    cy = pts[tri[3 * t + 2], 1] - ay
-    d = 2.0 * (bx * cy - by * cx)
-    b2 = bx * bx + by * by
-    c2 = cx * cx + cy * cy
-    ux = (cy * b2 - by * c2) / d
-    uy = (bx * c2 - cx * b2) / d
-    return ax + ux, ay + uy, np.hypot(ux, uy)
+def _radius(pts, tri, t):
+    """Circumradius of triangle slot t."""
+    ax, ay, bx, by, cx, cy = corners(pts, tri, t)
+    return circumcircle(ax, ay, bx, by, cx, cy)[2]
 
 
 @njit(inline="always")
@@ -80,98 +90,64 @@ def _front_edge(t, pts, tri, nbr, treg, acc):
 
 
 @njit(inline="always")
-def _heap_push(hkey, htri, fmeta, key, t, tri):
-    i = fmeta[FM_HN]
-    fmeta[FM_HN] = i + 1
-    while i > 0:
-        p = (i - 1) >> 1
-        if hkey[p] <= key:
-            break
-        hkey[i] = hkey[p]
-        for k in range(4):
-            htri[i, k] = htri[p, k]
-        i = p
-    hkey[i] = key
-    htri[i, 0] = t
+def _push(f, key, t, tri):
+    i = heap_push(f.hkey, f.htri, f.fmeta[FM_HN], key)
+    f.fmeta[FM_HN] += 1
+    f.htri[i, 0] = t
     for k in range(3):
-        htri[i, k + 1] = tri[3 * t + k]
+        f.htri[i, k + 1] = tri[3 * t + k]
 
 
 @njit(inline="always")
-def _heap_pop(hkey, htri, fmeta):
-    """Remove the top; returns (slot, a, b, c) of the entry."""
-    n = fmeta[FM_HN] - 1
-    fmeta[FM_HN] = n
-    t, a, b, c = htri[0, 0], htri[0, 1], htri[0, 2], htri[0, 3]
-    key = hkey[n]
-    i = 0
-    while True:
-        ch = 2 * i + 1
-        if ch >= n:
-            break
-        if ch + 1 < n and hkey[ch + 1] < hkey[ch]:
-            ch += 1
-        if hkey[ch] >= key:
-            break
-        hkey[i] = hkey[ch]
-        for k in range(4):
-            htri[i, k] = htri[ch, k]
-        i = ch
-    if n > 0:
-        hkey[i] = key
-        for k in range(4):
-            htri[i, k] = htri[n, k]
-    return t, a, b, c
-
-
-@njit(inline="always")
-def _size(par, bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint, x, y):
+def _size(par, bg, x, y):
     if par[P_CONST] > 0.0:
         return par[P_CONST]
+    bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint = bg
     return interpolate_walk(
         bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, 0, bg_hint, x, y
     )
 
 
 @njit(inline="always")
-def classify(t, pts, tri, acc, ratio, par,
-             bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint):
+def classify(t, s, f, bg):
     """Store slot t's ``R sqrt(3) / h`` in ``ratio[t]``; accept t if it is within ACCEPT."""
-    r = _circle(pts, tri, t)[2]
+    pts, tri = s.pts, s.tri
+    r = _radius(pts, tri, t)
     gx = (pts[tri[3 * t], 0] + pts[tri[3 * t + 1], 0] + pts[tri[3 * t + 2], 0]) / 3.0
     gy = (pts[tri[3 * t], 1] + pts[tri[3 * t + 1], 1] + pts[tri[3 * t + 2], 1]) / 3.0
-    h = _size(par, bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint, gx, gy)
-    ratio[t] = r * _SQRT3 / h
-    if ratio[t] <= par[P_ACCEPT]:
+    h = _size(f.par, bg, gx, gy)
+    f.ratio[t] = r * _SQRT3 / h
+    if f.ratio[t] <= f.par[P_ACCEPT]:
         for k in range(3):
-            acc[3 * t + k] = tri[3 * t + k]
+            f.acc[3 * t + k] = tri[3 * t + k]
 
 
 @njit(inline="always")
-def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta):
+def _push_if_front(t, s, c, f):
     """Queue slot t (ratio known since it was made) if it waits on the front."""
-    if not _inside(t, tri, treg) or _settled(t, tri, acc) or _front_edge(t, pts, tri, nbr, treg, acc) < 0:
+    tri = s.tri
+    if not _inside(t, tri, c.treg) or _settled(t, tri, f.acc) or _front_edge(t, s.pts, tri, s.nbr, c.treg, f.acc) < 0:
         return
-    _heap_push(hkey, htri, fmeta, -ratio[t], t, tri)
+    _push(f, -f.ratio[t], t, tri)
 
 
 @njit(cache=True)
-def start(ntri, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, par,
-          bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint):
+def start(s, c, f, bg):
     """Accept the right-sized inside triangles and push the others that touch the front."""
+    ntri = s.meta[M_NTRI]
     for t in range(ntri):
-        if _inside(t, tri, treg):
-            classify(t, pts, tri, acc, ratio, par,
-                     bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint)
+        if _inside(t, s.tri, c.treg):
+            classify(t, s, f, bg)
     for t in range(ntri):
-        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+        _push_if_front(t, s, c, f)
 
 
 @njit(inline="always")
-def _too_close(px, py, r, host, pts, tri, nbr, treg, stamp, fmeta, stack):
+def _too_close(px, py, r, host, s, c, f, stack):
     """Whether a vertex lies within r of p: search the triangles the disc reaches from host."""
-    fmeta[FM_STAMP] += 1
-    mark = fmeta[FM_STAMP]
+    pts, tri, nbr, stamp = s.pts, s.tri, s.nbr, f.stamp
+    f.fmeta[FM_STAMP] += 1
+    mark = f.fmeta[FM_STAMP]
     r2 = r * r
     top = 1
     stack[0] = host
@@ -185,15 +161,11 @@ def _too_close(px, py, r, host, pts, tri, nbr, treg, stamp, fmeta, stack):
                 return True
         for e in range(3):
             n = nbr[3 * t + e]
-            if not _inside(n, tri, treg) or stamp[n] == mark:
+            if not _inside(n, tri, c.treg) or stamp[n] == mark:
                 continue
             a = tri[3 * t + (e + 1) % 3]
             b = tri[3 * t + (e + 2) % 3]
-            ex = pts[b, 0] - pts[a, 0]
-            ey = pts[b, 1] - pts[a, 1]
-            den = ex * ex + ey * ey
-            u = 0.0 if den == 0.0 else min(1.0, max(0.0, ((px - pts[a, 0]) * ex + (py - pts[a, 1]) * ey) / den))
-            if (pts[a, 0] + u * ex - px) ** 2 + (pts[a, 1] + u * ey - py) ** 2 < r2:
+            if segment_dist2(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) < r2:
                 if top >= stack.shape[0]:
                     return True  # a disc this crowded is too close anyway
                 stamp[n] = mark
@@ -203,23 +175,24 @@ def _too_close(px, py, r, host, pts, tri, nbr, treg, stamp, fmeta, stack):
 
 
 @njit(cache=True)
-def run(pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg, vpar, vacute, seg, pkind, pdat, st,
-        acc, ratio, hkey, htri, stamp, fmeta, par,
-        bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint):
+def run(s, c, f, bg):
     """Insert Rebay points, worst front triangle first, until the heap is empty."""
     q = np.empty((1, 2))
     out = np.empty(1, dtype=np.int32)
     stack = np.empty(4096, dtype=np.int32)
+    pts, tri, nbr, meta, treg, fmeta, par, acc = s.pts, s.tri, s.nbr, s.meta, c.treg, f.fmeta, f.par, f.acc
     while fmeta[FM_HN] > 0:
         ntri = meta[M_NTRI]
         if (
-            fmeta[FM_HN] + HEAP_ROOM > hkey.shape[0] or acc.shape[0] < 3 * (ntri + 2)
-            or stamp.shape[0] < ntri + 2 or ratio.shape[0] < ntri + 2
+            fmeta[FM_HN] + HEAP_ROOM > f.hkey.shape[0] or acc.shape[0] < 3 * (ntri + 2)
+            or f.stamp.shape[0] < ntri + 2 or f.ratio.shape[0] < ntri + 2
         ):
             return F_ROOM
-        if st[enc.S_NV] >= par[P_MAX_POINTS]:
+        if meta[M_NV] >= par[P_MAX_POINTS]:
             return F_POINTS
-        t, a0, b0, c0 = _heap_pop(hkey, htri, fmeta)
+        t, a0, b0, c0 = f.htri[0, 0], f.htri[0, 1], f.htri[0, 2], f.htri[0, 3]
+        heap_pop(f.hkey, f.htri, fmeta[FM_HN])
+        fmeta[FM_HN] -= 1
         if t >= ntri or tri[3 * t] != a0 or tri[3 * t + 1] != b0 or tri[3 * t + 2] != c0:
             continue
         if not _inside(t, tri, treg) or _settled(t, tri, acc):
@@ -227,14 +200,13 @@ def run(pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg, vp
         e = _front_edge(t, pts, tri, nbr, treg, acc)
         if e < 0:
             continue
-        rad = _circle(pts, tri, t)[2]
+        rad = _radius(pts, tri, t)
         # Rebay's point on the perpendicular bisector of the front edge ab (module
         # docstring of frontal_delaunay), sized at the edge: a long waiting triangle's
         # circumcentre may lie where the size is far larger.
         a = tri[3 * t + (e + 1) % 3]
         b = tri[3 * t + (e + 2) % 3]
-        h = _size(par, bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint,
-                  0.5 * (pts[a, 0] + pts[b, 0]), 0.5 * (pts[a, 1] + pts[b, 1]))
+        h = _size(par, bg, 0.5 * (pts[a, 0] + pts[b, 0]), 0.5 * (pts[a, 1] + pts[b, 1]))
         blen = np.hypot(pts[b, 0] - pts[a, 0], pts[b, 1] - pts[a, 1])
         p = 0.5 * blen
         nx = -(pts[b, 1] - pts[a, 1]) / blen
@@ -243,50 +215,47 @@ def run(pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg, vp
         d = rho + np.sqrt(max(rho * rho - p * p, 0.0))
         px = 0.5 * (pts[a, 0] + pts[b, 0]) + d * nx
         py = 0.5 * (pts[a, 1] + pts[b, 1]) + d * ny
-        host = walk(pts, tri, nbr, meta, t, px, py)
-        if not _inside(host, tri, treg) or _too_close(px, py, par[P_SPACING] * h, host, pts, tri, nbr, treg, stamp,
-                                                      fmeta, stack):
+        host, _ = walk(s, t, px, py, False)
+        if not _inside(host, tri, treg) or _too_close(px, py, par[P_SPACING] * h, host, s, c, f, stack):
             # No room for a point: the triangle stays as it is and joins the accepted ones.
             for k in range(3):
                 acc[3 * t + k] = tri[3 * t + k]
             for k in range(3):
-                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+                _push_if_front(nbr[3 * t + k], s, c, f)
             continue
         q[0, 0] = px
         q[0, 1] = py
         meta[M_LAST] = host
-        _, code = enc.insert_points(q, 0, out, pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg,
-                                    vpar, vacute, seg, pkind, pdat, st)
+        _, code = enc.insert_points(q, 0, out, s, c)
         if code == enc.R_ROOM:
-            _heap_push(hkey, htri, fmeta, -ratio[t], t, tri)
+            _push(f, -f.ratio[t], t, tri)
             return F_ROOM
         if code != enc.R_DONE:
             return F_BROKEN
         v = out[0]
-        if v < st[enc.S_NV] - 1:
+        if v < meta[M_NV] - 1:
             continue  # the point was already a vertex
         fmeta[FM_ADDED] += 1
         # The star of v: rotate across the edge v -> next around v.
-        s0 = vtri[v]
-        s = s0
+        s0 = c.vtri[v]
+        sl = s0
         for _ in range(1024):
             k = 0
-            while tri[3 * s + k] != v:
+            while tri[3 * sl + k] != v:
                 k += 1
-            if _inside(s, tri, treg):
-                classify(s, pts, tri, acc, ratio, par,
-                         bg_pts, bg_tri, bg_nbr, bg_start, bg_items, bg_x0, bg_y0, bg_cell, bg_nx, bg_ny, bg_val, bg_hint)
-            s = nbr[3 * s + (k + 1) % 3]
-            if s == s0 or s < 0:
+            if _inside(sl, tri, treg):
+                classify(sl, s, f, bg)
+            sl = nbr[3 * sl + (k + 1) % 3]
+            if sl == s0 or sl < 0:
                 break
-        s = s0
+        sl = s0
         for _ in range(1024):
             k = 0
-            while tri[3 * s + k] != v:
+            while tri[3 * sl + k] != v:
                 k += 1
-            _push_if_front(s, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
-            _push_if_front(nbr[3 * s + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
-            s = nbr[3 * s + (k + 1) % 3]
-            if s == s0 or s < 0:
+            _push_if_front(sl, s, c, f)
+            _push_if_front(nbr[3 * sl + k], s, c, f)
+            sl = nbr[3 * sl + (k + 1) % 3]
+            if sl == s0 or sl < 0:
                 break
     return F_DONE

@@ -9,8 +9,21 @@ of :mod:`meshwright.tri.bowyer` or of :mod:`meshwright.tri.watson` (with Watson'
 bookkeeping).  The algorithm is chosen by the per-triangle circle array: an empty ``circ``
 runs Bowyer, a sized one runs Watson (a branch on an array length, predicted perfectly).
 
-Flat layout (``cap`` triangle slots, ``ntri = meta[M_NTRI]`` in use)
-------------------------------------------------------------------
+The state bundle: :class:`TriState`
+----------------------------------
+Every kernel function takes the whole state as ONE argument, a :class:`TriState` (a
+``typing.NamedTuple`` of flat arrays, which Numba types as a tuple: attribute access is
+resolved at compile time and costs nothing), and scalar header values live in its int64
+``meta`` array.  A kernel that finds an array too small returns ``NEED_SPACE`` *before*
+modifying anything (the cavity scratch ``work`` is found short only while the cavity grows:
+then only ``work`` and ``meta[M_SHORT_WORK] = 1`` have been written), and :func:`grow`, on the
+Python side, returns a new bundle with doubled arrays (``state._replace(...)``); inside a
+kernel loop :func:`meshwright.tri._build2d.make_room` does the same.  Method-specific arrays go in a bundle of the
+method's own (``CdtState`` of :mod:`meshwright.tri._encroach`, ``RefineState`` of
+:mod:`meshwright.tri.ruppert`, ...), never into loose argument lists.
+
+Layout (``cap`` triangle slots, ``ntri = meta[M_NTRI]`` in use), in field order
+------------------------------------------------------------------------
 ``pts``  (rows, 2) float64      vertex coordinates; vertex ids are row numbers.
 ``tri``  (3 cap,) int32         ``tri[3t + k]`` vertex k of triangle t, counter-clockwise.
 ``nbr``  (3 cap,) int32         ``nbr[3t + k]`` triangle across the edge opposite vertex k,
@@ -22,9 +35,11 @@ Flat layout (``cap`` triangle slots, ``ntri = meta[M_NTRI]`` in use)
 ``cons`` (3 cap,) int32         constrained Delaunay only (else empty): per half-edge, the
                                 constraint id + 1, 0 on a free edge; kept equal on both
                                 sides.  A cavity never crosses a constrained edge.
-``meta`` (6,) int64             ``[M_NTRI]`` slots in use, ``[M_LAST]`` a recent triangle,
-                                ``[M_RNG]`` xorshift state of the walk, ``[M_SPLIT_*]`` the
-                                constrained edge the pending fan splits.
+``meta`` (8,) int64             ``[M_NTRI]`` slots in use, ``[M_LAST]`` a recent triangle,
+                                ``[M_RNG]`` xorshift state of the walk (:mod:`meshwright.core.rng`),
+                                ``[M_SPLIT_*]`` the constrained edge the pending fan splits,
+                                ``[M_NV]`` vertices in use (rows of ``pts``),
+                                ``[M_SHORT_WORK]`` 1 when ``work`` must double.
 ``work`` (5 w,) int32           cavity scratch: w cavity triangles, w BFS parents, w boundary
                                 edges of three ints (start vertex, end vertex, outer half-edge).
 ``vmark`` (>= rows + 1,) int32  per-vertex scratch of the fan; the last entry stands for GHOST.
@@ -43,7 +58,8 @@ hull points included), so preallocating ``2n`` slots never overflows.
 
 Insertion of vertex v
 ---------------------
-1. Locate: visibility walk (Devillers, Pion & Teillaud 2002, "Walking in a triangulation",
+1. Locate: visibility walk (:func:`walk`, the one walk of the 2-D kernels; it can also stop
+   at constrained edges) (Devillers, Pion & Teillaud 2002, "Walking in a triangulation",
    Int. J. Found. Comput. Sci. 13(2)) from a recent triangle with exact ``orient2d``,
    remembering the triangle it came from and starting at a pseudo-random edge (stochastic
    walk, so it terminates also in non-Delaunay triangulations).  It stops in a finite
@@ -72,18 +88,22 @@ Insertion of vertex v
 
 Hot-path rules: no allocation and no Python objects inside ``insert_vertex``; arrays that may
 be too small make it return ``NEED_SPACE`` *before* anything is modified, and
-:func:`make_room` grows them by doubling.  Memory locality: the caller stores the points in
+:func:`grow` grows them by doubling.  Memory locality: the caller stores the points in
 insertion order (BRIO), so vertices that are close in space are close in ``pts``; ``rank``
 keeps the perturbation keys of that build valid after the vertices are renumbered.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
-from meshwright.core.flat import GHOST, grown
-from meshwright.core.predicates import CCW_ERRBOUND_A, orient2d
+from meshwright.core.flat import GHOST, back3, grown_rows, index3, next3, prev3
+from meshwright.core.geom2d import orient_filtered
+from meshwright.core.predicates import orient2d
+from meshwright.core.rng import seed_state, xorshift32
 from meshwright.tri import bowyer, watson
 
 __all__ = [
@@ -97,16 +117,18 @@ __all__ = [
     "M_SPLIT_A",
     "M_SPLIT_B",
     "M_SPLIT_C",
-    "new_meta",
-    "new_work",
+    "M_NV",
+    "M_SHORT_WORK",
+    "TriState",
+    "new_state",
+    "grow",
     "walk",
     "cavity",
     "fan",
     "insert_vertex",
     "split_edge",
-    "make_room",
-    "insert_batch",
-    "locate_points",
+    "flip",
+    "on_constraint",
 ]
 
 # insert_vertex status: >= 0 is a new triangle incident to v; otherwise one of these, and a
@@ -121,35 +143,96 @@ M_RNG = 2
 M_SPLIT_A = 3  # the constrained edge a-b (id + 1 in M_SPLIT_C, 0: none) the next fan splits
 M_SPLIT_B = 4
 M_SPLIT_C = 5
-_META_LEN = 6
+M_NV = 6
+M_SHORT_WORK = 7
+_META_LEN = 8
 _WORK_INIT = 64  # initial cavity capacity; doubled on demand
 
 
-def new_meta(seed: int) -> np.ndarray:
-    """Fresh kernel header: no triangles, walk start 0, walk RNG state from ``seed``.
+class TriState(NamedTuple):
+    """State of the 2-D insertion kernel, passed whole to every kernel function.
 
-    Returns
-    -------
-    (6,) int64
+    Fields in this order (shapes and meaning in the module docstring):
+    ``pts`` (rows, 2) float64, ``tri`` / ``nbr`` (3 cap,) int32, ``circ`` (4 cap,) float32 or
+    (0,), ``rank`` (r,) int32, ``cons`` (3 cap,) int32 or (0,), ``meta`` (8,) int64, ``work``
+    (5 w,) int32, ``vmark`` (>= rows + 1,) int32.  Grown copies come from :func:`grow` (Python)
+    or :func:`make_room` (inside a kernel); the arrays are never resized in place.
+    """
+
+    pts: np.ndarray
+    tri: np.ndarray
+    nbr: np.ndarray
+    circ: np.ndarray
+    rank: np.ndarray
+    cons: np.ndarray
+    meta: np.ndarray
+    work: np.ndarray
+    vmark: np.ndarray
+
+
+def new_state(pts: np.ndarray, slots: int, seed: int, *, circles: bool = False, constrained: bool = False,
+              rank: np.ndarray | None = None) -> TriState:
+    """A fresh bundle over the point rows ``pts`` with ``slots`` triangle slots, none in use.
+
+    Parameters
+    ----------
+    pts : (rows, 2) float64
+        Vertex coordinates (the bundle keeps this array); ``meta[M_NV]`` starts at 0.
+    slots : int
+        Triangle slots to preallocate (``2 n`` suffice for n vertices).
+    seed : int
+        Seed of the walk's xorshift state.
+    circles : bool
+        Keep Watson's circle records (``circ`` of 4 slots per triangle) or not (Bowyer).
+    constrained : bool
+        Keep per-half-edge constraints (``cons``) or not.
+    rank : (r,) int32, optional
+        Perturbation keys (default: empty, the key is the vertex id).
     """
     meta = np.zeros(_META_LEN, dtype=np.int64)
-    meta[M_RNG] = (int(seed) * 2654435761 + 1) % 0xFFFFFFFF or 1  # xorshift state must not be 0
-    return meta
+    meta[M_RNG] = seed_state(seed)
+    return TriState(
+        pts,
+        np.empty(3 * slots, dtype=np.int32),
+        np.empty(3 * slots, dtype=np.int32),
+        np.empty(4 * slots if circles else 0, dtype=np.float32),
+        np.empty(0, dtype=np.int32) if rank is None else rank,
+        np.zeros(3 * slots if constrained else 0, dtype=np.int32),
+        meta,
+        np.empty(5 * _WORK_INIT, dtype=np.int32),
+        np.empty(pts.shape[0] + 1, dtype=np.int32),
+    )
 
 
-def new_work() -> np.ndarray:
-    """Fresh cavity scratch of the initial capacity: (5 w,) int32."""
-    return np.empty(5 * _WORK_INIT, dtype=np.int32)
+def grow(s: TriState, rows: int = 0, slots: int = 0) -> TriState:
+    """Bundle with room for ``rows`` vertices and ``slots`` triangle slots (doubling), and with
+    the cavity scratch doubled if the kernel asked for it (``meta[M_SHORT_WORK]``).
 
-
-@njit(inline="always")
-def _next(k):
-    return 0 if k == 2 else k + 1
-
-
-@njit(inline="always")
-def _prev(k):
-    return 2 if k == 0 else k - 1
+    Returns ``s`` itself when nothing is short; otherwise ``s._replace(...)`` of grown copies
+    (the used part copied, new constraint entries 0).  Call it after ``NEED_SPACE``: with no
+    arguments it makes room for one more insertion.
+    """
+    ntri = int(s.meta[M_NTRI])
+    rows = max(rows, int(s.meta[M_NV]) + 1)
+    slots = max(slots, ntri + 2)
+    new = {}
+    if rows > s.pts.shape[0]:
+        new["pts"] = grown_rows(s.pts, rows)
+    prows = new["pts"].shape[0] if "pts" in new else s.pts.shape[0]
+    if s.vmark.shape[0] <= prows:
+        new["vmark"] = np.empty(prows + 1, dtype=np.int32)
+    if 3 * slots > s.tri.shape[0]:
+        cap = max(slots, 2 * (s.tri.shape[0] // 3))
+        new["tri"] = grown_rows(s.tri, 3 * cap)
+        new["nbr"] = grown_rows(s.nbr, 3 * cap)
+        if s.cons.shape[0] > 0:
+            new["cons"] = grown_rows(s.cons, 3 * cap, 0)
+        if s.circ.shape[0] > 0:
+            new["circ"] = grown_rows(s.circ, 4 * cap)
+    if s.meta[M_SHORT_WORK]:
+        s.meta[M_SHORT_WORK] = 0
+        new["work"] = np.empty(2 * s.work.shape[0], dtype=np.int32)
+    return s._replace(**new) if new else s
 
 
 @njit(inline="always")
@@ -175,96 +258,97 @@ def _fan_shift(u, w):
 
 
 @njit(inline="always")
-def _orient(ax, ay, bx, by, cx, cy):
-    """``orient2d`` with Shewchuk's stage-A filter inlined; the exact predicate only if unsure."""
-    left = (ax - cx) * (by - cy)
-    right = (ay - cy) * (bx - cx)
-    det = left - right
-    err = CCW_ERRBOUND_A * (abs(left) + abs(right))
-    if det > err or -det > err:
-        return det
-    return orient2d(ax, ay, bx, by, cx, cy)
-
-
-@njit(inline="always")
-def _conflict(pts, tri, circ, rank, t, v, px, py):
+def _conflict(s, t, v, px, py):
     """Conflict of triangle t with the new point: Watson's filter if circles are kept."""
-    if circ.shape[0] > 0:
-        return watson.conflict(pts, tri, circ, rank, t, v, px, py)
-    return bowyer.conflict(pts, tri, rank, t, v, px, py)
+    if s.circ.shape[0] > 0:
+        return watson.conflict(s.pts, s.tri, s.circ, s.rank, t, v, px, py)
+    return bowyer.conflict(s.pts, s.tri, s.rank, t, v, px, py)
 
 
 @njit(inline="always")
-def walk(pts, tri, nbr, meta, t, px, py):
+def walk(s, t, px, py, blocked):
     """Stochastic visibility walk from triangle t towards the point p.
+
+    Devillers, Pion & Teillaud (2002): from each triangle, step across an edge that p lies
+    strictly beyond, trying the edges from a pseudo-random one (``meta[M_RNG]``, the
+    xorshift of :mod:`meshwright.core.rng`) and never straight back, so the walk ends also in
+    a triangulation that is not Delaunay.
 
     Parameters
     ----------
-    pts : (rows, 2) float64
-    tri, nbr : (3 cap,) int32
-    meta : (6,) int64
-        Its ``M_RNG`` entry advances.
+    s : TriState
+        Its ``meta[M_RNG]`` advances.
     t : int
         Start triangle (finite or ghost).
     px, py : float
+    blocked : bool
+        Stop at constrained edges (``s.cons``) instead of crossing them.
 
     Returns
     -------
-    int
-        A finite triangle whose closure contains p, or a ghost triangle whose hull edge has
-        p strictly on its outer side.
+    (int, int)
+        ``(t_end, -1)``: a finite triangle whose closure contains p, or a ghost triangle
+        whose hull edge has p strictly on its outer side; or, when ``blocked``, ``(t_end, h)``
+        with every edge of finite ``t_end`` that p lies strictly beyond constrained, h one of
+        them (the subsegment hiding p).
     """
+    pts, tri, nbr = s.pts, s.tri, s.nbr
     if tri[3 * t + 2] == GHOST:
         t = nbr[3 * t + 2]
     came = -1
-    r = meta[M_RNG]
+    hit = -1
+    r = s.meta[M_RNG]
     while True:
-        r ^= (r << 13) & 0xFFFFFFFF
-        r ^= r >> 17
-        r ^= (r << 5) & 0xFFFFFFFF
+        r = xorshift32(r)
         k = r % 3
         base = 3 * t
         nxt = -1
+        hit = -1
         for _ in range(3):
             n = nbr[base + k]
             if n != came:
-                a = tri[base + _next(k)]
-                b = tri[base + _prev(k)]
-                if _orient(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) < 0.0:
-                    nxt = n
-                    break
-            k = _next(k)
+                a = tri[base + next3(k)]
+                b = tri[base + prev3(k)]
+                if orient_filtered(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) < 0.0:
+                    if not blocked or s.cons[base + k] == 0:
+                        nxt = n
+                        break
+                    hit = base + k
+            k = next3(k)
         if nxt < 0:
             break
         came = t
         t = nxt
         if tri[3 * t + 2] == GHOST:
+            hit = -1
             break
-    meta[M_RNG] = r
-    return t
+    s.meta[M_RNG] = r
+    return t, hit
 
 
 @njit(inline="always")
-def _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
+def _short_of_space(s):
     """Whether one more insertion (two more slots) could overflow an array."""
-    need = 3 * (meta[M_NTRI] + 2)
+    need = 3 * (s.meta[M_NTRI] + 2)
     return (
-        need > tri.shape[0]
-        or need > nbr.shape[0]
-        or (cons.shape[0] > 0 and need > cons.shape[0])
-        or (circ.shape[0] > 0 and 4 * (meta[M_NTRI] + 2) > circ.shape[0])
-        or vmark.shape[0] <= pts.shape[0]
+        need > s.tri.shape[0]
+        or need > s.nbr.shape[0]
+        or (s.cons.shape[0] > 0 and need > s.cons.shape[0])
+        or (s.circ.shape[0] > 0 and 4 * (s.meta[M_NTRI] + 2) > s.circ.shape[0])
+        or s.vmark.shape[0] <= s.pts.shape[0]
     )
 
 
 @njit(inline="always")
-def _grow_cavity(v, seed0, seed1, pts, tri, nbr, cons, circ, rank, work):
+def _grow_cavity(v, seed0, seed1, s):
     """Breadth-first cavity from ``seed0`` (and ``seed1`` across the split edge, if >= 0).
 
     A constrained edge (``cons`` non-zero) is never crossed: it always bounds the cavity, which
     makes the cavity the constrained-Delaunay one.  Returns the number of cavity triangles,
-    ``NEED_SPACE`` or ``BROKEN``; ``work`` holds the cavity and its boundary.
+    ``NEED_SPACE`` (``meta[M_SHORT_WORK]`` set) or ``BROKEN``; ``work`` holds the cavity and
+    its boundary.
     """
+    pts, tri, nbr, cons, work = s.pts, s.tri, s.nbr, s.cons, s.work
     px = pts[v, 0]
     py = pts[v, 1]
     cap = work.shape[0] // 5
@@ -288,20 +372,22 @@ def _grow_cavity(v, seed0, seed1, pts, tri, nbr, cons, circ, rank, work):
             n = nbr[base + k]
             if n == parent:
                 continue
-            if (not (constrained and cons[base + k] != 0)) and _conflict(pts, tri, circ, rank, n, v, px, py):
+            if (not (constrained and cons[base + k] != 0)) and _conflict(s, n, v, px, py):
                 if ncav == cap:
+                    s.meta[M_SHORT_WORK] = 1
                     return NEED_SPACE
                 work[ncav] = n
                 work[cap + ncav] = c
                 ncav += 1
             else:
                 if nb == cap:
+                    s.meta[M_SHORT_WORK] = 1
                     return NEED_SPACE
                 n3 = 3 * n
                 j = 0 if nbr[n3] == c else (1 if nbr[n3 + 1] == c else 2)
                 o = bo + 3 * nb
-                work[o] = tri[base + _next(k)]
-                work[o + 1] = tri[base + _prev(k)]
+                work[o] = tri[base + next3(k)]
+                work[o + 1] = tri[base + prev3(k)]
                 work[o + 2] = n3 + j
                 nb += 1
     if nb != ncav + 2:
@@ -310,17 +396,31 @@ def _grow_cavity(v, seed0, seed1, pts, tri, nbr, cons, circ, rank, work):
 
 
 @njit(inline="always")
-def _mark_split(h, tri, cons, meta):
+def _mark_split(h, s):
     """Remember constrained half-edge h (a -> b) as the one the next fan splits."""
     t3 = h - h % 3
-    meta[M_SPLIT_A] = tri[t3 + _next(h % 3)]
-    meta[M_SPLIT_B] = tri[t3 + _prev(h % 3)]
-    meta[M_SPLIT_C] = cons[h]
+    s.meta[M_SPLIT_A] = s.tri[t3 + next3(h % 3)]
+    s.meta[M_SPLIT_B] = s.tri[t3 + prev3(h % 3)]
+    s.meta[M_SPLIT_C] = s.cons[h]
 
 
 @njit(inline="always")
-def cavity(v, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
-    """Cavity of vertex v (coordinates in ``pts[v]``) from triangle t0, which contains it.
+def on_constraint(t, px, py, s):
+    """A constrained half-edge of finite triangle t through p (p in its closure), or -1."""
+    pts, tri = s.pts, s.tri
+    for k in range(3):
+        h = 3 * t + k
+        if s.cons[h] != 0:
+            a = tri[3 * t + next3(k)]
+            b = tri[3 * t + prev3(k)]
+            if orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) == 0.0:
+                return h
+    return -1
+
+
+@njit(inline="always")
+def cavity(v, t0, s):
+    """Cavity of vertex v (coordinates in ``s.pts[v]``) from triangle t0, which contains it.
 
     t0 is a finite triangle whose closure holds v, or a ghost whose hull edge v sees (what
     :func:`walk` returns).  When v lies exactly on a constrained edge of t0, the triangle
@@ -330,27 +430,20 @@ def cavity(v, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     Parameters
     ----------
     v, t0 : int
-    pts : (rows, 2) float64
-    tri, nbr : (3 cap,) int32
-    cons : (3 cap,) int32 or (0,)
-        Constraint id + 1 per half-edge, 0 on free edges; empty: no constraints.
-    circ : (4 cap,) float32 or (0,)
-    rank : (r,) int32
-    meta : (6,) int64
-    work : (5 w,) int32
-        Output: the cavity triangles and boundary edges (see the module docstring).
-    vmark : (>= rows + 1,) int32
+    s : TriState
+        ``work`` receives the cavity triangles and boundary edges (module docstring).
 
     Returns
     -------
     int
         The number of cavity triangles (> 0); or ``NEED_SPACE``, ``BROKEN``, or
         ``DUP_BASE - w`` when v coincides with vertex w.  Nothing is modified but ``work``
-        and ``meta``'s split record.
+        and ``meta``'s split record and flags.
     """
-    if _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
+    if _short_of_space(s):
         return NEED_SPACE
-    meta[M_SPLIT_C] = 0
+    pts, tri = s.pts, s.tri
+    s.meta[M_SPLIT_C] = 0
     seed1 = -1
     if tri[3 * t0 + 2] != GHOST:
         px = pts[v, 0]
@@ -359,26 +452,22 @@ def cavity(v, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
             w = tri[3 * t0 + k]
             if pts[w, 0] == px and pts[w, 1] == py:
                 return DUP_BASE - w
-        if cons.shape[0] > 0:
-            for k in range(3):
-                h = 3 * t0 + k
-                if cons[h] != 0:
-                    a = tri[3 * t0 + _next(k)]
-                    b = tri[3 * t0 + _prev(k)]
-                    if orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) == 0.0:
-                        _mark_split(h, tri, cons, meta)
-                        seed1 = nbr[h]
-                        break
-    return _grow_cavity(v, t0, seed1, pts, tri, nbr, cons, circ, rank, work)
+        if s.cons.shape[0] > 0:
+            h = on_constraint(t0, px, py, s)
+            if h >= 0:
+                _mark_split(h, s)
+                seed1 = s.nbr[h]
+    return _grow_cavity(v, t0, seed1, s)
 
 
 @njit(inline="always")
-def fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
+def fan(v, ncav, s):
     """Replace the cavity found by :func:`cavity` with the fan of v; returns a new triangle.
 
     Each boundary edge keeps its constraint; the fan's inner edges are free, except the two
     halves of a split constrained edge.  Returns a new finite triangle incident to v.
     """
+    tri, nbr, cons, work, vmark, meta = s.tri, s.nbr, s.cons, s.work, s.vmark, s.meta
     ntri = meta[M_NTRI]
     cap = work.shape[0] // 5
     bo = 2 * cap
@@ -394,18 +483,18 @@ def fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
         w = work[o + 1]
         he = work[o + 2]
         tn = _fan_slot(j, ncav, ntri, work)
-        s = _fan_shift(u, w)
+        sh = _fan_shift(u, w)
         b3 = 3 * tn
-        tri[b3 + s] = u
-        tri[b3 + (s + 1) % 3] = w
-        tri[b3 + (s + 2) % 3] = v
-        nbr[b3 + (s + 2) % 3] = he // 3
+        tri[b3 + sh] = u
+        tri[b3 + (sh + 1) % 3] = w
+        tri[b3 + (sh + 2) % 3] = v
+        nbr[b3 + (sh + 2) % 3] = he // 3
         nbr[he] = tn
         if constrained:
-            cons[b3 + (s + 2) % 3] = cons[he]
+            cons[b3 + (sh + 2) % 3] = cons[he]
             # (u, w, v): the edge w-v is opposite u, the edge v-u opposite w.
-            cons[b3 + s] = sc if (sc != 0 and (w == sa or w == sb)) else 0
-            cons[b3 + (s + 1) % 3] = sc if (sc != 0 and (u == sa or u == sb)) else 0
+            cons[b3 + sh] = sc if (sc != 0 and (w == sa or w == sb)) else 0
+            cons[b3 + (sh + 1) % 3] = sc if (sc != 0 and (u == sa or u == sb)) else 0
         vmark[_vslot(u, vmark)] = j
     # Link each fan triangle (u, w, v) with the one whose boundary edge starts at w.
     result = -1
@@ -414,16 +503,16 @@ def fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
         u = work[o]
         w = work[o + 1]
         tn = _fan_slot(j, ncav, ntri, work)
-        s = _fan_shift(u, w)
+        sh = _fan_shift(u, w)
         jn = vmark[_vslot(w, vmark)]
         on = bo + 3 * jn
         tn2 = _fan_slot(jn, ncav, ntri, work)
         s2 = _fan_shift(work[on], work[on + 1])
-        nbr[3 * tn + s] = tn2
+        nbr[3 * tn + sh] = tn2
         nbr[3 * tn2 + (s2 + 1) % 3] = tn
-        if circ.shape[0] > 0:
-            watson.circle(pts, tri, circ, tn)
-        if s == 0:
+        if s.circ.shape[0] > 0:
+            watson.circle(s.pts, tri, s.circ, tn)
+        if sh == 0:
             result = tn
     meta[M_NTRI] = ntri + 2
     meta[M_LAST] = result
@@ -432,51 +521,40 @@ def fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
 
 
 @njit(cache=True)
-def insert_vertex(v, t, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
-    """Insert vertex v (row v of ``pts``) by cavity re-triangulation, walking from triangle t.
+def insert_vertex(v, t, s):
+    """Insert vertex v (row v of ``s.pts``) by cavity re-triangulation, walking from triangle t.
 
     This is the single-point entry of the kernel for every method that inserts points into a
     Delaunay triangulation (refinement, segment recovery): write the coordinates into row v of
-    ``pts`` first, call, and on ``NEED_SPACE`` call :func:`make_room` and retry.  With
-    constraints, the result is the constrained Delaunay triangulation (a point exactly on a
-    constrained edge splits it).
+    ``pts`` first, call, and on ``NEED_SPACE`` grow the bundle (:func:`grow`) and retry.  With constraints, the result is the constrained Delaunay
+    triangulation (a point exactly on a constrained edge splits it).
 
     Parameters
     ----------
     v : int
-        Vertex to insert; ``pts[v]`` holds its coordinates.
+        Vertex to insert; ``s.pts[v]`` holds its coordinates.
     t : int
         Start triangle of the walk, ``0 <= t < meta[M_NTRI]``.
-    pts : (rows, 2) float64
-    tri, nbr : (3 cap,) int32
-    cons : (3 cap,) int32 or (0,)
-        Constraint per half-edge (see :func:`cavity`); empty for a plain triangulation.
-    circ : (4 cap,) float32 or (0,)
-        Watson's circumcircles; empty for Bowyer.
-    rank : (r,) int32
-        Perturbation keys (see the module docstring); may be empty.
-    meta : (6,) int64
-    work : (5 w,) int32
-    vmark : (>= rows + 1,) int32
+    s : TriState
 
     Returns
     -------
     int
-        A new finite triangle incident to v; or ``NEED_SPACE`` (call :func:`make_room`, then
-        retry), ``BROKEN`` (inconsistent cavity), or ``DUP_BASE - w`` when v coincides with
-        vertex w.  Only success modifies the triangulation.
+        A new finite triangle incident to v; or ``NEED_SPACE`` (grow, then retry), ``BROKEN``
+        (inconsistent cavity), or ``DUP_BASE - w`` when v coincides with vertex w.  Only
+        success modifies the triangulation.
     """
-    if _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
+    if _short_of_space(s):
         return NEED_SPACE
-    t0 = walk(pts, tri, nbr, meta, t, pts[v, 0], pts[v, 1])
-    ncav = cavity(v, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
+    t0, _ = walk(s, t, s.pts[v, 0], s.pts[v, 1], False)
+    ncav = cavity(v, t0, s)
     if ncav < 0:
         return ncav
-    return fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
+    return fan(v, ncav, s)
 
 
 @njit(cache=True)
-def split_edge(v, h, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
+def split_edge(v, h, s):
     """Split the constrained edge of half-edge h at vertex v (on it, or on its true curve).
 
     Both triangles of the edge are in the cavity; the two halves ``a-v`` and ``v-b`` keep the
@@ -489,40 +567,42 @@ def split_edge(v, h, pts, tri, nbr, cons, circ, rank, meta, work, vmark):
     Returns
     -------
     int
-        A new finite triangle incident to v, ``NEED_SPACE``, or ``BROKEN`` (refused: v lies
-        in neither triangle of the edge; nothing was modified).
+        A new finite triangle incident to v; ``NEED_SPACE`` (nothing modified but the cavity
+        scratch); or ``BROKEN``: refused, v lies strictly inside neither triangle of the edge,
+        and nothing was modified.
     """
-    if _short_of_space(pts, tri, nbr, cons, circ, meta, vmark):
+    if _short_of_space(s):
         return NEED_SPACE
-    _mark_split(h, tri, cons, meta)
-    ncav = _grow_cavity(v, h // 3, nbr[h], pts, tri, nbr, cons, circ, rank, work)
+    _mark_split(h, s)
+    ncav = _grow_cavity(v, h // 3, s.nbr[h], s)
     if ncav == NEED_SPACE:
-        meta[M_SPLIT_C] = 0
+        s.meta[M_SPLIT_C] = 0
         return ncav
     star = ncav > 0
     if star:
+        pts, work = s.pts, s.work
         bo = 2 * (work.shape[0] // 5)
         px = pts[v, 0]
         py = pts[v, 1]
         for j in range(ncav + 2):
             u = work[bo + 3 * j]
             w = work[bo + 3 * j + 1]
-            if u != GHOST and w != GHOST and _orient(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], px, py) <= 0.0:
+            if u != GHOST and w != GHOST and orient_filtered(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], px, py) <= 0.0:
                 star = False
                 break
     if star:
-        return fan(v, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
-    meta[M_SPLIT_C] = 0
-    return _split_by_flips(v, h, pts, tri, nbr, cons, circ, rank, meta, work)
+        return fan(v, ncav, s)
+    s.meta[M_SPLIT_C] = 0
+    return _split_by_flips(v, h, s)
 
 
 @njit(inline="always")
 def _inside(pts, t3, tri, px, py):
     """Whether (px, py) lies strictly inside the finite triangle at slot offset t3 (exact)."""
     for k in range(3):
-        u = tri[t3 + _next(k)]
-        w = tri[t3 + _prev(k)]
-        if _orient(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], px, py) <= 0.0:
+        u = tri[t3 + next3(k)]
+        w = tri[t3 + prev3(k)]
+        if orient_filtered(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], px, py) <= 0.0:
             return False
     return True
 
@@ -535,8 +615,65 @@ def _redirect(nbr, t, old, new):
             nbr[3 * t + m] = new
 
 
+@njit(inline="always")
+def _set3(a, t, x, y, z):
+    a[3 * t] = x
+    a[3 * t + 1] = y
+    a[3 * t + 2] = z
+
+
 @njit(cache=True)
-def _split_by_flips(v, h, pts, tri, nbr, cons, circ, rank, meta, work):
+def flip(h, s):
+    r"""Flip the edge of half-edge h (two finite triangles forming a strictly convex quad)::
+
+              p                       p
+             / \                     /|\
+          B /   \ A                B / | \ A
+           /  t  \                  /  |  \
+          u ----- w      ----->     u t | n w
+           \  n  /                  \  |  /
+          C \   / D                C \ | / D
+             \ /                     \|/
+              q                       q
+
+    t = (p, u, w) with h = u -> w, n = (q, w, u); afterwards t = (p, u, q), n = (q, w, p).
+    Constraint flags travel with the outer edges A-D, the new diagonal is free; Watson's
+    circles are refreshed.  Returns n.
+    """
+    tri, nbr, cons = s.tri, s.nbr, s.cons
+    t = h // 3
+    k = h - 3 * t
+    n = nbr[h]
+    j = back3(nbr, n, t)
+    p = tri[3 * t + k]
+    u = tri[3 * t + next3(k)]
+    w = tri[3 * t + prev3(k)]
+    q = tri[3 * n + j]
+    ea = nbr[3 * t + next3(k)]  # across w-p
+    eb = nbr[3 * t + prev3(k)]  # across p-u
+    ec = nbr[3 * n + next3(j)]  # across u-q
+    ed = nbr[3 * n + prev3(j)]  # across q-w
+    ca = cons[3 * t + next3(k)] if cons.shape[0] > 0 else 0
+    cb = cons[3 * t + prev3(k)] if cons.shape[0] > 0 else 0
+    cc = cons[3 * n + next3(j)] if cons.shape[0] > 0 else 0
+    cd = cons[3 * n + prev3(j)] if cons.shape[0] > 0 else 0
+    _set3(tri, t, p, u, q)
+    _set3(nbr, t, ec, n, eb)
+    _set3(tri, n, q, w, p)
+    _set3(nbr, n, ea, t, ed)
+    if cons.shape[0] > 0:
+        _set3(cons, t, cc, 0, cb)
+        _set3(cons, n, ca, 0, cd)
+    _redirect(nbr, ec, n, t)
+    _redirect(nbr, ea, t, n)
+    if s.circ.shape[0] > 0:
+        watson.circle(s.pts, tri, s.circ, t)
+        watson.circle(s.pts, tri, s.circ, n)
+    return n
+
+
+@njit(cache=True)
+def _split_by_flips(v, h, s):
     r"""Insert v into the triangle of half-edge h's edge that holds it, then flip (Lawson).
 
     The triangle X = (p0, p1, p2) holding v becomes three, each stored with v first::
@@ -550,9 +687,12 @@ def _split_by_flips(v, h, pts, tri, nbr, cons, circ, rank, meta, work):
 
     The split edge a-b loses its constraint and the halves a-v, v-b get it.  Then every edge
     opposite v that is free and not locally Delaunay is flipped (Lawson 1977); each flip
-    keeps both new triangles incident to v, so only v's star changes.  Returns a new
-    triangle incident to v, or ``BROKEN`` when v lies strictly inside neither triangle.
+    keeps both new triangles incident to v, so only v's star changes and cannot fail.
+
+    Returns a new triangle incident to v, or ``BROKEN`` (nothing modified) when v lies
+    strictly inside neither triangle.
     """
+    pts, tri, nbr, cons = s.pts, s.tri, s.nbr, s.cons
     px = pts[v, 0]
     py = pts[v, 1]
     t = h // 3
@@ -566,9 +706,9 @@ def _split_by_flips(v, h, pts, tri, nbr, cons, circ, rank, meta, work):
     if x < 0:
         return BROKEN
     constraint = cons[h]
-    a = tri[3 * t + _next(h % 3)]
-    b = tri[3 * t + _prev(h % 3)]
-    ntri = meta[M_NTRI]
+    a = tri[3 * t + next3(h % 3)]
+    b = tri[3 * t + prev3(h % 3)]
+    ntri = s.meta[M_NTRI]
     slots = (x, ntri, ntri + 1)
     p = (tri[3 * x], tri[3 * x + 1], tri[3 * x + 2])
     outer = (nbr[3 * x], nbr[3 * x + 1], nbr[3 * x + 2])
@@ -594,170 +734,36 @@ def _split_by_flips(v, h, pts, tri, nbr, cons, circ, rank, meta, work):
                     cons[3 * o + m] = 0
         if i > 0:
             _redirect(nbr, outer[i], x, ti)
-    meta[M_NTRI] = ntri + 2
-    # Lawson flips over the edges opposite v; work[] is the stack of triangles to check.
-    cap = work.shape[0]
-    work[0] = slots[0]
-    work[1] = slots[1]
-    work[2] = slots[2]
-    top = 3
-    while top > 0:
-        top -= 1
-        tt = work[top]
-        o = nbr[3 * tt]
-        if cons[3 * tt] != 0 or not _conflict(pts, tri, circ, rank, o, v, px, py):
-            continue
-        # tt = (v, xx, yy), o holds edge yy -> xx and its apex q.
-        xx = tri[3 * tt + 1]
-        yy = tri[3 * tt + 2]
-        j = 0 if nbr[3 * o] == tt else (1 if nbr[3 * o + 1] == tt else 2)
-        q = tri[3 * o + j]
-        if (
-            _orient(px, py, pts[xx, 0], pts[xx, 1], pts[q, 0], pts[q, 1]) <= 0.0
-            or _orient(px, py, pts[q, 0], pts[q, 1], pts[yy, 0], pts[yy, 1]) <= 0.0
-        ):
-            continue  # not strictly convex: only an exact cocircularity can get here
-        # o = (q, yy, xx) from q: the edge x-q is opposite yy (next(j)), q-y opposite xx.
-        across_xq = nbr[3 * o + _next(j)]
-        across_qy = nbr[3 * o + _prev(j)]
-        c_xq = cons[3 * o + _next(j)]
-        c_qy = cons[3 * o + _prev(j)]
-        n_yv = nbr[3 * tt + 1]
-        n_vx = nbr[3 * tt + 2]
-        c_yv = cons[3 * tt + 1]
-        c_vx = cons[3 * tt + 2]
-        tri[3 * tt + 2] = q
-        nbr[3 * tt] = across_xq
-        nbr[3 * tt + 1] = o
-        nbr[3 * tt + 2] = n_vx
-        cons[3 * tt] = c_xq
-        cons[3 * tt + 1] = 0
-        cons[3 * tt + 2] = c_vx
-        tri[3 * o] = v
-        tri[3 * o + 1] = q
-        tri[3 * o + 2] = yy
-        nbr[3 * o] = across_qy
-        nbr[3 * o + 1] = n_yv
-        nbr[3 * o + 2] = tt
-        cons[3 * o] = c_qy
-        cons[3 * o + 1] = c_yv
-        cons[3 * o + 2] = 0
-        _redirect(nbr, across_xq, o, tt)
-        _redirect(nbr, n_yv, tt, o)
-        if circ.shape[0] > 0:
-            watson.circle(pts, tri, circ, tt)
-            watson.circle(pts, tri, circ, o)
-        if top + 2 > cap:
-            return BROKEN
-        work[top] = tt
-        work[top + 1] = o
-        top += 2
-    if circ.shape[0] > 0:
+    s.meta[M_NTRI] = ntri + 2
+    # Lawson flips over the edges opposite v, pass after pass around v's star until none
+    # flips; the star's counter-clockwise order runs across the edge after v.  A flip keeps
+    # both triangles in the star, so no stack is needed.
+    changed = True
+    while changed:
+        changed = False
+        tt = x
+        while True:
+            i = index3(tri, tt, v)
+            h = 3 * tt + i
+            o = nbr[h]
+            if cons[h] == 0 and _conflict(s, o, v, px, py):
+                # tt = (v, xx, yy), o holds edge yy -> xx and its apex q.
+                xx = tri[3 * tt + next3(i)]
+                yy = tri[3 * tt + prev3(i)]
+                q = tri[3 * o + back3(nbr, o, tt)]
+                # Not strictly convex: only an exact cocircularity can get here; no flip.
+                if (
+                    orient_filtered(px, py, pts[xx, 0], pts[xx, 1], pts[q, 0], pts[q, 1]) > 0.0
+                    and orient_filtered(px, py, pts[q, 0], pts[q, 1], pts[yy, 0], pts[yy, 1]) > 0.0
+                ):
+                    flip(h, s)
+                    changed = True
+                    i = index3(tri, tt, v)
+            tt = nbr[3 * tt + next3(i)]
+            if tt == x:
+                break
+    if s.circ.shape[0] > 0:
         for i in range(3):
-            watson.circle(pts, tri, circ, slots[i])
-    meta[M_LAST] = x
+            watson.circle(pts, tri, s.circ, slots[i])
+    s.meta[M_LAST] = x
     return x
-
-
-@njit(cache=True)
-def make_room(rows, tri, nbr, cons, circ, meta, work, vmark):
-    """Grow whichever array made :func:`insert_vertex` return ``NEED_SPACE``.
-
-    Parameters
-    ----------
-    rows : int
-        Rows of the points array the next insertion uses.
-    tri, nbr, cons, circ, meta, work, vmark
-        Kernel state as in :func:`insert_vertex`.
-
-    Returns
-    -------
-    tuple
-        ``(tri, nbr, cons, circ, work, vmark)``, grown copies or the arrays themselves.
-    """
-    need = meta[M_NTRI] + 2
-    if (
-        3 * need > tri.shape[0]
-        or 3 * need > nbr.shape[0]
-        or (cons.shape[0] > 0 and 3 * need > cons.shape[0])
-        or (circ.shape[0] > 0 and 4 * need > circ.shape[0])
-    ):
-        tri = grown(tri, 3 * need)
-        nbr = grown(nbr, 3 * need)
-        if cons.shape[0] > 0:
-            cons = grown(cons, 3 * need)
-        if circ.shape[0] > 0:
-            circ = grown(circ, 4 * need)
-    elif vmark.shape[0] <= rows:
-        vmark = grown(vmark, rows + 1)
-    else:
-        work = np.empty(2 * work.shape[0], dtype=np.int32)
-    return tri, nbr, cons, circ, work, vmark
-
-
-@njit(cache=True)
-def insert_batch(order, start, stop, vbase, pts, tri, nbr, cons, circ, rank, meta, work, vmark, vmap):
-    """Insert ``order[start:stop]`` one by one, each walk starting where the last one ended.
-
-    Parameters
-    ----------
-    order : (m,) int32 or (0,)
-        Vertices (rows of ``pts``) in insertion order; empty means vertices start..stop-1.
-    start, stop : int
-        Positions of ``order`` to insert.
-    vbase : int
-        ``vmap`` is indexed by ``v - vbase``.
-    pts, tri, nbr, cons, circ, rank, meta, work, vmark
-        Kernel state as in :func:`insert_vertex`.
-    vmap : (m,) int32
-        Output: ``vmap[v - vbase] = v`` for an inserted vertex v, else the vertex v coincides
-        with.
-
-    Returns
-    -------
-    tuple
-        ``(bad, tri, nbr, cons, circ, work, vmark)``: ``bad`` is -1, or the vertex whose
-        insertion found an inconsistent cavity (the triangulation is then unchanged by it and
-        the later vertices are not inserted).
-    """
-    t = meta[M_LAST]
-    rows = pts.shape[0]
-    for i in range(start, stop):
-        v = order[i] if order.shape[0] > 0 else i
-        st = insert_vertex(v, t, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
-        while st == NEED_SPACE:
-            tri, nbr, cons, circ, work, vmark = make_room(rows, tri, nbr, cons, circ, meta, work, vmark)
-            st = insert_vertex(v, t, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
-        if st >= 0:
-            vmap[v - vbase] = v
-            t = st
-        elif st == BROKEN:
-            return v, tri, nbr, cons, circ, work, vmark
-        else:
-            vmap[v - vbase] = DUP_BASE - st
-    return -1, tri, nbr, cons, circ, work, vmark
-
-
-@njit(cache=True)
-def locate_points(pts, tri, nbr, meta, xy):
-    """Finite triangle containing each query point (in its closure), -1 outside the hull.
-
-    Parameters
-    ----------
-    pts : (rows, 2) float64
-    tri, nbr : (3 cap,) int32
-    meta : (6,) int64
-        A copy is advisable: the walk advances its RNG state.
-    xy : (m, 2) float64
-
-    Returns
-    -------
-    (m,) int32
-    """
-    m = xy.shape[0]
-    out = np.empty(m, dtype=np.int32)
-    t = meta[M_LAST]
-    for i in range(m):
-        t = walk(pts, tri, nbr, meta, t, xy[i, 0], xy[i, 1])
-        out[i] = -1 if tri[3 * t + 2] == GHOST else t
-    return out

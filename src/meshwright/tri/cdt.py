@@ -29,7 +29,7 @@ Sources
 Points are inserted by the Delaunay kernel (:mod:`meshwright.tri._kernel2d`, BRIO order);
 segments are then recovered by edge flips (S. W. Sloan, "A fast algorithm for generating
 constrained Delaunay triangulations", Computers & Structures 47(3), 1993) in
-:func:`meshwright.tri._encroach.recover_segments`: the crossing edges are collected by a walk
+:func:`meshwright.tri.sloan.recover_segments`: the crossing edges are collected by a walk
 along the segment and flipped from a queue, then the new edges are made locally Delaunay.
 A segment passing exactly through a vertex (exact ``orient2d == 0``, between its ends) is cut
 there.  Constrained edges are marked per half-edge in ``cons`` (``piece + 1``), which the
@@ -50,8 +50,13 @@ the ghost triangles instead (Triangle's convention) and hole seeds eat inwards. 
 Invariants: every input segment is a union of constrained edges; every free edge is locally
 constrained-Delaunay (exact ``incircle_sos`` with the build's perturbation keys); ``vtri[v]``
 is a triangle of vertex v; ``treg`` is -1 on ghosts and exterior triangles, 0 inside, r + 1 in
-region r.  Array layout: the kernel's flat ``tri``/``nbr``/``cons`` with finite and ghost
-slots interleaved (``triangles()`` filters them).
+region r.
+
+State: two documented bundles, all that methods built on the class use: ``state``, the
+insertion kernel's :class:`~meshwright.tri._kernel2d.TriState` (``tri``/``nbr``/``cons``,
+finite and ghost slots interleaved), and ``constraints``, the constrained layer's
+:class:`~meshwright.tri._encroach.CdtState`.  They grow only through
+:meth:`ConstrainedTriangulation.reserve` (arrays taken before may then be stale).
 """
 
 from __future__ import annotations
@@ -62,7 +67,9 @@ from numba import njit
 from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.flat import GHOST
 from meshwright.tri import _encroach as enc
-from meshwright.tri._kernel2d import M_NTRI, locate_points, make_room
+from meshwright.tri._build2d import locate_points
+from meshwright.tri._kernel2d import M_NTRI, M_NV, grow
+from meshwright.tri.sloan import recover_segments
 from meshwright.tri.triangulation import Triangulation
 
 __all__ = ["ConstrainedTriangulation", "SegmentCurves", "cdt_build"]
@@ -250,38 +257,46 @@ class ConstrainedTriangulation:
         Where split points of each segment lie (see :func:`cdt_build`).
     classified : bool
         Whether :meth:`classify` ran (else every finite triangle counts as inside).
+    state : TriState
+        The insertion kernel's bundle (:mod:`meshwright.tri._kernel2d`), with ``cons``.
+    constraints : CdtState
+        The constrained layer's bundle (:mod:`meshwright.tri._encroach`).
     """
 
     def __init__(self, tr: Triangulation, segments: np.ndarray, segment_ids: np.ndarray, curves):
-        nv = tr._nv
+        nv = len(tr.points)
         rows = max(16, 2 * nv)
-        self._pts = np.empty((rows, 2))
-        self._pts[:nv] = tr._pts[:nv]
-        self._nv = nv
-        self._tri, self._nbr, self._meta = tr._tri, tr._nbr, tr._meta
-        self._rank, self._work, self._vmark = tr._rank, tr._work, tr._vmark
-        self._circ = np.empty(0, dtype=np.float32)
-        self._cons = np.zeros(self._tri.shape[0], dtype=np.int32)
-        ntri = int(self._meta[M_NTRI])
-        self._vtri = np.empty(rows, dtype=np.int32)
-        enc.link_vertices(self._tri, ntri, self._vtri)
-        self._treg = np.zeros(self._tri.shape[0] // 3, dtype=np.int32)
-        self._treg[:ntri][self._tri[2 : 3 * ntri : 3] == GHOST] = -1
-        self._vseg = np.full(rows, -1, dtype=np.int32)
-        self._vpar = np.zeros(rows)
-        self._vacute = np.zeros(rows, dtype=np.int8)
+        t = tr.state
+        pts = np.empty((rows, 2))
+        pts[:nv] = t.pts[:nv]
+        slots = t.tri.shape[0] // 3
+        # The Triangulation's arrays become this one's: it is not used again.
+        self.state = t._replace(
+            pts=pts, cons=np.zeros(3 * slots, dtype=np.int32), circ=np.empty(0, dtype=np.float32),
+            vmark=np.empty(rows + 1, dtype=np.int32),
+        )
+        self.state.meta[M_NV] = nv
+        ntri = int(t.meta[M_NTRI])
+        m = len(segments)
+        seg = np.empty((m + 16, 2), dtype=np.int32)
+        seg[:m] = segments
+        seg_in = np.empty(m + 16, dtype=np.int32)
+        seg_in[:m] = np.arange(m)
+        self.constraints = enc.CdtState(
+            vtri=np.empty(rows, dtype=np.int32), treg=np.zeros(slots, dtype=np.int32),
+            vseg=np.full(rows, -1, dtype=np.int32), vpar=np.zeros(rows), vacute=np.zeros(rows, dtype=np.int8),
+            seg=seg, seg_in=seg_in, pkind=np.zeros(0, dtype=np.int8), pdat=np.zeros((0, 5)),
+            rarea=np.array([np.inf]),
+        )
+        c = self.constraints
+        enc.link_vertices(self.state.tri, ntri, c.vtri)
+        c.treg[:ntri][self.state.tri[2 : 3 * ntri : 3] == GHOST] = -1
         self.index_map = tr.index_map
         self.input_segments = segments
         self.segment_ids = segment_ids
         self.curves = curves
         self.classified = False
-        self._rarea = np.array([np.inf])
         self._rmarker = np.zeros(1, dtype=np.int32)
-        m = len(segments)
-        self._seg = np.empty((m + 16, 2), dtype=np.int32)
-        self._seg[:m] = segments
-        self._seg_in = np.empty(m + 16, dtype=np.int32)
-        self._seg_in[:m] = np.arange(m)
         self._np = m
         self._hull_id = -1
         self._recover(np.arange(m - 1, -1, -1, dtype=np.int32))
@@ -289,63 +304,71 @@ class ConstrainedTriangulation:
     # ------------------------------------------------------------------ building
     def _recover(self, todo: np.ndarray) -> None:
         """Recover pieces ``todo`` (processed last to first) as constrained edges."""
-        ntri = int(self._meta[M_NTRI])
+        ntri = int(self.state.meta[M_NTRI])
         elist = np.empty(2 * (3 * ntri // 2 + 3), dtype=np.int32)
         nlist = np.empty_like(elist)
         rs = np.array([self._np, len(todo), -1, -1], dtype=np.int64)
         todo = np.concatenate([todo, np.empty(len(todo) + 16, dtype=np.int32)])
         while True:
-            code = enc.recover_segments(
-                self._pts, self._tri, self._nbr, self._cons, self._rank, self._vtri,
-                self._seg, self._seg_in, todo, rs, elist, nlist,
-            )
+            code = recover_segments(self.state, self.constraints, todo, rs, elist, nlist)
             self._np = int(rs[0])
             if code == 0:
                 return
             if code == 1:
-                grow = max(16, self._seg.shape[0])
-                self._seg = np.concatenate([self._seg, np.empty((grow, 2), dtype=np.int32)])
-                self._seg_in = np.concatenate([self._seg_in, np.empty(grow, dtype=np.int32)])
-                todo = np.concatenate([todo, np.empty(grow, dtype=np.int32)])
+                self._grow_pieces(max(16, self.constraints.seg.shape[0]))
+                todo = np.concatenate([todo, np.empty(max(16, len(todo)), dtype=np.int32)])
                 continue
             self._raise_crossing(int(rs[2]), int(rs[3]))
 
-    def _raise_crossing(self, p: int, h: int) -> None:
-        i = int(self._seg_in[p])
-        a, b = self.input_segments[i] if i >= 0 else self._seg[p]
-        what = f"segment {i} from {_fmt(self._pts[a])} to {_fmt(self._pts[b])}"
-        if h < 0:
-            raise MeshingError(f"cannot trace {what} through the triangulation")
-        q = int(self._cons[h]) - 1
-        j = int(self._seg_in[q])
-        u, w = self._tri[h - h % 3 + (h % 3 + 1) % 3], self._tri[h - h % 3 + (h % 3 + 2) % 3]
-        c, d = self.input_segments[j] if j >= 0 else self._seg[q]
-        other = f"segment {j} from {_fmt(self._pts[c])} to {_fmt(self._pts[d])}" if j >= 0 else "a hull segment"
-        raise GeometryError(
-            f"{what} intersects {other} (it crosses its piece {_fmt(self._pts[u])}-{_fmt(self._pts[w])})"
+    def _grow_pieces(self, more: int) -> None:
+        c = self.constraints
+        self.constraints = c._replace(
+            seg=np.concatenate([c.seg, np.empty((more, 2), dtype=np.int32)]),
+            seg_in=np.concatenate([c.seg_in, np.empty(more, dtype=np.int32)]),
         )
 
-    def _piece_tables(self) -> tuple[np.ndarray, np.ndarray]:
-        """Kind and data (P, 5) of every piece from ``self.curves`` (straight without one)."""
+    def _raise_crossing(self, p: int, h: int) -> None:
+        i = int(self.constraints.seg_in[p])
+        a, b = self.input_segments[i] if i >= 0 else self.constraints.seg[p]
+        what = f"segment {i} from {_fmt(self.state.pts[a])} to {_fmt(self.state.pts[b])}"
+        if h < 0:
+            raise MeshingError(f"cannot trace {what} through the triangulation")
+        q = int(self.state.cons[h]) - 1
+        j = int(self.constraints.seg_in[q])
+        u, w = self.state.tri[h - h % 3 + (h % 3 + 1) % 3], self.state.tri[h - h % 3 + (h % 3 + 2) % 3]
+        c, d = self.input_segments[j] if j >= 0 else self.constraints.seg[q]
+        other = f"segment {j} from {_fmt(self.state.pts[c])} to {_fmt(self.state.pts[d])}" if j >= 0 else "a hull segment"
+        raise GeometryError(
+            f"{what} intersects {other} (it crosses its piece {_fmt(self.state.pts[u])}-{_fmt(self.state.pts[w])})"
+        )
+
+    def refresh_pieces(self) -> None:
+        """Set ``constraints.pkind`` / ``pdat`` of every piece from :attr:`curves`.
+
+        Kernels that split subsegments read them; call after :attr:`curves` or the pieces
+        change (the refinement and insertion entries do).  Pieces with no known curve are
+        straight.
+        """
         n = self._np
         kind = np.zeros(n, dtype=np.int8)
         data = np.zeros((n, 5))
+        c = self.constraints
         if isinstance(self.curves, SegmentCurves):
-            rows = self._seg_in[:n]
+            rows = c.seg_in[:n]
             ok = (rows >= 0) & (rows < len(self.curves.kind))
-            ok[ok] &= (self._seg[:n][ok] == self.input_segments[rows[ok]]).all(axis=1)
+            ok[ok] &= (c.seg[:n][ok] == self.input_segments[rows[ok]]).all(axis=1)
             kind[ok] = self.curves.kind[rows[ok]]
             data[ok] = self.curves.data[rows[ok]]
         elif callable(self.curves):
-            kind[self._seg_in[:n] >= 0] = enc.KIND_CURVE
-        return kind, data
+            kind[c.seg_in[:n] >= 0] = enc.KIND_CURVE
+        self.constraints = c._replace(pkind=kind, pdat=data)
 
-    def _acute(self) -> None:
-        """Flag input vertices where two pieces meet at less than 60 degrees."""
-        seg = self._seg[: self._np]
+    def mark_acute(self) -> None:
+        """Flag (``constraints.vacute``) input vertices where two pieces meet below 60 degrees."""
+        seg = self.constraints.seg[: self._np]
         if not len(seg):
             return
-        d = self._pts[seg[:, 1]] - self._pts[seg[:, 0]]
+        d = self.state.pts[seg[:, 1]] - self.state.pts[seg[:, 0]]
         verts = np.concatenate([seg[:, 0], seg[:, 1]])
         ang = np.concatenate([np.arctan2(d[:, 1], d[:, 0]), np.arctan2(-d[:, 1], -d[:, 0])])
         order = np.lexsort((ang, verts))
@@ -358,40 +381,20 @@ class ConstrainedTriangulation:
         wrap = 2.0 * np.pi - (a[last] - a[start])
         wrap[last == start] = np.inf
         small = np.minimum(np.minimum.reduceat(gap, start), wrap) < np.pi / 3.0
-        self._vacute[v[start[small]]] = 1
+        self.constraints.vacute[v[start[small]]] = 1
 
     # ------------------------------------------------------------------ growth
-    def _ensure_points(self, rows: int) -> None:
-        """Make room for ``rows`` vertices in every per-vertex array."""
-        if rows <= self._pts.shape[0] and rows + 1 <= self._vmark.shape[0]:
-            return
-        rows = max(rows, 2 * self._pts.shape[0])
-        pts = np.empty((rows, 2))
-        pts[: self._nv] = self._pts[: self._nv]
-        self._pts = pts
-        for name in ("_vtri", "_vseg", "_vpar", "_vacute"):
-            old = getattr(self, name)
-            new = np.zeros(rows, dtype=old.dtype)
-            new[: old.shape[0]] = old
-            setattr(self, name, new)
-        self._vmark = np.empty(rows + 1, dtype=np.int32)
+    def reserve(self, rows: int = 0, slots: int = 0) -> None:
+        """Grow both bundles (doubling) to ``rows`` vertices and ``slots`` triangle slots.
 
-    def _ensure_slots(self, slots: int) -> None:
-        """Make room for ``slots`` triangle slots in every per-triangle array."""
-        if 3 * slots <= self._tri.shape[0] and slots <= self._treg.shape[0]:
-            return
-        slots = max(slots, 2 * self._treg.shape[0])
-        for name, width in (("_tri", 3), ("_nbr", 3), ("_cons", 3), ("_treg", 1)):
-            old = getattr(self, name)
-            new = np.zeros(width * slots, dtype=old.dtype)
-            new[: old.shape[0]] = old
-            setattr(self, name, new)
-
-    def _grow_work(self) -> None:
-        _, _, _, _, self._work, _ = make_room(
-            self._pts.shape[0], self._tri, self._nbr, self._cons, self._circ, self._meta,
-            self._work, self._vmark,
-        )
+        With no arguments, makes the room one more insertion needs, the cavity scratch
+        included when a kernel asked for it; what a kernel returning ``NEED_SPACE`` /
+        ``R_ROOM`` needs.  Arrays taken from :attr:`state` or :attr:`constraints` before the
+        call may be stale after it.
+        """
+        self.state = grow(self.state, rows, slots)
+        s = self.state
+        self.constraints = enc.grow(self.constraints, s.pts.shape[0], s.tri.shape[0] // 3)
 
     # ------------------------------------------------------------------ classification
     def classify(self, segment_sides=None, holes=None, regions=None) -> ConstrainedTriangulation:
@@ -427,24 +430,24 @@ class ConstrainedTriangulation:
         ).astype(np.int8)
         if sides.shape != (m,):
             raise InputError(f"segment_sides must have one entry per segment ({m}), got {sides.shape}")
-        rows = self._seg_in[: self._np]
+        rows = self.constraints.seg_in[: self._np]
         # Hull pieces run with the inside on their left (see close_hull).
         pside = np.ones(self._np, dtype=np.int8)
         pside[rows >= 0] = sides[rows[rows >= 0]]
-        ntri = int(self._meta[M_NTRI])
+        ntri = int(self.state.meta[M_NTRI])
         stack = np.empty(ntri, dtype=np.int32)
         info = np.zeros(2, dtype=np.int64)
-        code = _classify_sides(self._pts, self._tri, self._nbr, self._cons, self._seg, pside, ntri, self._treg, stack, info)
+        code = _classify_sides(self.state.pts, self.state.tri, self.state.nbr, self.state.cons, self.constraints.seg, pside, ntri, self.constraints.treg, stack, info)
         if code != _FLOOD_OK:
             self._raise_flood(code, info)
-        self._rarea = np.array([np.inf])
+        self.constraints = self.constraints._replace(rarea=np.array([np.inf]))
         self._rmarker = np.zeros(1, dtype=np.int32)
         if holes is not None and len(holes):
-            for t in self._locate(holes, "hole"):
-                if t >= 0 and self._treg[t] >= 0:
-                    self._treg[t] = -1
+            for t in self.locate(holes, "hole"):
+                if t >= 0 and self.constraints.treg[t] >= 0:
+                    self.constraints.treg[t] = -1
                     stack[0] = t
-                    _flood(stack, 1, -1, 0, self._tri, self._nbr, self._cons, pside, False, self._treg)
+                    _flood(stack, 1, -1, 0, self.state.tri, self.state.nbr, self.state.cons, pside, False, self.constraints.treg)
         if regions is not None and len(regions):
             self._regions(regions, stack, pside)
         self.classified = True
@@ -452,8 +455,8 @@ class ConstrainedTriangulation:
 
     def _raise_flood(self, code: int, info) -> None:
         p, t = int(info[0]), int(info[1])
-        tri = self._tri[3 * t : 3 * t + 3]
-        where = _fmt(self._pts[tri[tri >= 0]].mean(axis=0))
+        tri = self.state.tri[3 * t : 3 * t + 3]
+        where = _fmt(self.state.pts[tri[tri >= 0]].mean(axis=0))
         if code == _FLOOD_LEAK:
             raise GeometryError(
                 f"the domain is not closed: its inside reaches the convex hull near {where} "
@@ -461,18 +464,31 @@ class ConstrainedTriangulation:
             )
         if p < 0:
             raise GeometryError(f"segment sides are inconsistent near {where}")
-        i = int(self._seg_in[p])
-        a, b = self._seg[p]
+        i = int(self.constraints.seg_in[p])
+        a, b = self.constraints.seg[p]
         raise GeometryError(
-            f"segment {i} from {_fmt(self._pts[a])} to {_fmt(self._pts[b])} has the domain on both "
+            f"segment {i} from {_fmt(self.state.pts[a])} to {_fmt(self.state.pts[b])} has the domain on both "
             f"sides near {where}: loops are oriented inconsistently (outer ccw, holes cw) or cross"
         )
 
-    def _locate(self, xy, what: str) -> np.ndarray:
+    def locate(self, xy, what: str = "query") -> np.ndarray:
+        """Triangle slot (of :attr:`state`) holding each point, -1 outside the convex hull.
+
+        Parameters
+        ----------
+        xy : (m, 2) array_like of float64
+        what : str
+            What the points are, for the error message.
+
+        Returns
+        -------
+        (m,) int32
+            Slots, flagged in ``constraints.treg`` (inside, exterior, region).
+        """
         q = np.ascontiguousarray(np.asarray(xy, dtype=np.float64).reshape(-1, 2))
         if not np.isfinite(q).all():
-            raise InputError(f"{what} seeds must be finite")
-        return locate_points(self._pts, self._tri, self._nbr, self._meta.copy(), q)
+            raise InputError(f"{what} points must be finite")
+        return locate_points(self.state._replace(meta=self.state.meta.copy()), q)
 
     def inside_slots(self) -> np.ndarray:
         """(ntri,) bool over the kernel's triangle slots: finite and inside the domain.
@@ -489,13 +505,13 @@ class ConstrainedTriangulation:
         xy = np.array([r[:2] for r in rows], dtype=np.float64)
         area = [np.inf if len(r) < 4 or r[3] is None or r[3] < 0 else float(r[3]) for r in rows]
         self._rmarker = np.array([0] + [int(r[2]) for r in rows], dtype=np.int32)
-        self._rarea = np.array([np.inf] + area)
-        for i, t in enumerate(self._locate(xy, "region")):
-            if t < 0 or self._treg[t] < 0:
+        self.constraints = self.constraints._replace(rarea=np.array([np.inf] + area))
+        for i, t in enumerate(self.locate(xy, "region")):
+            if t < 0 or self.constraints.treg[t] < 0:
                 raise GeometryError(f"region {i} seed {_fmt(xy[i])} lies outside the domain")
-            self._treg[t] = i + 1
+            self.constraints.treg[t] = i + 1
             stack[0] = t
-            _flood(stack, 1, i + 1, 0, self._tri, self._nbr, self._cons, pside, False, self._treg)
+            _flood(stack, 1, i + 1, 0, self.state.tri, self.state.nbr, self.state.cons, pside, False, self.constraints.treg)
 
     def close_hull(self, segment_id: int = -1) -> ConstrainedTriangulation:
         """Constrain every free convex-hull edge as a new segment piece with id ``segment_id``.
@@ -503,28 +519,27 @@ class ConstrainedTriangulation:
         Makes the convex hull the boundary of a point set (Triangle without ``-p``); such
         pieces get marker 1 in :meth:`to_mesh`.  Returns ``self``.
         """
-        ntri = int(self._meta[M_NTRI])
-        ghosts = np.flatnonzero(self._tri[2 : 3 * ntri : 3] == GHOST)
+        ntri = int(self.state.meta[M_NTRI])
+        ghosts = np.flatnonzero(self.state.tri[2 : 3 * ntri : 3] == GHOST)
         h = 3 * ghosts + 2
-        free = h[self._cons[h] == 0]
+        free = h[self.state.cons[h] == 0]
         if not len(free):
             return self
         k = len(free)
-        if self._np + k > self._seg.shape[0]:
-            self._seg = np.concatenate([self._seg, np.empty((k + 16, 2), dtype=np.int32)])
-            self._seg_in = np.concatenate([self._seg_in, np.empty(k + 16, dtype=np.int32)])
+        if self._np + k > self.constraints.seg.shape[0]:
+            self._grow_pieces(k + 16)
         g = free // 3
         piece = np.arange(self._np, self._np + k, dtype=np.int32)
         # Ghost (a, b, GHOST) holds hull edge a -> b with the outside on its left.
-        self._seg[piece] = np.column_stack([self._tri[3 * g + 1], self._tri[3 * g]])
-        self._seg_in[piece] = -1
+        self.constraints.seg[piece] = np.column_stack([self.state.tri[3 * g + 1], self.state.tri[3 * g]])
+        self.constraints.seg_in[piece] = -1
         self._hull_id = int(segment_id)
-        self._cons[free] = piece + 1
-        twin = 3 * self._nbr[free]
+        self.state.cons[free] = piece + 1
+        twin = 3 * self.state.nbr[free]
         back = np.select(
-            [self._nbr[twin] == g, self._nbr[twin + 1] == g], [twin, twin + 1], twin + 2
+            [self.state.nbr[twin] == g, self.state.nbr[twin + 1] == g], [twin, twin + 1], twin + 2
         )
-        self._cons[back] = piece + 1
+        self.state.cons[back] = piece + 1
         self._np += k
         return self
 
@@ -549,24 +564,14 @@ class ConstrainedTriangulation:
         if not np.isfinite(q).all():
             raise InputError(f"point {int(np.flatnonzero(~np.isfinite(q).all(axis=1))[0])} is not finite")
         out = np.empty(len(q), dtype=np.int32)
-        kind, data = self._piece_tables()
-        st = np.zeros(enc.S_LEN, dtype=np.int64)
+        self.refresh_pieces()
         i = 0
         while i < len(q):
-            st[enc.S_NV] = self._nv
-            self._ensure_points(self._nv + min(len(q) - i, 1 << 20) + 1)
-            self._ensure_slots(int(self._meta[M_NTRI]) + 2 * min(len(q) - i, 1 << 20) + 2)
-            i, code = enc.insert_points(
-                q, i, out, self._pts, self._tri, self._nbr, self._cons, self._circ, self._rank,
-                self._meta, self._work, self._vmark, self._vtri, self._treg, self._vseg, self._vpar,
-                self._vacute, self._seg, kind, data, st,
-            )
-            self._nv = int(st[enc.S_NV])
+            batch = min(len(q) - i, 1 << 20)
+            self.reserve(self.n_points + batch + 1, int(self.state.meta[M_NTRI]) + 2 * batch + 2)
+            i, code = enc.insert_points(q, i, out, self.state, self.constraints)
             if code == enc.R_BROKEN:
                 raise MeshingError(f"inserting point {i} at {_fmt(q[i])} met an inconsistent cavity")
-            if st[enc.S_GROW_WORK]:
-                st[enc.S_GROW_WORK] = 0
-                self._grow_work()
         return out
 
     def split_segment(self, a: int, b: int, xy=None) -> int:
@@ -584,50 +589,50 @@ class ConstrainedTriangulation:
     @property
     def points(self) -> np.ndarray:
         """(nv, 2) float64 vertex coordinates (read-only view)."""
-        view = self._pts[: self._nv]
+        view = self.state.pts[: self.n_points]
         view.flags.writeable = False
         return view
 
     @property
     def n_points(self) -> int:
         """Number of vertices."""
-        return self._nv
+        return int(self.state.meta[M_NV])
 
     def _mask(self, inside: bool) -> np.ndarray:
-        ntri = int(self._meta[M_NTRI])
-        finite = self._tri[2 : 3 * ntri : 3] != GHOST
-        return finite & (self._treg[:ntri] >= 0) if inside else finite
+        ntri = int(self.state.meta[M_NTRI])
+        finite = self.state.tri[2 : 3 * ntri : 3] != GHOST
+        return finite & (self.constraints.treg[:ntri] >= 0) if inside else finite
 
     def triangles(self, inside: bool = True) -> np.ndarray:
         """(nt, 3) int32 counter-clockwise triangles: inside the domain, or all finite ones."""
-        ntri = int(self._meta[M_NTRI])
-        return self._tri[: 3 * ntri].reshape(ntri, 3)[self._mask(inside)].copy()
+        ntri = int(self.state.meta[M_NTRI])
+        return self.state.tri[: 3 * ntri].reshape(ntri, 3)[self._mask(inside)].copy()
 
     def neighbors(self, inside: bool = True) -> np.ndarray:
         """(nt, 3) int32: across the edge opposite vertex k, -1 where none is selected."""
-        ntri = int(self._meta[M_NTRI])
+        ntri = int(self.state.meta[M_NTRI])
         mask = self._mask(inside)
         newid = np.where(mask, np.cumsum(mask) - 1, -1).astype(np.int32)
-        return newid[self._nbr[: 3 * ntri].reshape(ntri, 3)[mask]]
+        return newid[self.state.nbr[: 3 * ntri].reshape(ntri, 3)[mask]]
 
     def triangle_markers(self, inside: bool = True) -> np.ndarray:
         """(nt,) int32 region marker of each triangle (0 outside every region seed)."""
-        ntri = int(self._meta[M_NTRI])
-        reg = self._treg[:ntri][self._mask(inside)]
+        ntri = int(self.state.meta[M_NTRI])
+        reg = self.constraints.treg[:ntri][self._mask(inside)]
         return self._rmarker[np.maximum(reg, 0)]
 
     def _piece_ids(self) -> np.ndarray:
-        rows = self._seg_in[: self._np]
+        rows = self.constraints.seg_in[: self._np]
         ids = np.full(self._np, self._hull_id, dtype=np.int32)
         ids[rows >= 0] = self.segment_ids[rows[rows >= 0]]
         return ids
 
     def _constrained(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Constrained half-edges: (h (k,), start (k,), end (k,)), both directions."""
-        ntri = int(self._meta[M_NTRI])
-        h = np.flatnonzero(self._cons[: 3 * ntri] != 0)
+        ntri = int(self.state.meta[M_NTRI])
+        h = np.flatnonzero(self.state.cons[: 3 * ntri] != 0)
         base = h - h % 3
-        return h, self._tri[base + (h % 3 + 1) % 3], self._tri[base + (h % 3 + 2) % 3]
+        return h, self.state.tri[base + (h % 3 + 1) % 3], self.state.tri[base + (h % 3 + 2) % 3]
 
     def segments(self) -> tuple[np.ndarray, np.ndarray]:
         """All subsegments, each once along its segment's direction.
@@ -639,9 +644,9 @@ class ConstrainedTriangulation:
             Segment id of each.
         """
         h, u, w = self._constrained()
-        p = self._cons[h] - 1
-        d = self._pts[self._seg[p, 1]] - self._pts[self._seg[p, 0]]
-        along = ((self._pts[w] - self._pts[u]) * d).sum(axis=1) > 0.0
+        p = self.state.cons[h] - 1
+        d = self.state.pts[self.constraints.seg[p, 1]] - self.state.pts[self.constraints.seg[p, 0]]
+        along = ((self.state.pts[w] - self.state.pts[u]) * d).sum(axis=1) > 0.0
         return np.column_stack([u, w])[along].astype(np.int32), self._piece_ids()[p[along]]
 
     def to_mesh(self, segment_markers=None, fill=None):
@@ -671,25 +676,25 @@ class ConstrainedTriangulation:
         from meshwright.core.mesh import Mesh
 
         if fill is None:
-            pts, tris, tmarks = self._pts[: self._nv], self.triangles(True), self.triangle_markers(True)
+            pts, tris, tmarks = self.state.pts[: self.n_points], self.triangles(True), self.triangle_markers(True)
         else:
             pts, tris = fill
             if len(self._rmarker) > 1:
-                slots = self._locate(pts[tris].mean(axis=1), "centroid")
-                tmarks = self._rmarker[np.maximum(self._treg[slots], 0)]
+                slots = self.locate(pts[tris].mean(axis=1), "centroid")
+                tmarks = self._rmarker[np.maximum(self.constraints.treg[slots], 0)]
             else:
                 tmarks = np.zeros(len(tris), dtype=np.int32)
         used = np.zeros(len(pts), dtype=bool)
         used[tris.ravel()] = True
         newid = np.cumsum(used, dtype=np.int64).astype(np.int32) - 1
         h, u, w = self._constrained()
-        tin = self._treg[h // 3] >= 0
-        tin &= self._tri[3 * (h // 3) + 2] != GHOST
-        n = self._nbr[h]
-        nin = (self._treg[n] >= 0) & (self._tri[3 * n + 2] != GHOST)
-        p = self._cons[h] - 1
-        d = self._pts[self._seg[p, 1]] - self._pts[self._seg[p, 0]]
-        along = ((self._pts[w] - self._pts[u]) * d).sum(axis=1) > 0.0
+        tin = self.constraints.treg[h // 3] >= 0
+        tin &= self.state.tri[3 * (h // 3) + 2] != GHOST
+        n = self.state.nbr[h]
+        nin = (self.constraints.treg[n] >= 0) & (self.state.tri[3 * n + 2] != GHOST)
+        p = self.state.cons[h] - 1
+        d = self.state.pts[self.constraints.seg[p, 1]] - self.state.pts[self.constraints.seg[p, 0]]
+        along = ((self.state.pts[w] - self.state.pts[u]) * d).sum(axis=1) > 0.0
         # Boundary subsegments from their inside triangle (ccw around the domain), interior
         # ones once, along their segment.
         keep = (tin & ~nin) | (tin & nin & along)
@@ -715,7 +720,7 @@ class ConstrainedTriangulation:
 
     def __repr__(self) -> str:
         return (
-            f"ConstrainedTriangulation({self._nv} points, {len(self.triangles(True))} inside triangles, "
+            f"ConstrainedTriangulation({self.n_points} points, {len(self.triangles(True))} inside triangles, "
             f"{len(self.input_segments)} segments, classified={self.classified})"
         )
 
@@ -780,7 +785,7 @@ def cdt_build(points, segments=None, segment_ids=None, seed=0, *, conforming=Fal
     zero = np.flatnonzero(seg[:, 0] == seg[:, 1])
     if len(zero):
         i = zero[0]
-        raise GeometryError(f"segment {i} has zero length: both ends at {_fmt(tr._pts[seg[i, 0]])}")
+        raise GeometryError(f"segment {i} has zero length: both ends at {_fmt(tr.points[seg[i, 0]])}")
     if curves is not None and not (isinstance(curves, SegmentCurves) or callable(curves)):
         raise InputError("curves must be a SegmentCurves or a callable (segment_id, xy_a, xy_b) -> xy")
     if isinstance(curves, SegmentCurves) and len(curves.kind) != len(seg):

@@ -55,7 +55,8 @@ from __future__ import annotations
 import numpy as np
 
 from meshwright.core.errors import MeshingError
-from meshwright.core.quadtree import Q_NODES, qt_new
+from meshwright.core.flat import grown_rows
+from meshwright.core.spatial.loose_quadtree import Q_NODES, qt_new
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
 from meshwright.tri._kernel2d import M_NTRI
@@ -113,7 +114,7 @@ def area_cap(ct, max_area=None):
     ``MAX_AREA_SIDE`` times the side of the equilateral triangle of the smaller of
     ``max_area`` and the bound of the region holding each point.
     """
-    rarea = np.asarray(ct._rarea, dtype=np.float64)
+    rarea = np.asarray(ct.constraints.rarea, dtype=np.float64)
     glob = np.inf if max_area is None else float(max_area)
     if not np.isfinite(glob) and not np.isfinite(rarea).any():
         return None
@@ -121,29 +122,21 @@ def area_cap(ct, max_area=None):
     def cap(xy):
         area = np.full(len(xy), glob)
         if np.isfinite(rarea).any():
-            slots = ct._locate(xy, "size query")
-            area = np.minimum(area, rarea[np.maximum(ct._treg[slots], 0)])
+            slots = ct.locate(xy, "size query")
+            area = np.minimum(area, rarea[np.maximum(ct.constraints.treg[slots], 0)])
         return MAX_AREA_SIDE * np.sqrt(4.0 * area / np.sqrt(3.0))
 
     return cap
 
 
-def _grow(a: np.ndarray, need: int, fill=None) -> np.ndarray:
-    if len(a) >= need:
-        return a
-    shape = (max(need, 2 * len(a)),) + a.shape[1:]
-    out = np.empty(shape, dtype=a.dtype) if fill is None else np.full(shape, fill, dtype=a.dtype)
-    out[: len(a)] = a
-    return out
-
-
 def _initial_front(ct):
     """Front faces (k, 2) and free points (j,) of a classified constrained triangulation."""
-    ntri = int(ct._meta[M_NTRI])
+    s = ct.state
+    ntri = int(s.meta[M_NTRI])
     inside = ct.inside_slots()
-    tri = ct._tri[: 3 * ntri].reshape(ntri, 3)
-    nbr = ct._nbr[: 3 * ntri].reshape(ntri, 3)
-    cons = ct._cons[: 3 * ntri].reshape(ntri, 3) != 0
+    tri = s.tri[: 3 * ntri].reshape(ntri, 3)
+    nbr = s.nbr[: 3 * ntri].reshape(ntri, 3)
+    cons = s.cons[: 3 * ntri].reshape(ntri, 3) != 0
     # Edge k of a counter-clockwise triangle runs (k+1) -> (k+2) with the triangle on its left.
     open_edge = inside[:, None] & (cons | ~inside[np.maximum(nbr, 0)] | (nbr < 0))
     t, k = np.nonzero(open_edge)
@@ -156,84 +149,68 @@ def _initial_front(ct):
 
 
 class _Front:
-    """The kernel's arrays (module :mod:`meshwright.tri._front_kernel`) and their growth."""
+    """The kernel's :class:`~meshwright.tri._front_kernel.FrontState` and its growth."""
 
     def __init__(self, points, faces, free, metric, estimate: int):
         n = len(points)
         pcap = max(64, n + 2 * estimate // 3 + 16)
         fcap = max(4 * fk.ROOM_FACES, len(faces) + 2 * len(free) + 3 * estimate)
         tcap = max(64, estimate + 16)
-        self.pts = np.zeros((pcap, 2))
-        self.pts[:n] = points
-        self.met = np.zeros((pcap, 3))
-        self.met[:n] = metric
-        self.vint = np.full((pcap, 4), -1, dtype=np.int32)
-        self.face = np.empty((fcap, 4), dtype=np.int32)
-        self.falive = np.zeros(fcap, dtype=np.int8)
-        self.qbox = np.empty((fcap, 4))
-        self.qnext = np.empty(fcap, dtype=np.int32)
-        self.hkey = np.empty(fcap)
-        self.hface = np.empty(fcap, dtype=np.int32)
-        self.wkey = np.empty(fcap)
-        self.wface = np.empty(fcap, dtype=np.int32)
-        self.tri = np.empty((tcap, 3), dtype=np.int32)
-        self.tnext = np.empty((tcap, 3), dtype=np.int32)
-        self.talive = np.zeros(tcap, dtype=np.int8)
+        pts = np.zeros((pcap, 2))
+        pts[:n] = points
+        met = np.zeros((pcap, 3))
+        met[:n] = metric
         lo, hi = points.min(axis=0), points.max(axis=0)
         lens = np.hypot(*(points[faces[:, 1]] - points[faces[:, 0]]).T) if len(faces) else np.ones(1)
-        self.qgeo, self.qmeta, self.qchild, self.qhead = qt_new(
+        qgeo, qmeta, qchild, qhead = qt_new(
             (lo[0], lo[1], hi[0], hi[1]), 0.25 * float(lens.min()), nodes=max(1024, 4 * fcap)
         )
-        self.meta = np.zeros(fk.M_LEN, dtype=np.int64)
-        self.meta[fk.M_NP] = n
-        self.meta[fk.M_NIN] = n
-        self.meta[fk.M_SYNC] = n
-        self.meta[fk.M_STAMP] = 0
+        meta = np.zeros(fk.M_LEN, dtype=np.int64)
+        meta[fk.M_NP] = n
+        meta[fk.M_NIN] = n
+        meta[fk.M_SYNC] = n
+        self.fs = fk.FrontState(
+            pts=pts, met=met, vint=np.full((pcap, 4), -1, dtype=np.int32), face=np.empty((fcap, 4), dtype=np.int32),
+            falive=np.zeros(fcap, dtype=np.int8), qbox=np.empty((fcap, 4)), qgeo=qgeo, qmeta=qmeta, qchild=qchild,
+            qhead=qhead, qnext=np.empty(fcap, dtype=np.int32), hkey=np.empty(fcap),
+            hface=np.empty((fcap, 1), dtype=np.int32), wkey=np.empty(fcap), wface=np.empty(fcap, dtype=np.int32),
+            tri=np.empty((tcap, 3), dtype=np.int32), tnext=np.empty((tcap, 3), dtype=np.int32),
+            talive=np.zeros(tcap, dtype=np.int8), meta=meta,
+        )
         self.room()
-        tree = (self.face, self.falive, self.qbox, self.qgeo, self.qmeta, self.qchild, self.qhead, self.qnext)
         for u, v in faces.tolist():
-            fk.add_face(u, v, self.pts, self.vint, *tree, self.hkey, self.hface, self.meta)
+            fk.add_face(u, v, self.fs)
         for v in free.tolist():
-            self.vint[v, fk.V_FREE] = fk.add_item(v, v, self.pts, *tree, self.meta)
+            self.fs.vint[v, fk.V_FREE] = fk.add_item(v, v, self.fs)
 
     def room(self) -> None:
         """Grow every array the kernel asked room in (doubling)."""
-        m = self.meta
+        fs = self.fs
+        m = fs.meta
+        new = {}
         need_p = int(m[fk.M_NP]) + 2
-        if need_p > len(self.pts):
-            self.pts = _grow(self.pts, need_p)
-            self.met = _grow(self.met, need_p)
-            self.vint = _grow(self.vint, need_p, -1)
+        if need_p > len(fs.pts):
+            new.update(pts=grown_rows(fs.pts, need_p), met=grown_rows(fs.met, need_p), vint=grown_rows(fs.vint, need_p, -1))
         need_f = int(m[fk.M_NF]) + fk.ROOM_FACES
-        if need_f > len(self.face):
-            self.face = _grow(self.face, need_f)
-            self.falive = _grow(self.falive, need_f, 0)
-            self.qbox = _grow(self.qbox, need_f)
-            self.qnext = _grow(self.qnext, need_f)
-            self.wkey = _grow(self.wkey, need_f)
-            self.wface = _grow(self.wface, need_f)
+        if need_f > len(fs.face):
+            for name in ("face", "qbox", "qnext", "wkey", "wface"):
+                new[name] = grown_rows(getattr(fs, name), need_f)
+            new["falive"] = grown_rows(fs.falive, need_f, 0)
         need_h = int(m[fk.M_NH]) + int(m[fk.M_NW]) + fk.ROOM_FACES
-        if need_h > len(self.hkey):
-            self.hkey = _grow(self.hkey, need_h)
-            self.hface = _grow(self.hface, need_h)
+        if need_h > len(fs.hkey):
+            new.update(hkey=grown_rows(fs.hkey, need_h), hface=grown_rows(fs.hface, need_h))
         need_t = int(m[fk.M_NT]) + 2
-        if need_t > len(self.tri):
-            self.tri = _grow(self.tri, need_t)
-            self.tnext = _grow(self.tnext, need_t)
-            self.talive = _grow(self.talive, need_t, 0)
-        need_q = int(self.qmeta[Q_NODES]) + fk.ROOM_FACES * (int(self.qmeta[1]) + 1)
-        if need_q > len(self.qhead):
-            self.qhead = _grow(self.qhead, need_q, -1)
-            self.qchild = _grow(self.qchild, 4 * len(self.qhead), -1)
+        if need_t > len(fs.tri):
+            new.update(tri=grown_rows(fs.tri, need_t), tnext=grown_rows(fs.tnext, need_t), talive=grown_rows(fs.talive, need_t, 0))
+        need_q = int(fs.qmeta[Q_NODES]) + fk.ROOM_FACES * (int(fs.qmeta[1]) + 1)
+        if need_q > len(fs.qhead):
+            qhead = grown_rows(fs.qhead, need_q, -1)
+            new.update(qhead=qhead, qchild=grown_rows(fs.qchild, 4 * len(qhead), -1))
+        if new:
+            self.fs = fs._replace(**new)
 
     def advance(self, par) -> int:
-        return int(
-            fk.advance(
-                self.pts, self.met, self.vint, self.face, self.falive, self.qbox, self.qgeo, self.qmeta,
-                self.qchild, self.qhead, self.qnext, self.hkey, self.hface, self.wkey, self.wface, self.tri, self.tnext,
-                self.talive, self.meta, par,
-            )
-        )
+        return int(fk.advance(self.fs, par))
 
 
 def _fmt(p) -> str:
@@ -340,12 +317,13 @@ def advancing_front(
     par[fk.P_UNIFORM] = float(np.all(metric[used] == metric[used][0]) and _is_uniform(field) and cap is None)
     while True:
         code = fr.advance(par)
-        m = fr.meta
+        fs = fr.fs
+        m = fs.meta
         if code == fk.R_ROOM:
             fr.room()
         elif code == fk.R_SYNC:
             lo_i, hi_i = int(m[fk.M_SYNC]), int(m[fk.M_NP])
-            fr.met[lo_i:hi_i] = metric_at(field, fr.pts[lo_i:hi_i], cap)
+            fs.met[lo_i:hi_i] = metric_at(field, fs.pts[lo_i:hi_i], cap)
             m[fk.M_SYNC] = hi_i
             if progress is not None:
                 progress(hi_i)
@@ -355,20 +333,21 @@ def advancing_front(
             raise MeshingError(f"the advancing front made {int(m[fk.M_NP])} nodes, above max_points = {point_cap}")
         elif code == fk.R_STUCK:
             f = int(m[fk.M_FAIL])
-            a, b = fr.face[f, 0], fr.face[f, 1]
+            a, b = fs.face[f, 0], fs.face[f, 1]
             raise MeshingError(
-                f"advancing front: no valid triangle on front face {_fmt(fr.pts[a])} -> {_fmt(fr.pts[b])} "
+                f"advancing front: no valid triangle on front face {_fmt(fs.pts[a])} -> {_fmt(fs.pts[b])} "
                 f"after {int(m[fk.M_BACKOFF])} back-offs (max_backoff = {int(par[fk.P_MAX_BACKOFF])}); "
                 "the size field may vary too fast there for the boundary spacing"
             )
         else:
             raise MeshingError(f"advancing front: step cap hit after {int(m[fk.M_STEPS])} steps")
-    nt = int(fr.meta[fk.M_NT])
-    tris = fr.tri[:nt][fr.talive[:nt] == 1]
+    fs = fr.fs
+    nt = int(fs.meta[fk.M_NT])
+    tris = fs.tri[:nt][fs.talive[:nt] == 1]
     n0 = len(pts0)
-    npts = int(fr.meta[fk.M_NP])
+    npts = int(fs.meta[fk.M_NP])
     keep = np.zeros(npts, dtype=bool)
     keep[:n0] = True
     keep[tris.ravel()] = True
     newid = (np.cumsum(keep) - 1).astype(np.int32)
-    return fr.pts[:npts][keep].copy(), newid[tris]
+    return fs.pts[:npts][keep].copy(), newid[tris]

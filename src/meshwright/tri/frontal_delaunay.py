@@ -47,8 +47,8 @@ Sizes are evaluated inside the kernel on a background grid
 :class:`~meshwright.sizing.BackgroundGrid`, a uniform one for a constant, or for any other
 field a grid sampled at the vertices of a Delaunay refinement to ``SAMPLE`` times the size.
 
-Array layout: the kernel's flat ``tri``/``nbr`` (3 cap,) int32 of the
-:class:`ConstrainedTriangulation`; the rest in :mod:`meshwright.tri._frontal_kernel`.
+State: the :class:`ConstrainedTriangulation`'s two bundles (``state``, ``constraints``) and
+the method's ``FrontalState``, layout in :mod:`meshwright.tri._frontal_kernel`.
 """
 
 from __future__ import annotations
@@ -60,7 +60,7 @@ import numpy as np
 from meshwright.core.errors import MeshingError
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.field import as_size_field
-from meshwright.tri import _encroach as enc
+from meshwright.core.flat import grown_rows
 from meshwright.tri import _frontal_kernel as fk
 from meshwright.tri._kernel2d import M_NTRI
 
@@ -111,43 +111,30 @@ def frontal_delaunay(ct, size, *, max_points: int | None = None) -> None:
     par[fk.P_SPACING] = SPACING
     par[fk.P_MAX_POINTS] = np.iinfo(np.int32).max if max_points is None else int(max_points)
     par[fk.P_CONST] = field.constant if field.constant is not None else 0.0
-    slots = len(ct._treg)
-    acc = np.full(3 * slots, -2, dtype=np.int32)  # no triple matches: nothing accepted yet
-    stamp = np.zeros(slots, dtype=np.int64)
-    ratio = np.zeros(slots)
-    hkey = np.empty(max(1024, slots))
-    htri = np.empty((len(hkey), 4), dtype=np.int32)
-    fmeta = np.zeros(fk.FM_LEN, dtype=np.int64)
-    ntri = int(ct._meta[M_NTRI])
-    fk.start(ntri, ct._pts, ct._tri, ct._nbr, ct._treg, acc, ratio, hkey, htri, fmeta, par, *bg)
-    kind, data = ct._piece_tables()
-    st = np.zeros(enc.S_LEN, dtype=np.int64)
+    slots = len(ct.constraints.treg)
+    hcap = max(1024, slots)
+    f = fk.FrontalState(
+        acc=np.full(3 * slots, -2, dtype=np.int32),  # no triple matches: nothing accepted yet
+        ratio=np.zeros(slots), hkey=np.empty(hcap), htri=np.empty((hcap, 4), dtype=np.int32),
+        stamp=np.zeros(slots, dtype=np.int64), fmeta=np.zeros(fk.FM_LEN, dtype=np.int64), par=par,
+    )
+    fk.start(ct.state, ct.constraints, f, bg)
+    ct.refresh_pieces()
     while True:
-        st[enc.S_NV] = ct._nv
-        code = fk.run(
-            ct._pts, ct._tri, ct._nbr, ct._cons, ct._circ, ct._rank, ct._meta, ct._work, ct._vmark, ct._vtri,
-            ct._treg, ct._vseg, ct._vpar, ct._vacute, ct._seg, kind, data, st,
-            acc, ratio, hkey, htri, stamp, fmeta, par, *bg,
-        )
-        ct._nv = int(st[enc.S_NV])
+        code = fk.run(ct.state, ct.constraints, f, bg)
         if code == fk.F_DONE:
             return
         if code == fk.F_POINTS:
             raise MeshingError(f"frontal Delaunay reached max_points = {int(par[fk.P_MAX_POINTS])} vertices")
         if code == fk.F_BROKEN:
-            raise MeshingError(f"frontal Delaunay: an insertion met an inconsistent cavity ({ct._nv} vertices)")
+            raise MeshingError(f"frontal Delaunay: an insertion met an inconsistent cavity ({ct.n_points} vertices)")
         # Room: the triangulation, the per-slot arrays, the heap.
-        ntri = int(ct._meta[M_NTRI])
-        ct._ensure_points(ct._nv + 1024)
-        ct._ensure_slots(ntri + 2048)
-        if st[enc.S_GROW_WORK]:
-            st[enc.S_GROW_WORK] = 0
-            ct._grow_work()
-        slots = len(ct._treg)
-        if len(acc) < 3 * slots:
-            acc = np.concatenate([acc, np.full(3 * slots - len(acc), -2, dtype=np.int32)])
-            stamp = np.concatenate([stamp, np.zeros(slots - len(stamp), dtype=np.int64)])
-            ratio = np.concatenate([ratio, np.zeros(slots - len(ratio))])
-        if int(fmeta[fk.FM_HN]) + fk.HEAP_ROOM > len(hkey):
-            hkey = np.concatenate([hkey, np.empty(len(hkey))])
-            htri = np.concatenate([htri, np.empty_like(htri)])
+        ct.reserve(ct.n_points + 1024, int(ct.state.meta[M_NTRI]) + 2048)
+        slots = len(ct.constraints.treg)
+        hkey = f.hkey
+        if int(f.fmeta[fk.FM_HN]) + fk.HEAP_ROOM > len(hkey):
+            hkey = grown_rows(hkey, 2 * len(hkey))
+        f = f._replace(
+            acc=grown_rows(f.acc, 3 * slots, -2), stamp=grown_rows(f.stamp, slots, 0),
+            ratio=grown_rows(f.ratio, slots, 0.0), hkey=hkey, htri=grown_rows(f.htri, len(hkey)),
+        )

@@ -31,8 +31,19 @@ Algorithm (:func:`refine_loop`, one Numba loop over flat arrays)
 4. Every new triangle is examined as in 1.  Triangles whose shortest edge joins two segments
    meeting at a small input angle, at equal distance from the apex, are left alone.
 
-Priority queue: a binary min-heap (``hk`` int64 keys = quality bucket << 40 | sequence,
-``hp`` (t, a, b, c) payloads).  Sizes from a Python callable are evaluated in batches: new
+State: the insertion kernel's ``TriState`` ``s``, the constrained layer's ``CdtState`` ``c``
+(:mod:`meshwright.tri._encroach`) and this method's :class:`RefineState` ``r``, each one
+kernel argument::
+
+    hk   (hcap,)    int64    bad-triangle heap keys (quality bucket << 40 | sequence)
+    hp   (hcap, 4)  int32    heap payloads (t, a, b, c): stale entries are recognised
+    sq   (2 q,)     int32    stack of subsegments (a, b) to split
+    pend (4 p,)     int32    triangles (t, a, b, c) waiting for the size field at pcen
+    pcen (2 p,)     float64  their circumcentres
+    st   (S_LEN,)   int64    counters, caps, requests (slots ``S_*``)
+    prm  (P_LEN,)   float64  parameters, curve points, where the loop works (slots ``P_*``)
+
+Priority queue: the binary min-heap of :mod:`meshwright.core.heap` over ``hk``/``hp``.  Sizes from a Python callable are evaluated in batches: new
 triangles wait in ``pend`` with their circumcentres, and the loop returns when nothing else
 is left.  Curves that are not arcs are evaluated in Python one split at a time.
 
@@ -44,108 +55,137 @@ place where the loop was working.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
 from meshwright.core.errors import GeometryError, InputError, MeshingError
-from meshwright.core.flat import GHOST
+from meshwright.core.flat import GHOST, back3, grown_rows, index3, next3, prev3
+from meshwright.core.geom2d import circumcentre, corners, off_centre
+from meshwright.core.heap import heap_pop, heap_push
 from meshwright.core.predicates import incircle_sos
 from meshwright.sizing.field import as_size_field
 from meshwright.tri._encroach import (
-    MODE_CONFORM,
-    MODE_RUPPERT,
-    P_AMAX,
-    P_CT,
-    P_CX,
-    P_CY,
-    P_LEN,
-    P_OFF,
-    P_SIN2,
-    P_TA,
-    P_TB,
-    P_WX,
-    P_WY,
     R_BROKEN,
-    R_CAP_POINTS,
-    R_CAP_STEPS,
-    R_CURVE,
     R_DONE,
-    R_OFF_CURVE,
     R_ROOM,
-    R_SIZES,
-    S_CREADY,
-    S_GROW_WORK,
-    S_HN,
-    S_LEN,
-    S_MAXPTS,
-    S_MAXSTEPS,
-    S_MODE,
-    S_NV,
-    S_PN,
-    S_QN,
-    S_REQ_A,
-    S_REQ_B,
-    S_REQ_P,
-    S_SIZED,
-    S_SKIPPED,
-    S_STEPS,
     edge_of,
-    heap_pop,
-    heap_push,
-    push_seg,
     encroaches,
     key_of,
-    on_constraint,
     param_of,
     set_flags,
+    short_of_room,
     split_point,
-    walk_blocked,
 )
-from meshwright.tri._kernel2d import BROKEN, DUP_BASE, M_NTRI, NEED_SPACE, cavity, fan, split_edge
+from meshwright.tri._kernel2d import (
+    BROKEN, DUP_BASE, M_NTRI, M_NV, NEED_SPACE, cavity, fan, on_constraint, split_edge, walk,
+)
 
-__all__ = ["refine", "conform", "split_subsegment"]
+__all__ = ["refine", "conform", "split_subsegment", "RefineState"]
 
+# statuses of refine_loop besides R_DONE, R_ROOM, R_BROKEN
+R_SIZES = 2
+R_CURVE = 3
+R_CAP_POINTS = 4
+R_CAP_STEPS = 5
+R_OFF_CURVE = 7
+# st slots
+S_HN = 1  # heap size
+S_QN = 2  # subsegment stack size
+S_PN = 3  # triangles waiting for sizes
+S_SEQ = 4  # heap insertion counter (FIFO among equal keys)
+S_STEPS = 5
+S_MAXPTS = 6
+S_MAXSTEPS = 7
+S_CREADY = 9  # prm[P_CX:P_CT] holds the curve point asked for
+S_REQ_A = 10  # curve point request: subsegment (a, b) of piece p
+S_REQ_B = 11
+S_REQ_P = 12
+S_MODE = 13  # MODE_RUPPERT or MODE_CONFORM
+S_SIZED = 14  # 1 when the size field must be evaluated in Python
+S_SKIPPED = 15  # triangles left alone (small input angles, unreachable off-centres)
+S_LEN = 16
+# prm slots
+P_SIN2 = 0  # sin^2 of the minimum angle (0: no angle criterion)
+P_AMAX = 1  # global max area (inf: none)
+P_OFF = 2  # off-centre constant (0: circumcentres)
+P_CX = 3  # curve point given by Python
+P_CY = 4
+P_CT = 5
+P_TA = 6  # curve parameters of a request
+P_TB = 7
+P_WX = 8  # where the loop last worked (error messages)
+P_WY = 9
+P_LEN = 10
+MODE_RUPPERT = 0
+MODE_CONFORM = 1
 _EQUILATERAL = np.sqrt(3.0) / 4.0  # area of the equilateral triangle of side 1
+_BUCKETS = 4096  # resolution of the quality key: worst first, FIFO inside a bucket
+_SEQ_BITS = 40
+
+
+class RefineState(NamedTuple):
+    """Queues and counters of one refinement run (layout in the module docstring)."""
+
+    hk: np.ndarray
+    hp: np.ndarray
+    sq: np.ndarray
+    pend: np.ndarray
+    pcen: np.ndarray
+    st: np.ndarray
+    prm: np.ndarray
+
+
+# ------------------------------------------------------------------ queues
+@njit(inline="always")
+def push_seg(u, w, r):
+    """Queue subsegment u-w for splitting."""
+    q = r.st[S_QN]
+    r.sq[2 * q] = u
+    r.sq[2 * q + 1] = w
+    r.st[S_QN] = q + 1
 
 
 @njit(inline="always")
-def _next(k):
-    return 0 if k == 2 else k + 1
-
-
-@njit(inline="always")
-def _prev(k):
-    return 2 if k == 0 else k - 1
-
-
-@njit(inline="always")
-def _index(tri, t, v):
-    return 0 if tri[3 * t] == v else (1 if tri[3 * t + 1] == v else 2)
+def push_bad(key, t, tri, r):
+    """Heap triangle t (with its vertices, to recognise it later) by quality ``key``."""
+    seq = r.st[S_SEQ]
+    r.st[S_SEQ] = seq + 1
+    bucket = min(_BUCKETS - 1, int(key * (_BUCKETS / 0.75)))
+    k = (np.int64(bucket) << _SEQ_BITS) | (seq & ((np.int64(1) << _SEQ_BITS) - 1))
+    i = heap_push(r.hk, r.hp, r.st[S_HN], k)
+    r.st[S_HN] += 1
+    r.hp[i, 0] = t
+    for j in range(3):
+        r.hp[i, j + 1] = tri[3 * t + j]
 
 
 # ------------------------------------------------------------------ triangle tests
 @njit(cache=True)
-def vertex_piece(u, tri, nbr, cons, vtri, vseg):
+def vertex_piece(u, s, c):
     """A segment piece through vertex u (its own for split vertices), or -1."""
-    if vseg[u] >= 0:
-        return vseg[u]
-    t = vtri[u]
+    if c.vseg[u] >= 0:
+        return c.vseg[u]
+    tri = s.tri
+    t = c.vtri[u]
     start = t
     while True:
-        i = _index(tri, t, u)
-        for k in (_next(i), _prev(i)):
-            if cons[3 * t + k] != 0:
-                return cons[3 * t + k] - 1
-        t = nbr[3 * t + _next(i)]
+        i = index3(tri, t, u)
+        for k in (next3(i), prev3(i)):
+            if s.cons[3 * t + k] != 0:
+                return s.cons[3 * t + k] - 1
+        t = s.nbr[3 * t + next3(i)]
         if t == start:
             return -1
 
 
 @njit(cache=True)
-def _small_angle_apex(u, w, pts, tri, nbr, cons, vtri, vseg, seg):
+def _small_angle_apex(u, w, s, c):
     """Shewchuk's rule: u and w on two segments meeting at a vertex, equally far from it."""
-    pu = vertex_piece(u, tri, nbr, cons, vtri, vseg)
-    pw = vertex_piece(w, tri, nbr, cons, vtri, vseg)
+    pu = vertex_piece(u, s, c)
+    pw = vertex_piece(w, s, c)
+    seg, pts = c.seg, s.pts
     if pu < 0 or pw < 0 or pu == pw:
         return False
     j = -1
@@ -169,12 +209,7 @@ def quality(t, pts, tri):
     a = tri[3 * t]
     b = tri[3 * t + 1]
     c = tri[3 * t + 2]
-    ax = pts[a, 0]
-    ay = pts[a, 1]
-    bx = pts[b, 0]
-    by = pts[b, 1]
-    cx = pts[c, 0]
-    cy = pts[c, 1]
+    ax, ay, bx, by, cx, cy = corners(pts, tri, t)
     l0 = (cx - bx) ** 2 + (cy - by) ** 2
     l1 = (ax - cx) ** 2 + (ay - cy) ** 2
     l2 = (bx - ax) ** 2 + (by - ay) ** 2
@@ -186,58 +221,16 @@ def quality(t, pts, tri):
     return cross * cross / (l0 * l1), 0.5 * cross, a, b
 
 
-@njit(inline="always")
-def _circumcentre(ax, ay, bx, by, cx, cy):
-    """Circumcentre of a counter-clockwise triangle (floating point, relative to a)."""
-    ux = bx - ax
-    uy = by - ay
-    wx = cx - ax
-    wy = cy - ay
-    uu = ux * ux + uy * uy
-    ww = wx * wx + wy * wy
-    d = 0.5 / (ux * wy - uy * wx)
-    return ax + (wy * uu - uy * ww) * d, ay + (ux * ww - wx * uu) * d
-
-
 @njit(cache=True)
 def steiner_point(t, pts, tri, off):
-    """Off-centre of triangle t (Üngör 2004, with Triangle's constant), else its circumcentre.
-
-    On the bisector of the shortest edge pq, at ``off * |pq|`` from its midpoint towards the
-    third vertex: the apex of the isosceles triangle on pq whose apex angle is the bound.
-    Used when it is nearer to pq than the circumcentre.
-    """
-    a = tri[3 * t]
-    b = tri[3 * t + 1]
-    c = tri[3 * t + 2]
-    ax = pts[a, 0]
-    ay = pts[a, 1]
-    bx = pts[b, 0]
-    by = pts[b, 1]
-    cx = pts[c, 0]
-    cy = pts[c, 1]
-    ox, oy = _circumcentre(ax, ay, bx, by, cx, cy)
-    if off <= 0.0:
-        return ox, oy
-    l0 = (cx - bx) ** 2 + (cy - by) ** 2
-    l1 = (ax - cx) ** 2 + (ay - cy) ** 2
-    l2 = (bx - ax) ** 2 + (by - ay) ** 2
-    if l0 <= l1 and l0 <= l2:
-        px, py, qx, qy = bx, by, cx, cy
-    elif l1 <= l2:
-        px, py, qx, qy = cx, cy, ax, ay
-    else:
-        px, py, qx, qy = ax, ay, bx, by
-    # Left normal of p -> q points into the counter-clockwise triangle.
-    fx = 0.5 * (px + qx) - off * (qy - py)
-    fy = 0.5 * (py + qy) + off * (qx - px)
-    if (fx - px) ** 2 + (fy - py) ** 2 < (ox - px) ** 2 + (oy - py) ** 2:
-        return fx, fy
-    return ox, oy
+    """Off-centre of triangle t (Üngör 2004, with Triangle's constant ``off``), else its
+    circumcentre when nearer (:func:`meshwright.core.geom2d.off_centre`)."""
+    ax, ay, bx, by, cx, cy = corners(pts, tri, t)
+    return off_centre(ax, ay, bx, by, cx, cy, off)
 
 
 @njit(cache=True)
-def examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm):
+def examine(t, s, c, r):
     """Queue what is wrong with finite triangle t: encroached subsegments, bad quality.
 
     Ruppert mode (t inside): each constrained edge of t encroached by its apex in t is
@@ -245,156 +238,162 @@ def examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, 
     the (regional) maximum, else to the size queue when the size field is evaluated in
     Python.  Conforming mode: constrained edges of t that are not locally Delaunay are pushed.
     """
+    pts, tri, nbr, cons, st = s.pts, s.tri, s.nbr, s.cons, r.st
     b3 = 3 * t
     a = tri[b3]
     b = tri[b3 + 1]
-    c = tri[b3 + 2]
-    ax = pts[a, 0]
-    ay = pts[a, 1]
-    bx = pts[b, 0]
-    by = pts[b, 1]
-    cx = pts[c, 0]
-    cy = pts[c, 1]
+    cc = tri[b3 + 2]
+    ax, ay, bx, by, cx, cy = corners(pts, tri, t)
     if st[S_MODE] == MODE_CONFORM:
+        rank = s.rank
         for k in range(3):
             n = nbr[b3 + k]
             if cons[b3 + k] != 0 and tri[3 * n + 2] != GHOST:
-                d = tri[3 * n + (0 if nbr[3 * n] == t else (1 if nbr[3 * n + 1] == t else 2))]
+                d = tri[3 * n + back3(nbr, n, t)]
                 if incircle_sos(
                     ax, ay, bx, by, cx, cy, pts[d, 0], pts[d, 1],
-                    key_of(rank, a), key_of(rank, b), key_of(rank, c), key_of(rank, d),
+                    key_of(rank, a), key_of(rank, b), key_of(rank, cc), key_of(rank, d),
                 ) > 0:
-                    push_seg(tri[b3 + _next(k)], tri[b3 + _prev(k)], sq, st)
+                    push_seg(tri[b3 + next3(k)], tri[b3 + prev3(k)], r)
         return
     for k in range(3):
         if cons[b3 + k] != 0:
             x = tri[b3 + k]
-            u = tri[b3 + _next(k)]
-            w = tri[b3 + _prev(k)]
+            u = tri[b3 + next3(k)]
+            w = tri[b3 + prev3(k)]
             if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[x, 0], pts[x, 1]):
-                push_seg(u, w, sq, st)
+                push_seg(u, w, r)
     sin2, area, su, sw = quality(t, pts, tri)
-    bad_area = area > prm[P_AMAX] or area > rarea[treg[t]]
-    bad_angle = sin2 < prm[P_SIN2]
-    if bad_angle and not bad_area and _small_angle_apex(su, sw, pts, tri, nbr, cons, vtri, vseg, seg):
+    bad_area = area > r.prm[P_AMAX] or area > c.rarea[c.treg[t]]
+    bad_angle = sin2 < r.prm[P_SIN2]
+    if bad_angle and not bad_area and _small_angle_apex(su, sw, s, c):
         st[S_SKIPPED] += 1
         bad_angle = False
     if bad_angle or bad_area:
-        heap_push(sin2, t, tri, hk, hp, st)
+        push_bad(sin2, t, tri, r)
     elif st[S_SIZED] != 0:
         i = st[S_PN]
         st[S_PN] = i + 1
-        pend[4 * i] = t
-        pend[4 * i + 1] = a
-        pend[4 * i + 2] = b
-        pend[4 * i + 3] = c
-        ox, oy = _circumcentre(ax, ay, bx, by, cx, cy)
-        pcen[2 * i] = ox
-        pcen[2 * i + 1] = oy
+        r.pend[4 * i] = t
+        r.pend[4 * i + 1] = a
+        r.pend[4 * i + 2] = b
+        r.pend[4 * i + 3] = cc
+        ox, oy = circumcentre(ax, ay, bx, by, cx, cy)
+        r.pcen[2 * i] = ox
+        r.pcen[2 * i + 1] = oy
 
 
 @njit(cache=True)
-def _examine_star(v, tn, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm):
+def _examine_star(v, tn, s, c, r):
     """:func:`examine` every new triangle around v that takes part (inside; all in conforming)."""
-    conform = st[S_MODE] == MODE_CONFORM
+    conform = r.st[S_MODE] == MODE_CONFORM
+    tri = s.tri
     t = tn
     while True:
-        i = _index(tri, t, v)
-        if tri[3 * t + 2] != GHOST and (conform or treg[t] >= 0):
-            examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
-        t = nbr[3 * t + _next(i)]
+        i = index3(tri, t, v)
+        if tri[3 * t + 2] != GHOST and (conform or c.treg[t] >= 0):
+            examine(t, s, c, r)
+        t = s.nbr[3 * t + next3(i)]
         if t == tn:
             return
 
 
 @njit(cache=True)
-def seed_queues(pts, tri, nbr, cons, rank, meta, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm):
+def seed_queues(s, c, r):
     """Examine every taking-part triangle once (the start of a refinement run)."""
-    conform = st[S_MODE] == MODE_CONFORM
-    for t in range(meta[M_NTRI]):
-        if tri[3 * t + 2] != GHOST and (conform or treg[t] >= 0):
-            examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
+    conform = r.st[S_MODE] == MODE_CONFORM
+    for t in range(s.meta[M_NTRI]):
+        if s.tri[3 * t + 2] != GHOST and (conform or c.treg[t] >= 0):
+            examine(t, s, c, r)
 
 
 @njit(cache=True)
-def apply_sizes(h, pts, tri, hk, hp, pend, st):
+def apply_sizes(h, s, r):
     """Heap the waiting triangles larger than the equilateral triangle of side h.
 
     ``h`` (pn,) float64 is the size field at their circumcentres ``pcen``; triangles that
     changed since they were queued are dropped (their successors were examined).
     """
-    for i in range(st[S_PN]):
+    tri, pend = s.tri, r.pend
+    for i in range(r.st[S_PN]):
         t = pend[4 * i]
         if tri[3 * t] == pend[4 * i + 1] and tri[3 * t + 1] == pend[4 * i + 2] and tri[3 * t + 2] == pend[4 * i + 3]:
-            sin2, area, _, _ = quality(t, pts, tri)
+            sin2, area, _, _ = quality(t, s.pts, tri)
             if area > _EQUILATERAL * h[i] * h[i]:
-                heap_push(sin2, t, tri, hk, hp, st)
-    st[S_PN] = 0
+                push_bad(sin2, t, tri, r)
+    r.st[S_PN] = 0
 
 
 @njit(inline="always")
-def _short(nv, ntri, pts, tri, nbr, cons, vmark, work, vtri, treg, vseg, vpar, vacute, hk, sq, pend, st):
+def _short(s, c, r):
     """Whether some array lacks room for one more step (one insertion and its queue pushes)."""
-    wcap = work.shape[0] // 5
-    need = 3 * (ntri + 2)
+    wcap = s.work.shape[0] // 5
+    st = r.st
     return (
-        need > tri.shape[0]
-        or need > nbr.shape[0]
-        or need > cons.shape[0]
-        or ntri + 2 > treg.shape[0]
-        or nv + 1 > pts.shape[0]
-        or vmark.shape[0] <= pts.shape[0]
-        or nv + 1 > min(vtri.shape[0], vseg.shape[0], vpar.shape[0], vacute.shape[0])
-        or st[S_HN] + wcap + 1 > hk.shape[0]
-        or 2 * (st[S_QN] + 3 * wcap + 3) > sq.shape[0]
-        or 4 * (st[S_PN] + wcap + 1) > pend.shape[0]
+        short_of_room(s, c, s.meta[M_NV] + 1, s.meta[M_NTRI] + 2)
+        or st[S_HN] + wcap + 1 > r.hk.shape[0]
+        or 2 * (st[S_QN] + 3 * wcap + 3) > r.sq.shape[0]
+        or 4 * (st[S_PN] + wcap + 1) > r.pend.shape[0]
     )
 
 
+@njit(inline="always")
+def _new_vertex(v, tn, piece, tpar, a, b, fl, fr, f0, s, c, r):
+    """Record a new vertex v (on ``piece`` at parameter ``tpar``, or -1) and queue its star."""
+    c.vseg[v] = piece
+    c.vpar[v] = tpar
+    c.vacute[v] = 0
+    s.meta[M_NV] = v + 1
+    set_flags(v, tn, a, b, fl, fr, f0, s, c)
+    _examine_star(v, tn, s, c, r)
+
+
 @njit(cache=True)
-def refine_loop(
-    pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg, vseg, vpar, vacute,
-    seg, pkind, pdat, rarea, hk, hp, sq, pend, pcen, st, prm,
-):
+def refine_loop(s, c, r):
     """Run Delaunay refinement (or conforming splits) until done or Python is needed.
 
-    Parameters are the state arrays of the module docstring.  Every return leaves the state
-    consistent, so calling again continues.
+    Parameters
+    ----------
+    s : TriState
+    c : CdtState
+    r : RefineState
+        The three bundles of the module docstring.  Every return leaves them consistent, so
+        calling again (after growing them on ``R_ROOM``) continues.
 
     Returns
     -------
     int
-        ``R_DONE``; ``R_ROOM`` (grow the arrays; ``st[S_GROW_WORK]`` asks for the cavity
-        scratch); ``R_SIZES`` (evaluate the size field at ``pcen``, call
-        :func:`apply_sizes`); ``R_CURVE`` (put the split point of subsegment
+        ``R_DONE``; ``R_ROOM`` (grow the bundles); ``R_SIZES`` (evaluate the size field at
+        ``pcen``, call :func:`apply_sizes`); ``R_CURVE`` (put the split point of subsegment
         ``st[S_REQ_A], st[S_REQ_B]`` of piece ``st[S_REQ_P]``, between parameters
         ``prm[P_TA], prm[P_TB]``, in ``prm[P_CX:P_CT + 1]`` and set ``st[S_CREADY]``);
         ``R_CAP_POINTS`` / ``R_CAP_STEPS`` (a cap was hit near ``prm[P_WX], prm[P_WY]``);
         ``R_BROKEN`` (inconsistent cavity); ``R_OFF_CURVE`` (the split point of the requested
         subsegment lies neither on it nor inside its two triangles).
     """
-    popped = np.empty(4, dtype=np.int32)
+    pts, tri, nbr, cons, meta, treg, st, prm = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg, r.st, r.prm
+    sq = r.sq
     while True:
-        nv = st[S_NV]
-        if _short(nv, meta[M_NTRI], pts, tri, nbr, cons, vmark, work, vtri, treg, vseg, vpar, vacute, hk, sq, pend, st):
+        nv = meta[M_NV]
+        if _short(s, c, r):
             return R_ROOM
         if st[S_QN] > 0:
             q = st[S_QN] - 1
             a = sq[2 * q]
             b = sq[2 * q + 1]
-            h = edge_of(a, b, tri, nbr, vtri)
+            h = edge_of(a, b, tri, nbr, c.vtri)
             if h < 0 or cons[h] == 0:
                 st[S_QN] = q  # split or freed meanwhile
                 continue
             p = cons[h] - 1
-            x, y, tpar, ok = split_point(p, a, b, pts, seg, pkind, pdat, vpar, vacute)
+            x, y, tpar, ok = split_point(p, a, b, s, c)
             if not ok:
                 if st[S_CREADY] == 0 or st[S_REQ_A] != a or st[S_REQ_B] != b:
                     st[S_REQ_A] = a
                     st[S_REQ_B] = b
                     st[S_REQ_P] = p
-                    prm[P_TA] = param_of(p, a, seg, pdat, vpar)
-                    prm[P_TB] = param_of(p, b, seg, pdat, vpar)
+                    prm[P_TA] = param_of(p, a, c.seg, c.pdat, c.vpar)
+                    prm[P_TB] = param_of(p, b, c.seg, c.pdat, c.vpar)
                     return R_CURVE
                 x = prm[P_CX]
                 y = prm[P_CY]
@@ -410,10 +409,9 @@ def refine_loop(
             pts[nv, 1] = y
             fl = treg[h // 3]
             fr = treg[nbr[h]]
-            tn = split_edge(nv, h, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
+            tn = split_edge(nv, h, s)
             if tn == NEED_SPACE:
                 st[S_STEPS] -= 1
-                st[S_GROW_WORK] = 1
                 return R_ROOM
             if tn < 0:
                 st[S_REQ_A] = a
@@ -422,23 +420,19 @@ def refine_loop(
                 return R_OFF_CURVE
             st[S_CREADY] = 0
             st[S_QN] = q
-            vseg[nv] = p
-            vpar[nv] = tpar
-            vacute[nv] = 0
-            st[S_NV] = nv + 1
-            set_flags(nv, tn, a, b, fl, fr, 0, tri, nbr, vtri, treg)
-            _examine_star(nv, tn, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
+            _new_vertex(nv, tn, p, tpar, a, b, fl, fr, 0, s, c, r)
             continue
         if st[S_HN] > 0:
-            heap_pop(hk, hp, st, popped)
-            t = popped[0]
-            if (
+            t = r.hp[0, 0]
+            stale = (
                 t >= meta[M_NTRI]
-                or tri[3 * t] != popped[1]
-                or tri[3 * t + 1] != popped[2]
-                or tri[3 * t + 2] != popped[3]
-                or treg[t] < 0
-            ):
+                or tri[3 * t] != r.hp[0, 1]
+                or tri[3 * t + 1] != r.hp[0, 2]
+                or tri[3 * t + 2] != r.hp[0, 3]
+            )
+            heap_pop(r.hk, r.hp, st[S_HN])
+            st[S_HN] -= 1
+            if stale or treg[t] < 0:
                 continue
             st[S_STEPS] += 1
             x, y = steiner_point(t, pts, tri, prm[P_OFF])
@@ -446,13 +440,13 @@ def refine_loop(
             prm[P_WY] = y
             if st[S_STEPS] > st[S_MAXSTEPS]:
                 return R_CAP_STEPS
-            t0, hb = walk_blocked(pts, tri, nbr, cons, meta, t, x, y)
+            t0, hb = walk(s, t, x, y, True)
             if hb < 0 and tri[3 * t0 + 2] != GHOST:
-                hb = on_constraint(t0, x, y, pts, tri, cons)
+                hb = on_constraint(t0, x, y, s)
             if hb >= 0:
                 # Hidden behind, or on, a subsegment: split that one first.
-                push_seg(tri[_next(hb % 3) + hb - hb % 3], tri[_prev(hb % 3) + hb - hb % 3], sq, st)
-                heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
+                push_seg(tri[next3(hb % 3) + hb - hb % 3], tri[prev3(hb % 3) + hb - hb % 3], r)
+                push_bad(quality(t, pts, tri)[0], t, tri, r)
                 continue
             if tri[3 * t0 + 2] == GHOST or treg[t0] < 0:
                 st[S_SKIPPED] += 1  # unreachable without crossing a segment: cannot happen
@@ -461,10 +455,9 @@ def refine_loop(
                 return R_CAP_POINTS
             pts[nv, 0] = x
             pts[nv, 1] = y
-            ncav = cavity(nv, t0, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
+            ncav = cavity(nv, t0, s)
             if ncav == NEED_SPACE:
-                heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
-                st[S_GROW_WORK] = 1
+                push_bad(quality(t, pts, tri)[0], t, tri, r)
                 return R_ROOM
             if ncav == BROKEN:
                 return R_BROKEN
@@ -473,6 +466,7 @@ def refine_loop(
                 continue
             # Reject a point inside the diametral circle of a subsegment on its cavity
             # boundary (the only subsegments it can encroach): split those instead.
+            work = s.work
             bo = 2 * (work.shape[0] // 5)
             enc = False
             for j in range(ncav + 2):
@@ -481,19 +475,14 @@ def refine_loop(
                     u = work[o]
                     w = work[o + 1]
                     if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y):
-                        push_seg(u, w, sq, st)
+                        push_seg(u, w, r)
                         enc = True
             if enc:
-                heap_push(quality(t, pts, tri)[0], t, tri, hk, hp, st)
+                push_bad(quality(t, pts, tri)[0], t, tri, r)
                 continue
             f0 = treg[t0]
-            tn = fan(nv, ncav, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
-            vseg[nv] = -1
-            vpar[nv] = 0.0
-            vacute[nv] = 0
-            st[S_NV] = nv + 1
-            set_flags(nv, tn, -1, -1, 0, 0, f0, tri, nbr, vtri, treg)
-            _examine_star(nv, tn, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
+            tn = fan(nv, ncav, s)
+            _new_vertex(nv, tn, -1, 0.0, -1, -1, 0, 0, f0, s, c, r)
             continue
         if st[S_PN] > 0:
             return R_SIZES
@@ -501,95 +490,75 @@ def refine_loop(
 
 
 @njit(cache=True)
-def _split_at(v, h, pts, tri, nbr, cons, circ, rank, meta, work, vmark, vtri, treg):
+def _split_at(v, h, s, c):
     """Split the subsegment of half-edge h at ``pts[v]`` and flag the new triangles."""
-    a = tri[3 * (h // 3) + _next(h % 3)]
-    b = tri[3 * (h // 3) + _prev(h % 3)]
-    fl = treg[h // 3]
-    fr = treg[nbr[h]]
-    tn = split_edge(v, h, pts, tri, nbr, cons, circ, rank, meta, work, vmark)
+    a = s.tri[3 * (h // 3) + next3(h % 3)]
+    b = s.tri[3 * (h // 3) + prev3(h % 3)]
+    fl = c.treg[h // 3]
+    fr = c.treg[s.nbr[h]]
+    tn = split_edge(v, h, s)
     if tn >= 0:
-        set_flags(v, tn, a, b, fl, fr, 0, tri, nbr, vtri, treg)
+        set_flags(v, tn, a, b, fl, fr, 0, s, c)
     return tn
 
 
 # ---------------------------------------------------------------------------- driver
 class _Run:
-    """Queues and counters of one refinement run on a ConstrainedTriangulation ``ct``."""
+    """The :class:`RefineState` of one refinement run on a ConstrainedTriangulation ``ct``."""
 
     def __init__(self, ct, mode: int, sin2: float, amax: float, off: float, sized: bool, max_points: int, max_steps: int):
         self.ct = ct
-        self.kind, self.data = ct._piece_tables()
-        ct._acute()
-        ntri = int(ct._meta[M_NTRI])
-        self.st = np.zeros(S_LEN, dtype=np.int64)
-        self.st[S_NV] = ct._nv
-        self.st[S_MODE] = mode
-        self.st[S_SIZED] = int(sized)
-        self.st[S_MAXPTS] = max_points
-        self.st[S_MAXSTEPS] = max_steps
-        self.prm = np.zeros(P_LEN)
-        self.prm[P_SIN2] = sin2
-        self.prm[P_AMAX] = amax
-        self.prm[P_OFF] = off
-        cap = 2 * ntri + 1024
-        self.hk = np.empty(cap, dtype=np.int64)
-        self.hp = np.empty(4 * cap, dtype=np.int32)
-        self.sq = np.empty(2 * (3 * cap), dtype=np.int32)
-        self.pend = np.empty(4 * cap, dtype=np.int32)
-        self.pcen = np.empty(2 * cap)
-
-    def args(self):
-        ct = self.ct
-        return (
-            ct._pts, ct._tri, ct._nbr, ct._cons, ct._circ, ct._rank, ct._meta, ct._work, ct._vmark,
-            ct._vtri, ct._treg, ct._vseg, ct._vpar, ct._vacute, ct._seg, self.kind, self.data,
-            ct._rarea, self.hk, self.hp, self.sq, self.pend, self.pcen, self.st, self.prm,
+        ct.refresh_pieces()
+        ct.mark_acute()
+        st = np.zeros(S_LEN, dtype=np.int64)
+        st[S_MODE] = mode
+        st[S_SIZED] = int(sized)
+        st[S_MAXPTS] = max_points
+        st[S_MAXSTEPS] = max_steps
+        prm = np.zeros(P_LEN)
+        prm[P_SIN2] = sin2
+        prm[P_AMAX] = amax
+        prm[P_OFF] = off
+        cap = 2 * int(ct.state.meta[M_NTRI]) + 1024
+        self.r = RefineState(
+            np.empty(cap, dtype=np.int64), np.empty((cap, 4), dtype=np.int32), np.empty(2 * (3 * cap), dtype=np.int32),
+            np.empty(4 * cap, dtype=np.int32), np.empty(2 * cap), st, prm,
         )
 
     def seed(self) -> None:
-        ct = self.ct
-        seed_queues(
-            ct._pts, ct._tri, ct._nbr, ct._cons, ct._rank, ct._meta, ct._vtri, ct._treg, ct._vseg,
-            ct._seg, ct._rarea, self.hk, self.hp, self.sq, self.pend, self.pcen, self.st, self.prm,
-        )
+        seed_queues(self.ct.state, self.ct.constraints, self.r)
 
     def grow(self, estimate: int) -> None:
         """Double whatever :func:`refine_loop` found short (``estimate``: expected vertices)."""
-        ct, st = self.ct, self.st
-        if st[S_GROW_WORK]:
-            st[S_GROW_WORK] = 0
-            ct._grow_work()
-        nv = int(st[S_NV])
-        ct._nv = nv
-        ntri = int(ct._meta[M_NTRI])
-        wcap = ct._work.shape[0] // 5
-        ct._ensure_points(max(nv + 2, min(estimate, 2 * nv + 2)))
-        ct._ensure_slots(max(ntri + 4, min(2 * estimate + 8, 2 * ntri + 4)))
-        if st[S_HN] + wcap + 1 > len(self.hk):
-            self.hk = _doubled(self.hk, st[S_HN] + wcap + 1)
-            self.hp = _doubled(self.hp, 4 * len(self.hk))
-        if 2 * (st[S_QN] + 3 * wcap + 3) > len(self.sq):
-            self.sq = _doubled(self.sq, 2 * (st[S_QN] + 3 * wcap + 3))
-        if 4 * (st[S_PN] + wcap + 1) > len(self.pend):
-            self.pend = _doubled(self.pend, 4 * (st[S_PN] + wcap + 1))
-            self.pcen = _doubled(self.pcen, len(self.pend) // 2)
+        ct, r = self.ct, self.r
+        st = r.st
+        nv = ct.n_points
+        ntri = int(ct.state.meta[M_NTRI])
+        ct.reserve(max(nv + 2, min(estimate, 2 * nv + 2)), max(ntri + 4, min(2 * estimate + 8, 2 * ntri + 4)))
+        wcap = ct.state.work.shape[0] // 5
+        hk = grown_rows(r.hk, int(st[S_HN]) + wcap + 1)
+        sq = grown_rows(r.sq, 2 * (int(st[S_QN]) + 3 * wcap + 3))
+        pend = grown_rows(r.pend, 4 * (int(st[S_PN]) + wcap + 1))
+        self.r = r._replace(
+            hk=hk, hp=grown_rows(r.hp, len(hk)), sq=sq, pend=pend, pcen=grown_rows(r.pcen, len(pend) // 2)
+        )
 
     def curve_point(self) -> None:
         """Answer an ``R_CURVE`` request: the split point on a curve known only to Python."""
-        ct, st, prm = self.ct, self.st, self.prm
+        ct, st, prm = self.ct, self.r.st, self.r.prm
+        pts = ct.state.pts
         a, b, p = int(st[S_REQ_A]), int(st[S_REQ_B]), int(st[S_REQ_P])
-        row = int(ct._seg_in[p])
+        row = int(ct.constraints.seg_in[p])
         if callable(ct.curves) and not hasattr(ct.curves, "split"):
-            xy = np.asarray(ct.curves(int(ct.segment_ids[row]), ct._pts[a].copy(), ct._pts[b].copy()), dtype=np.float64)
+            xy = np.asarray(ct.curves(int(ct.segment_ids[row]), pts[a].copy(), pts[b].copy()), dtype=np.float64)
             if xy.shape != (2,) or not np.isfinite(xy).all():
                 raise InputError(f"curves({int(ct.segment_ids[row])}, ...) must return a finite (2,) point, got {xy!r}")
             x, y, t = float(xy[0]), float(xy[1]), 0.0
         else:
             ta, tb = float(prm[P_TA]), float(prm[P_TB])
             # Vertices inserted on a curved segment by hand have no parameter yet.
-            ta = ct.curves.project(row, ct._pts[a]) if np.isnan(ta) else ta
-            tb = ct.curves.project(row, ct._pts[b]) if np.isnan(tb) else tb
+            ta = ct.curves.project(row, pts[a]) if np.isnan(ta) else ta
+            tb = ct.curves.project(row, pts[b]) if np.isnan(tb) else tb
             x, y, t = ct.curves.split(row, ta, tb)
         prm[P_CX], prm[P_CY], prm[P_CT] = x, y, t
         st[S_CREADY] = 1
@@ -599,35 +568,33 @@ class _Run:
 
         ``progress(n_vertices)`` is called whenever the loop hands control back to Python.
         """
-        ct, st = self.ct, self.st
-        try:
-            while True:
-                code = refine_loop(*self.args())
-                if progress is not None:
-                    progress(int(st[S_NV]))
-                if code == R_DONE:
-                    return
-                if code == R_ROOM:
-                    self.grow(estimate)
-                elif code == R_SIZES:
-                    pn = int(st[S_PN])
-                    h = size(self.pcen[: 2 * pn].reshape(pn, 2))
-                    # Every waiting triangle may go to the heap.
-                    if st[S_HN] + pn + 1 > len(self.hk):
-                        self.hk = _doubled(self.hk, int(st[S_HN]) + pn + 1)
-                        self.hp = _doubled(self.hp, 4 * len(self.hk))
-                    apply_sizes(h, ct._pts, ct._tri, self.hk, self.hp, self.pend, st)
-                elif code == R_CURVE:
-                    self.curve_point()
-                else:
-                    self._fail(code, what)
-        finally:
-            ct._nv = int(st[S_NV])
+        ct = self.ct
+        while True:
+            code = refine_loop(ct.state, ct.constraints, self.r)
+            st = self.r.st
+            if progress is not None:
+                progress(ct.n_points)
+            if code == R_DONE:
+                return
+            if code == R_ROOM:
+                self.grow(estimate)
+            elif code == R_SIZES:
+                pn = int(st[S_PN])
+                h = size(self.r.pcen[: 2 * pn].reshape(pn, 2))
+                # Every waiting triangle may go to the heap.
+                hk = grown_rows(self.r.hk, int(st[S_HN]) + pn + 1)
+                self.r = self.r._replace(hk=hk, hp=grown_rows(self.r.hp, len(hk)))
+                apply_sizes(h, ct.state, self.r)
+            elif code == R_CURVE:
+                self.curve_point()
+            else:
+                self._fail(code, what)
 
     def _fail(self, code: int, what: str) -> None:
-        ct, st, prm = self.ct, self.st, self.prm
+        ct, st, prm = self.ct, self.r.st, self.r.prm
+        pts = ct.state.pts
         where = f"({prm[P_WX]:.17g}, {prm[P_WY]:.17g})"
-        done = int(st[S_NV])
+        done = ct.n_points
         if code == R_CAP_POINTS:
             raise MeshingError(
                 f"{what}: max_points={int(st[S_MAXPTS])} reached while working near {where}; "
@@ -641,17 +608,11 @@ class _Run:
         if code == R_OFF_CURVE:
             a, b, p = int(st[S_REQ_A]), int(st[S_REQ_B]), int(st[S_REQ_P])
             raise GeometryError(
-                f"{what}: subsegment {tuple(ct._pts[a])}-{tuple(ct._pts[b])} of segment "
-                f"{int(ct._seg_in[p])} cannot be split at {where}: the point is neither on it nor "
+                f"{what}: subsegment {tuple(pts[a])}-{tuple(pts[b])} of segment "
+                f"{int(ct.constraints.seg_in[p])} cannot be split at {where}: the point is neither on it nor "
                 "inside its two triangles (a vertex lies between the chord and the true curve)"
             )
         raise MeshingError(f"{what}: inserting a vertex near {where} met an inconsistent cavity")
-
-
-def _doubled(a: np.ndarray, need: int) -> np.ndarray:
-    out = np.empty(max(need, 2 * len(a)), dtype=a.dtype)
-    out[: len(a)] = a
-    return out
 
 
 def _estimate(ct, amax: float, size) -> float:
@@ -659,12 +620,12 @@ def _estimate(ct, amax: float, size) -> float:
     tris = ct.triangles(True)
     if not len(tris):
         return 0.0
-    p = ct._pts
+    p = ct.points
     a, b, c = p[tris[:, 0]], p[tris[:, 1]], p[tris[:, 2]]
     area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
-    ntri = int(ct._meta[M_NTRI])
-    reg = ct._treg[:ntri][ct._mask(True)]
-    bound = np.minimum(amax, ct._rarea[np.maximum(reg, 0)])
+    ntri = int(ct.state.meta[M_NTRI])
+    reg = ct.constraints.treg[:ntri][ct.inside_slots()]
+    bound = np.minimum(amax, ct.constraints.rarea[np.maximum(reg, 0)])
     if size is not None and size.constant is None:
         h = np.minimum(np.minimum(size(a), size(b)), np.minimum(size(c), size((a + b + c) / 3.0)))
         bound = np.minimum(bound, _EQUILATERAL * h * h)
@@ -745,11 +706,12 @@ def refine(
 
 def _close_open_hull(ct) -> None:
     """Constrain free hull edges whose inner triangle is inside (they bound the domain)."""
-    ntri = int(ct._meta[M_NTRI])
-    g = np.flatnonzero(ct._tri[2 : 3 * ntri : 3] == GHOST)
+    s = ct.state
+    ntri = int(s.meta[M_NTRI])
+    g = np.flatnonzero(s.tri[2 : 3 * ntri : 3] == GHOST)
     h = 3 * g + 2
-    inner = ct._nbr[h]
-    if np.any((ct._cons[h] == 0) & (ct._treg[inner] >= 0)):
+    inner = s.nbr[h]
+    if np.any((s.cons[h] == 0) & (ct.constraints.treg[inner] >= 0)):
         ct.close_hull()
 
 
@@ -767,37 +729,40 @@ def conform(ct) -> None:
 
 def split_subsegment(ct, a: int, b: int, xy=None) -> int:
     """Split subsegment ab of ``ct`` at ``xy`` or at its split point; return the new vertex."""
-    h = int(edge_of(a, b, ct._tri, ct._nbr, ct._vtri)) if 0 <= min(a, b) and max(a, b) < ct.n_points else -1
-    if h < 0 or ct._cons[h] == 0:
+    s, c = ct.state, ct.constraints
+    h = int(edge_of(a, b, s.tri, s.nbr, c.vtri)) if 0 <= min(a, b) and max(a, b) < ct.n_points else -1
+    if h < 0 or s.cons[h] == 0:
         raise InputError(f"vertices {a} and {b} are not the ends of a subsegment")
     run = _Run(ct, MODE_CONFORM, 0.0, np.inf, 0.0, False, 2**31 - 16, 1)
-    p = int(ct._cons[h]) - 1
-    row = int(ct._seg_in[p])
+    c = ct.constraints
+    p = int(s.cons[h]) - 1
+    row = int(c.seg_in[p])
     if xy is None:
-        x, y, t, ok = split_point(p, a, b, ct._pts, ct._seg, run.kind, run.data, ct._vpar, ct._vacute)
+        x, y, t, ok = split_point(p, a, b, s, c)
         if not ok:
-            run.st[S_REQ_A], run.st[S_REQ_B], run.st[S_REQ_P] = a, b, p
-            run.prm[P_TA] = param_of(p, a, ct._seg, run.data, ct._vpar)
-            run.prm[P_TB] = param_of(p, b, ct._seg, run.data, ct._vpar)
+            st, prm = run.r.st, run.r.prm
+            st[S_REQ_A], st[S_REQ_B], st[S_REQ_P] = a, b, p
+            prm[P_TA] = param_of(p, a, c.seg, c.pdat, c.vpar)
+            prm[P_TB] = param_of(p, b, c.seg, c.pdat, c.vpar)
             run.curve_point()
-            x, y, t = run.prm[P_CX], run.prm[P_CY], run.prm[P_CT]
+            x, y, t = prm[P_CX], prm[P_CY], prm[P_CT]
     else:
         x, y = (float(c) for c in np.asarray(xy, dtype=np.float64).ravel()[:2])
         t = ct.curves.project(row, (x, y)) if hasattr(ct.curves, "project") and row >= 0 else np.nan
     v = ct.n_points
-    ct._ensure_points(v + 1)
-    ct._ensure_slots(int(ct._meta[M_NTRI]) + 2)
-    ct._pts[v] = x, y
+    ct.reserve(v + 1, int(ct.state.meta[M_NTRI]) + 2)
+    ct.state.pts[v] = x, y
     while True:
-        tn = _split_at(v, h, ct._pts, ct._tri, ct._nbr, ct._cons, ct._circ, ct._rank, ct._meta, ct._work, ct._vmark, ct._vtri, ct._treg)
+        tn = _split_at(v, h, ct.state, ct.constraints)
         if tn != NEED_SPACE:
             break
-        ct._grow_work()
+        ct.reserve(v + 1, int(ct.state.meta[M_NTRI]) + 2)
     if tn < 0:
         raise GeometryError(
             f"subsegment {a}-{b} cannot be split at ({x:.17g}, {y:.17g}): the point is neither on it "
             "nor inside one of its two triangles"
         )
-    ct._vseg[v], ct._vpar[v], ct._vacute[v] = p, t, 0
-    ct._nv = v + 1
+    c = ct.constraints
+    c.vseg[v], c.vpar[v], c.vacute[v] = p, t, 0
+    ct.state.meta[M_NV] = v + 1
     return v

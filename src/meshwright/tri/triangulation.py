@@ -22,11 +22,11 @@ Pipeline of :func:`delaunay`
 
 State kept by :class:`Triangulation` (so :meth:`Triangulation.insert` is incremental)
 -----------------------------------------------------------------------------------
-``_pts`` (cap, 2) float64 (first ``nv`` rows used), the kernel arrays ``_tri``/``_nbr``
-(3 entries per triangle slot, ghosts included), Watson's ``_circ``, ``_rank``, ``_meta``,
-``_work``, ``_vmark`` (see :mod:`meshwright.tri._kernel2d`), and ``_nt`` finite triangles
-occupying slots ``[0, nt)``.  ``triangles`` is a read-only view of ``_tri``; an insertion
-copies ``_tri`` first if that view was handed out, so arrays already returned never change.
+``state``, the kernel's :class:`~meshwright.tri._kernel2d.TriState` (points (cap, 2) with the
+first ``nv = meta[M_NV]`` rows used, ``tri``/``nbr`` with 3 entries per triangle slot, ghosts
+included, Watson's ``circ``, ``rank``, ...), and ``_nt`` finite triangles occupying slots
+``[0, nt)``.  ``triangles`` is a read-only view of ``state.tri``; an insertion copies it
+first if that view was handed out, so arrays already returned never change.
 Memory of a bulk build: about 76 bytes per point for Bowyer (108 for Watson) besides the
 input.
 
@@ -45,12 +45,12 @@ import numpy as np
 from meshwright.core.errors import DegenerateInputError, DuplicatePointError, InputError, MeshingError
 from meshwright.core.spatial_sort import brio_order
 from meshwright.tri import bowyer, watson
-from meshwright.tri._build2d import compact, find_start, hull_loop, init_triangle, promote, relabel, scatter_rows
-from meshwright.tri._kernel2d import M_NTRI, insert_batch, locate_points, new_meta, new_work
+from meshwright.tri._build2d import (
+    compact, find_start, hull_loop, init_triangle, insert_batch, locate_points, promote, relabel, scatter_rows,
+)
+from meshwright.tri._kernel2d import M_NTRI, M_NV, grow, new_state
 
 __all__ = ["DelaunayAlgorithm", "DELAUNAY_ALGORITHMS", "Triangulation", "delaunay"]
-
-_NO_CONSTRAINTS = np.empty(0, dtype=np.int32)  # the kernel's ``cons`` of an unconstrained build
 
 
 class DelaunayAlgorithm(NamedTuple):
@@ -119,6 +119,9 @@ class Triangulation:
     algorithm : str
     index_map : (n,) int32
         Vertex of each input point of the constructor (duplicates share one).
+    state : TriState
+        The insertion kernel's bundle (:mod:`meshwright.tri._kernel2d`), for code built on
+        the kernel; replaced (not resized) when it grows.
 
     Notes
     -----
@@ -146,32 +149,33 @@ class Triangulation:
         order = self._order(pts)
         # Build with vertex k = order[k], so neighbours in space are neighbours in memory, then
         # renumber to input order; the insertion ranks stay the perturbation keys.
-        self._pts = pts[order]
+        self.state = new_state(pts[order], 2 * n, int(self._rng.integers(1, 2**31)), circles=self._alg.keeps_circles)
         self._nv = n
-        self._rank = np.empty(0, dtype=np.int32)
-        slots = 2 * n
-        self._tri = np.empty(3 * slots, dtype=np.int32)
-        self._nbr = np.empty(3 * slots, dtype=np.int32)
-        self._circ = np.empty(4 * slots if self._alg.keeps_circles else 0, dtype=np.float32)
-        self._meta = new_meta(int(self._rng.integers(1, 2**31)))
-        self._work = new_work()
-        self._vmark = np.empty(n + 1, dtype=np.int32)
-        init_triangle(self._pts, 0, 1, 2, self._tri, self._nbr, self._circ, self._meta)
+        init_triangle(self.state, 0, 1, 2)
         vmap = np.empty(n, dtype=np.int32)
         vmap[:3] = np.arange(3)
         self._insert_rows(np.empty(0, dtype=np.int32), 3, n, vmap, 0)
-        relabel(self._tri, self._meta[M_NTRI], order, 0)
-        scatter_rows(self._pts, order)
+        relabel(self.state.tri, self.state.meta[M_NTRI], order, 0)
+        scatter_rows(self.state.pts, order)
         index_map = np.empty(n, dtype=np.int32)
         index_map[order] = order[vmap]
         del vmap
-        self._rank = np.empty(n, dtype=np.int32)
-        self._rank[order] = np.arange(n, dtype=np.int32)
+        rank = np.empty(n, dtype=np.int32)
+        rank[order] = np.arange(n, dtype=np.int32)
+        self.state = self.state._replace(rank=rank)
         del order
         if duplicates == "reject" and np.any(index_map != np.arange(n)):
-            raise DuplicatePointError(_duplicate_message(index_map, self._pts))
+            raise DuplicatePointError(_duplicate_message(index_map, self.state.pts))
         self.index_map = self._merge(index_map, 0)
-        self._nt = compact(self._tri, self._nbr, self._circ, self._meta)
+        self._nt = compact(self.state)
+
+    @property
+    def _nv(self) -> int:
+        return int(self.state.meta[M_NV])
+
+    @_nv.setter
+    def _nv(self, nv: int) -> None:
+        self.state.meta[M_NV] = nv
 
     def _order(self, pts: np.ndarray) -> np.ndarray:
         """BRIO order (int32) whose first three points form a non-degenerate triangle."""
@@ -191,14 +195,11 @@ class Triangulation:
 
     def _insert_rows(self, order: np.ndarray, start: int, stop: int, vmap: np.ndarray, vbase: int) -> None:
         """Run the kernel on ``order[start:stop]``; ``vmap[v - vbase]`` receives each vertex."""
-        bad, self._tri, self._nbr, _, self._circ, self._work, self._vmark = insert_batch(
-            order, start, stop, vbase, self._pts, self._tri, self._nbr, _NO_CONSTRAINTS, self._circ,
-            self._rank, self._meta, self._work, self._vmark, vmap,
-        )
+        bad, self.state = insert_batch(order, start, stop, vbase, self.state, vmap)
         if bad >= 0:
-            self._nt = compact(self._tri, self._nbr, self._circ, self._meta)
+            self._nt = compact(self.state)
             raise MeshingError(
-                f"inserting point {bad} at {self._pts[bad].tolist()} met an inconsistent cavity; "
+                f"inserting point {bad} at {self.state.pts[bad].tolist()} met an inconsistent cavity; "
                 "the triangulation is no longer usable"
             )
 
@@ -213,15 +214,17 @@ class Triangulation:
             self._nv = base + vmap.size
             return vmap
         newid = (base + np.cumsum(keep) - 1).astype(np.int32)
-        relabel(self._tri, self._meta[M_NTRI], newid, base)
+        relabel(self.state.tri, self.state.meta[M_NTRI], newid, base)
         kept = int(newid[-1]) + 1
-        self._pts[base:kept] = self._pts[base : base + vmap.size][keep]
+        pts = self.state.pts
+        pts[base:kept] = pts[base : base + vmap.size][keep]
         self._nv = kept
-        if base < self._rank.size:
-            ranks = self._rank[keep]
-            dense = np.zeros(self._rank.size, dtype=np.int32)
+        rank = self.state.rank
+        if base < rank.size:
+            ranks = rank[keep]
+            dense = np.zeros(rank.size, dtype=np.int32)
             dense[ranks] = 1
-            self._rank = (np.cumsum(dense, dtype=np.int32) - 1)[ranks]
+            self.state = self.state._replace(rank=(np.cumsum(dense, dtype=np.int32) - 1)[ranks])
         out = vmap.copy()
         new = vmap >= base
         out[new] = newid[vmap[new] - base]
@@ -231,7 +234,7 @@ class Triangulation:
     @property
     def points(self) -> np.ndarray:
         """(nv, 2) float64 vertex coordinates (read-only view)."""
-        view = self._pts[: self._nv]
+        view = self.state.pts[: self._nv]
         view.flags.writeable = False
         return view
 
@@ -239,7 +242,7 @@ class Triangulation:
     def triangles(self) -> np.ndarray:
         """(nt, 3) int32 finite triangles, counter-clockwise (read-only view)."""
         self._exported = True
-        view = self._tri[: 3 * self._nt].reshape(self._nt, 3)
+        view = self.state.tri[: 3 * self._nt].reshape(self._nt, 3)
         view.flags.writeable = False
         return view
 
@@ -247,7 +250,7 @@ class Triangulation:
     def neighbors(self) -> np.ndarray:
         """(nt, 3) int32: ``neighbors[t, k]`` is across the edge opposite vertex k, -1 on the hull."""
         if "neighbors" not in self._cache:
-            nb = self._nbr[: 3 * self._nt].reshape(self._nt, 3)
+            nb = self.state.nbr[: 3 * self._nt].reshape(self._nt, 3)
             out = np.where(nb >= self._nt, np.int32(-1), nb).astype(np.int32)
             out.flags.writeable = False
             self._cache["neighbors"] = out
@@ -257,8 +260,8 @@ class Triangulation:
     def hull(self) -> np.ndarray:
         """(h,) int32 convex-hull vertices, counter-clockwise, collinear hull points included."""
         if "hull" not in self._cache:
-            h = int(self._meta[M_NTRI]) - self._nt
-            out = hull_loop(self._tri, self._nbr, self._nt, h)
+            h = int(self.state.meta[M_NTRI]) - self._nt
+            out = hull_loop(self.state.tri, self.state.nbr, self._nt, h)
             out.flags.writeable = False
             self._cache["hull"] = out
         return self._cache["hull"]
@@ -279,7 +282,7 @@ class Triangulation:
     def __repr__(self) -> str:
         return (
             f"Triangulation({self.algorithm}: {self._nv} points, {self._nt} triangles, "
-            f"{int(self._meta[M_NTRI]) - self._nt} hull vertices)"
+            f"{int(self.state.meta[M_NTRI]) - self._nt} hull vertices)"
         )
 
     # ------------------------------------------------------------------ operations
@@ -303,13 +306,10 @@ class Triangulation:
             return np.empty(0, dtype=np.int32)
         base = self._nv
         rows = base + k
-        if self._pts.shape[0] < rows:
-            grown = np.empty((max(rows, 2 * self._pts.shape[0]), 2))
-            grown[:base] = self._pts[:base]
-            self._pts = grown
-        self._pts[base:rows] = new
+        self.state = grow(self.state, rows=rows)
+        self.state.pts[base:rows] = new
         if self._exported:
-            self._tri = self._tri.copy()
+            self.state = self.state._replace(tri=self.state.tri.copy())
             self._exported = False
         self._cache.clear()
         order = (brio_order(new, self._rng) + base).astype(np.int32)
@@ -317,7 +317,7 @@ class Triangulation:
         self._nv = rows
         self._insert_rows(order, 0, k, vmap, base)
         out = self._merge(vmap, base)
-        self._nt = compact(self._tri, self._nbr, self._circ, self._meta)
+        self._nt = compact(self.state)
         return out
 
     def locate(self, xy):
@@ -335,7 +335,7 @@ class Triangulation:
         arr = np.asarray(xy, dtype=np.float64)
         single = arr.shape == (2,)
         q = _coerce_points(arr.reshape(1, 2) if single else arr, "xy")
-        out = locate_points(self._pts, self._tri, self._nbr, self._meta.copy(), q)
+        out = locate_points(self.state._replace(meta=self.state.meta.copy()), q)
         return int(out[0]) if single else out
 
     def to_mesh(self):

@@ -59,6 +59,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.flat import GHOST
+from meshwright.core.geom2d import circumcentre_offset
 from meshwright.tri import bowyer
 
 __all__ = ["conflict", "circle"]
@@ -144,8 +145,7 @@ def circle(pts, tri, circ, t):
     if not abs(d) > 4.0 * dd:
         return
     inv = 0.5 / d
-    ux = (cy * bb - by * cc) * inv
-    uy = (bx * cc - cx * bb) * inv
+    ux, uy = circumcentre_offset(bx, by, cx, cy)
     beta = dd / abs(d) + 3.0 * _EPS
     ex = (8.0 * _EPS * (abs(cy) * bb + abs(by) * cc) * abs(inv) + beta * abs(ux)) * (4.0 / 3.0)
     ey = (8.0 * _EPS * (abs(bx) * cc + abs(cx) * bb) * abs(inv) + beta * abs(uy)) * (4.0 / 3.0)

@@ -56,6 +56,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import InputError, MeshingError
+from meshwright.core.geom2d import segment_dist2
 from meshwright.core.spatial_sort import hilbert_order
 from meshwright.sizing.field import as_size_field
 
@@ -81,20 +82,6 @@ def _candidates(pts, tris, dp):
         xy[t, 1] = (pts[a, 1] + pts[b, 1] + pts[c, 1]) / 3.0
         dpm[t] = (dp[a] + dp[b] + dp[c]) / 3.0
     return xy, dpm
-
-
-@njit(inline="always")
-def _segment_dist2(ax, ay, bx, by, qx, qy):
-    """Squared distance from q to the segment ab."""
-    ex = bx - ax
-    ey = by - ay
-    den = ex * ex + ey * ey
-    s = 0.0
-    if den > 0.0:
-        s = min(max(((qx - ax) * ex + (qy - ay) * ey) / den, 0.0), 1.0)
-    dx = ax + s * ex - qx
-    dy = ay + s * ey - qy
-    return dx * dx + dy * dy
 
 
 @njit(cache=True)
@@ -156,7 +143,7 @@ def select_spaced(pts, tri, nbr, inside, cand, host, radius):
                 a = tri[3 * t + (m + 1) % 3]
                 b = tri[3 * t + (m + 2) % 3]
                 # Only triangles the open disk reaches can hold a point inside it.
-                if _segment_dist2(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], qx, qy) < r2:
+                if segment_dist2(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], qx, qy) < r2:
                     stamp[n] = i
                     stack[top] = n
                     top += 1
@@ -234,7 +221,7 @@ def weatherill(
             dpm = np.minimum(dpm, field(cand))
         inside = ct.inside_slots()
         host = np.flatnonzero(inside)
-        accepted = np.flatnonzero(select_spaced(pts, ct._tri, ct._nbr, inside, cand, host, alpha * dpm))
+        accepted = np.flatnonzero(select_spaced(pts, ct.state.tri, ct.state.nbr, inside, cand, host, alpha * dpm))
         if len(accepted) == 0:
             if callback is not None:
                 callback(p, 0, ct.n_points)
