@@ -190,7 +190,7 @@ def link_vertices(tri, ntri, vtri):
                 vtri[v] = t
 
 
-@njit(cache=True)
+@njit(inline="always")
 def set_flags(v, tn, a, b, fl, fr, f0, s, c):
     """Region flags and vertex->triangle links of the new triangles around vertex v.
 
@@ -247,7 +247,7 @@ def _shell_fraction(length):
     return p2 / length
 
 
-@njit(cache=True)
+@njit(inline="always")
 def split_point(p, a, b, s, c):
     """Where to split subsegment ``a -> b`` of piece p.
 

@@ -90,12 +90,12 @@ def _front_edge(t, pts, tri, nbr, treg, acc):
 
 
 @njit(inline="always")
-def _push(f, key, t, tri):
-    i = heap_push(f.hkey, f.htri, f.fmeta[FM_HN], key)
-    f.fmeta[FM_HN] += 1
-    f.htri[i, 0] = t
+def _push(hkey, htri, fmeta, key, t, tri):
+    i = heap_push(hkey, htri, fmeta[FM_HN], key)
+    fmeta[FM_HN] += 1
+    htri[i, 0] = t
     for k in range(3):
-        f.htri[i, k + 1] = tri[3 * t + k]
+        htri[i, k + 1] = tri[3 * t + k]
 
 
 @njit(inline="always")
@@ -109,45 +109,44 @@ def _size(par, bg, x, y):
 
 
 @njit(inline="always")
-def classify(t, s, f, bg):
+def classify(t, pts, tri, acc, ratio, par, bg):
     """Store slot t's ``R sqrt(3) / h`` in ``ratio[t]``; accept t if it is within ACCEPT."""
-    pts, tri = s.pts, s.tri
     r = _radius(pts, tri, t)
     gx = (pts[tri[3 * t], 0] + pts[tri[3 * t + 1], 0] + pts[tri[3 * t + 2], 0]) / 3.0
     gy = (pts[tri[3 * t], 1] + pts[tri[3 * t + 1], 1] + pts[tri[3 * t + 2], 1]) / 3.0
-    h = _size(f.par, bg, gx, gy)
-    f.ratio[t] = r * _SQRT3 / h
-    if f.ratio[t] <= f.par[P_ACCEPT]:
+    h = _size(par, bg, gx, gy)
+    ratio[t] = r * _SQRT3 / h
+    if ratio[t] <= par[P_ACCEPT]:
         for k in range(3):
-            f.acc[3 * t + k] = tri[3 * t + k]
+            acc[3 * t + k] = tri[3 * t + k]
 
 
 @njit(inline="always")
-def _push_if_front(t, s, c, f):
+def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta):
     """Queue slot t (ratio known since it was made) if it waits on the front."""
-    tri = s.tri
-    if not _inside(t, tri, c.treg) or _settled(t, tri, f.acc) or _front_edge(t, s.pts, tri, s.nbr, c.treg, f.acc) < 0:
+    if not _inside(t, tri, treg) or _settled(t, tri, acc) or _front_edge(t, pts, tri, nbr, treg, acc) < 0:
         return
-    _push(f, -f.ratio[t], t, tri)
+    _push(hkey, htri, fmeta, -ratio[t], t, tri)
 
 
 @njit(cache=True)
 def start(s, c, f, bg):
     """Accept the right-sized inside triangles and push the others that touch the front."""
+    pts, tri, nbr, treg = s.pts, s.tri, s.nbr, c.treg
+    acc, ratio, hkey, htri, fmeta, par = f.acc, f.ratio, f.hkey, f.htri, f.fmeta, f.par
     ntri = s.meta[M_NTRI]
     for t in range(ntri):
-        if _inside(t, s.tri, c.treg):
-            classify(t, s, f, bg)
+        if _inside(t, tri, treg):
+            classify(t, pts, tri, acc, ratio, par, bg)
     for t in range(ntri):
-        _push_if_front(t, s, c, f)
+        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
 
 
 @njit(inline="always")
-def _too_close(px, py, r, host, s, c, f, stack):
+def _too_close(px, py, r, host, pts, tri, nbr, treg, stamp, fmeta, stack):
     """Whether a vertex lies within r of p: search the triangles the disc reaches from host."""
-    pts, tri, nbr, stamp = s.pts, s.tri, s.nbr, f.stamp
-    f.fmeta[FM_STAMP] += 1
-    mark = f.fmeta[FM_STAMP]
+    fmeta[FM_STAMP] += 1
+    mark = fmeta[FM_STAMP]
     r2 = r * r
     top = 1
     stack[0] = host
@@ -161,7 +160,7 @@ def _too_close(px, py, r, host, s, c, f, stack):
                 return True
         for e in range(3):
             n = nbr[3 * t + e]
-            if not _inside(n, tri, c.treg) or stamp[n] == mark:
+            if not _inside(n, tri, treg) or stamp[n] == mark:
                 continue
             a = tri[3 * t + (e + 1) % 3]
             b = tri[3 * t + (e + 2) % 3]
@@ -176,22 +175,27 @@ def _too_close(px, py, r, host, s, c, f, stack):
 
 @njit(cache=True)
 def run(s, c, f, bg):
-    """Insert Rebay points, worst front triangle first, until the heap is empty."""
+    """Insert Rebay points, worst front triangle first, until the heap is empty.
+
+    The bundles' fields are read once here and handed to the per-step helpers as arrays:
+    a field read inside a loop costs a reference-count pair per iteration.
+    """
     q = np.empty((1, 2))
     out = np.empty(1, dtype=np.int32)
     stack = np.empty(4096, dtype=np.int32)
-    pts, tri, nbr, meta, treg, fmeta, par, acc = s.pts, s.tri, s.nbr, s.meta, c.treg, f.fmeta, f.par, f.acc
+    pts, tri, nbr, meta, treg, vtri = s.pts, s.tri, s.nbr, s.meta, c.treg, c.vtri
+    acc, ratio, hkey, htri, stamp, fmeta, par = f.acc, f.ratio, f.hkey, f.htri, f.stamp, f.fmeta, f.par
     while fmeta[FM_HN] > 0:
         ntri = meta[M_NTRI]
         if (
-            fmeta[FM_HN] + HEAP_ROOM > f.hkey.shape[0] or acc.shape[0] < 3 * (ntri + 2)
-            or f.stamp.shape[0] < ntri + 2 or f.ratio.shape[0] < ntri + 2
+            fmeta[FM_HN] + HEAP_ROOM > hkey.shape[0] or acc.shape[0] < 3 * (ntri + 2)
+            or stamp.shape[0] < ntri + 2 or ratio.shape[0] < ntri + 2
         ):
             return F_ROOM
         if meta[M_NV] >= par[P_MAX_POINTS]:
             return F_POINTS
-        t, a0, b0, c0 = f.htri[0, 0], f.htri[0, 1], f.htri[0, 2], f.htri[0, 3]
-        heap_pop(f.hkey, f.htri, fmeta[FM_HN])
+        t, a0, b0, c0 = htri[0, 0], htri[0, 1], htri[0, 2], htri[0, 3]
+        heap_pop(hkey, htri, fmeta[FM_HN])
         fmeta[FM_HN] -= 1
         if t >= ntri or tri[3 * t] != a0 or tri[3 * t + 1] != b0 or tri[3 * t + 2] != c0:
             continue
@@ -216,19 +220,20 @@ def run(s, c, f, bg):
         px = 0.5 * (pts[a, 0] + pts[b, 0]) + d * nx
         py = 0.5 * (pts[a, 1] + pts[b, 1]) + d * ny
         host, _ = walk(s, t, px, py, False)
-        if not _inside(host, tri, treg) or _too_close(px, py, par[P_SPACING] * h, host, s, c, f, stack):
+        if not _inside(host, tri, treg) or _too_close(px, py, par[P_SPACING] * h, host, pts, tri, nbr, treg, stamp,
+                                                      fmeta, stack):
             # No room for a point: the triangle stays as it is and joins the accepted ones.
             for k in range(3):
                 acc[3 * t + k] = tri[3 * t + k]
             for k in range(3):
-                _push_if_front(nbr[3 * t + k], s, c, f)
+                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
             continue
         q[0, 0] = px
         q[0, 1] = py
         meta[M_LAST] = host
         _, code = enc.insert_points(q, 0, out, s, c)
         if code == enc.R_ROOM:
-            _push(f, -f.ratio[t], t, tri)
+            _push(hkey, htri, fmeta, -ratio[t], t, tri)
             return F_ROOM
         if code != enc.R_DONE:
             return F_BROKEN
@@ -237,14 +242,14 @@ def run(s, c, f, bg):
             continue  # the point was already a vertex
         fmeta[FM_ADDED] += 1
         # The star of v: rotate across the edge v -> next around v.
-        s0 = c.vtri[v]
+        s0 = vtri[v]
         sl = s0
         for _ in range(1024):
             k = 0
             while tri[3 * sl + k] != v:
                 k += 1
             if _inside(sl, tri, treg):
-                classify(sl, s, f, bg)
+                classify(sl, pts, tri, acc, ratio, par, bg)
             sl = nbr[3 * sl + (k + 1) % 3]
             if sl == s0 or sl < 0:
                 break
@@ -253,8 +258,8 @@ def run(s, c, f, bg):
             k = 0
             while tri[3 * sl + k] != v:
                 k += 1
-            _push_if_front(sl, s, c, f)
-            _push_if_front(nbr[3 * sl + k], s, c, f)
+            _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+            _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
             sl = nbr[3 * sl + (k + 1) % 3]
             if sl == s0 or sl < 0:
                 break

@@ -162,7 +162,7 @@ def push_bad(key, t, tri, r):
 
 
 # ------------------------------------------------------------------ triangle tests
-@njit(cache=True)
+@njit(inline="always")
 def vertex_piece(u, s, c):
     """A segment piece through vertex u (its own for split vertices), or -1."""
     if c.vseg[u] >= 0:
@@ -180,7 +180,7 @@ def vertex_piece(u, s, c):
             return -1
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _small_angle_apex(u, w, s, c):
     """Shewchuk's rule: u and w on two segments meeting at a vertex, equally far from it."""
     pu = vertex_piece(u, s, c)
@@ -229,7 +229,7 @@ def steiner_point(t, pts, tri, off):
     return off_centre(ax, ay, bx, by, cx, cy, off)
 
 
-@njit(cache=True)
+@njit(inline="always")
 def examine(t, s, c, r):
     """Queue what is wrong with finite triangle t: encroached subsegments, bad quality.
 
