@@ -28,8 +28,8 @@ from numba import njit
 from meshwright.core.predicates import CCW_ERRBOUND_A, orient2d
 
 __all__ = [
-    "corners", "orient_filtered", "circumcentre_offset", "circumcentre", "circumcircle", "off_centre", "closest_on_segment",
-    "segment_dist2",
+    "corners", "orient_filtered", "circumcentre_offset", "circumcentre", "circumcircle", "off_centre",
+    "closest_on_segment", "segment_dist2",
 ]
 
 

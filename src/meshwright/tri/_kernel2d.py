@@ -532,7 +532,8 @@ def insert_vertex(v, t, s):
 
     This is the single-point entry of the kernel for every method that inserts points into a
     Delaunay triangulation (refinement, segment recovery): write the coordinates into row v of
-    ``pts`` first, call, and on ``NEED_SPACE`` grow the bundle (:func:`grow`) and retry.  With constraints, the result is the constrained Delaunay
+    ``pts`` first, call, and on ``NEED_SPACE`` grow the bundle (:func:`grow`) and retry.
+    With constraints, the result is the constrained Delaunay
     triangulation (a point exactly on a constrained edge splits it).
 
     Parameters

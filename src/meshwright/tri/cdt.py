@@ -149,8 +149,9 @@ def _free(h, cons, pside, cross_unsided):
 
 
 @njit(cache=True)
-def _flood(stack, top, value, accept_lo, tri, nbr, cons, pside, cross_unsided, treg):
+def _flood(stack, top, value, accept_lo, s, c, pside, cross_unsided):
     """Spread ``value`` from ``stack[:top]`` over triangles with ``treg >= accept_lo`` != value."""
+    tri, nbr, cons, treg = s.tri, s.nbr, s.cons, c.treg
     while top > 0:
         top -= 1
         t = stack[top]
@@ -164,12 +165,13 @@ def _flood(stack, top, value, accept_lo, tri, nbr, cons, pside, cross_unsided, t
 
 
 @njit(cache=True)
-def _classify_sides(pts, tri, nbr, cons, seg, pside, ntri, treg, stack, info):
+def _classify_sides(s, c, pside, ntri, stack, info):
     """Exterior removal by segment sides; returns a ``_FLOOD_*`` code (culprit in ``info``).
 
-    ``treg``: -2 unknown, -3 exterior side of a sided segment, 0 inside; on return -1 / 0.
+    ``c.treg``: -2 unknown, -3 exterior side of a sided segment, 0 inside; on return -1 / 0.
     Without any sided segment, every triangle reachable from a ghost is exterior.
     """
+    pts, tri, nbr, cons, seg, treg = s.pts, s.tri, s.nbr, s.cons, c.seg, c.treg
     top = 0
     for t in range(ntri):
         treg[t] = -1 if tri[3 * t + 2] == GHOST else -2
@@ -337,7 +339,8 @@ class ConstrainedTriangulation:
         j = int(self.constraints.seg_in[q])
         u, w = self.state.tri[h - h % 3 + (h % 3 + 1) % 3], self.state.tri[h - h % 3 + (h % 3 + 2) % 3]
         c, d = self.input_segments[j] if j >= 0 else self.constraints.seg[q]
-        other = f"segment {j} from {_fmt(self.state.pts[c])} to {_fmt(self.state.pts[d])}" if j >= 0 else "a hull segment"
+        pts = self.state.pts
+        other = f"segment {j} from {_fmt(pts[c])} to {_fmt(pts[d])}" if j >= 0 else "a hull segment"
         raise GeometryError(
             f"{what} intersects {other} (it crosses its piece {_fmt(self.state.pts[u])}-{_fmt(self.state.pts[w])})"
         )
@@ -437,7 +440,7 @@ class ConstrainedTriangulation:
         ntri = int(self.state.meta[M_NTRI])
         stack = np.empty(ntri, dtype=np.int32)
         info = np.zeros(2, dtype=np.int64)
-        code = _classify_sides(self.state.pts, self.state.tri, self.state.nbr, self.state.cons, self.constraints.seg, pside, ntri, self.constraints.treg, stack, info)
+        code = _classify_sides(self.state, self.constraints, pside, ntri, stack, info)
         if code != _FLOOD_OK:
             self._raise_flood(code, info)
         self.constraints = self.constraints._replace(rarea=np.array([np.inf]))
@@ -447,7 +450,7 @@ class ConstrainedTriangulation:
                 if t >= 0 and self.constraints.treg[t] >= 0:
                     self.constraints.treg[t] = -1
                     stack[0] = t
-                    _flood(stack, 1, -1, 0, self.state.tri, self.state.nbr, self.state.cons, pside, False, self.constraints.treg)
+                    _flood(stack, 1, -1, 0, self.state, self.constraints, pside, False)
         if regions is not None and len(regions):
             self._regions(regions, stack, pside)
         self.classified = True
@@ -511,7 +514,7 @@ class ConstrainedTriangulation:
                 raise GeometryError(f"region {i} seed {_fmt(xy[i])} lies outside the domain")
             self.constraints.treg[t] = i + 1
             stack[0] = t
-            _flood(stack, 1, i + 1, 0, self.state.tri, self.state.nbr, self.state.cons, pside, False, self.constraints.treg)
+            _flood(stack, 1, i + 1, 0, self.state, self.constraints, pside, False)
 
     def close_hull(self, segment_id: int = -1) -> ConstrainedTriangulation:
         """Constrain every free convex-hull edge as a new segment piece with id ``segment_id``.

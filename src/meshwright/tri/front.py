@@ -190,7 +190,8 @@ class _Front:
         new = {}
         need_p = int(m[fk.M_NP]) + 2
         if need_p > len(fs.pts):
-            new.update(pts=grown_rows(fs.pts, need_p), met=grown_rows(fs.met, need_p), vint=grown_rows(fs.vint, need_p, -1))
+            new.update(pts=grown_rows(fs.pts, need_p), met=grown_rows(fs.met, need_p))
+            new["vint"] = grown_rows(fs.vint, need_p, -1)
         need_f = int(m[fk.M_NF]) + fk.ROOM_FACES
         if need_f > len(fs.face):
             for name in ("face", "qbox", "qnext", "wkey", "wface"):
@@ -201,7 +202,8 @@ class _Front:
             new.update(hkey=grown_rows(fs.hkey, need_h), hface=grown_rows(fs.hface, need_h))
         need_t = int(m[fk.M_NT]) + 2
         if need_t > len(fs.tri):
-            new.update(tri=grown_rows(fs.tri, need_t), tnext=grown_rows(fs.tnext, need_t), talive=grown_rows(fs.talive, need_t, 0))
+            new.update(tri=grown_rows(fs.tri, need_t), tnext=grown_rows(fs.tnext, need_t))
+            new["talive"] = grown_rows(fs.talive, need_t, 0)
         need_q = int(fs.qmeta[Q_NODES]) + fk.ROOM_FACES * (int(fs.qmeta[1]) + 1)
         if need_q > len(fs.qhead):
             qhead = grown_rows(fs.qhead, need_q, -1)

@@ -43,9 +43,9 @@ kernel argument::
     st   (S_LEN,)   int64    counters, caps, requests (slots ``S_*``)
     prm  (P_LEN,)   float64  parameters, curve points, where the loop works (slots ``P_*``)
 
-Priority queue: the binary min-heap of :mod:`meshwright.core.heap` over ``hk``/``hp``.  Sizes from a Python callable are evaluated in batches: new
-triangles wait in ``pend`` with their circumcentres, and the loop returns when nothing else
-is left.  Curves that are not arcs are evaluated in Python one split at a time.
+Priority queue: the binary min-heap of :mod:`meshwright.core.heap` over ``hk``/``hp``.
+Sizes from a Python callable are evaluated in batches: new triangles wait in ``pend`` with
+their circumcentres, and the loop returns when nothing else is left.  Curves that are not arcs are evaluated in Python one split at a time.
 
 Termination: guaranteed by Ruppert's and Shewchuk's analyses for ``min_angle`` up to about
 20.7 degrees and practical (as in Triangle) up to about 33.8 degrees; ``max_points`` and
@@ -138,54 +138,55 @@ class RefineState(NamedTuple):
 
 
 # ------------------------------------------------------------------ queues
+# The per-step helpers below take arrays, not bundles: refine_loop reads the bundles' fields
+# once (a field read where a helper runs per triangle costs a reference-count pair each
+# time; docs/ARCHITECTURE.md).
 @njit(inline="always")
-def push_seg(u, w, r):
+def push_seg(u, w, sq, st):
     """Queue subsegment u-w for splitting."""
-    q = r.st[S_QN]
-    r.sq[2 * q] = u
-    r.sq[2 * q + 1] = w
-    r.st[S_QN] = q + 1
+    q = st[S_QN]
+    sq[2 * q] = u
+    sq[2 * q + 1] = w
+    st[S_QN] = q + 1
 
 
 @njit(inline="always")
-def push_bad(key, t, tri, r):
+def push_bad(key, t, tri, hk, hp, st):
     """Heap triangle t (with its vertices, to recognise it later) by quality ``key``."""
-    seq = r.st[S_SEQ]
-    r.st[S_SEQ] = seq + 1
+    seq = st[S_SEQ]
+    st[S_SEQ] = seq + 1
     bucket = min(_BUCKETS - 1, int(key * (_BUCKETS / 0.75)))
     k = (np.int64(bucket) << _SEQ_BITS) | (seq & ((np.int64(1) << _SEQ_BITS) - 1))
-    i = heap_push(r.hk, r.hp, r.st[S_HN], k)
-    r.st[S_HN] += 1
-    r.hp[i, 0] = t
+    i = heap_push(hk, hp, st[S_HN], k)
+    st[S_HN] += 1
+    hp[i, 0] = t
     for j in range(3):
-        r.hp[i, j + 1] = tri[3 * t + j]
+        hp[i, j + 1] = tri[3 * t + j]
 
 
 # ------------------------------------------------------------------ triangle tests
-@njit(inline="always")
-def vertex_piece(u, s, c):
+@njit(cache=True)
+def vertex_piece(u, tri, nbr, cons, vtri, vseg):
     """A segment piece through vertex u (its own for split vertices), or -1."""
-    if c.vseg[u] >= 0:
-        return c.vseg[u]
-    tri = s.tri
-    t = c.vtri[u]
+    if vseg[u] >= 0:
+        return vseg[u]
+    t = vtri[u]
     start = t
     while True:
         i = index3(tri, t, u)
         for k in (next3(i), prev3(i)):
-            if s.cons[3 * t + k] != 0:
-                return s.cons[3 * t + k] - 1
-        t = s.nbr[3 * t + next3(i)]
+            if cons[3 * t + k] != 0:
+                return cons[3 * t + k] - 1
+        t = nbr[3 * t + next3(i)]
         if t == start:
             return -1
 
 
-@njit(inline="always")
-def _small_angle_apex(u, w, s, c):
+@njit(cache=True)
+def _small_angle_apex(u, w, pts, tri, nbr, cons, vtri, vseg, seg):
     """Shewchuk's rule: u and w on two segments meeting at a vertex, equally far from it."""
-    pu = vertex_piece(u, s, c)
-    pw = vertex_piece(w, s, c)
-    seg, pts = c.seg, s.pts
+    pu = vertex_piece(u, tri, nbr, cons, vtri, vseg)
+    pw = vertex_piece(w, tri, nbr, cons, vtri, vseg)
     if pu < 0 or pw < 0 or pu == pw:
         return False
     j = -1
@@ -229,23 +230,22 @@ def steiner_point(t, pts, tri, off):
     return off_centre(ax, ay, bx, by, cx, cy, off)
 
 
-@njit(inline="always")
-def examine(t, s, c, r):
+@njit(cache=True)
+def examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm):
     """Queue what is wrong with finite triangle t: encroached subsegments, bad quality.
 
     Ruppert mode (t inside): each constrained edge of t encroached by its apex in t is
     pushed; t goes to the heap when its minimum angle is below the bound or its area above
     the (regional) maximum, else to the size queue when the size field is evaluated in
     Python.  Conforming mode: constrained edges of t that are not locally Delaunay are pushed.
+    The arrays are the fields of the three bundles (module docstring).
     """
-    pts, tri, nbr, cons, st = s.pts, s.tri, s.nbr, s.cons, r.st
     b3 = 3 * t
     a = tri[b3]
     b = tri[b3 + 1]
     cc = tri[b3 + 2]
     ax, ay, bx, by, cx, cy = corners(pts, tri, t)
     if st[S_MODE] == MODE_CONFORM:
-        rank = s.rank
         for k in range(3):
             n = nbr[b3 + k]
             if cons[b3 + k] != 0 and tri[3 * n + 2] != GHOST:
@@ -254,7 +254,7 @@ def examine(t, s, c, r):
                     ax, ay, bx, by, cx, cy, pts[d, 0], pts[d, 1],
                     key_of(rank, a), key_of(rank, b), key_of(rank, cc), key_of(rank, d),
                 ) > 0:
-                    push_seg(tri[b3 + next3(k)], tri[b3 + prev3(k)], r)
+                    push_seg(tri[b3 + next3(k)], tri[b3 + prev3(k)], sq, st)
         return
     for k in range(3):
         if cons[b3 + k] != 0:
@@ -262,38 +262,40 @@ def examine(t, s, c, r):
             u = tri[b3 + next3(k)]
             w = tri[b3 + prev3(k)]
             if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[x, 0], pts[x, 1]):
-                push_seg(u, w, r)
+                push_seg(u, w, sq, st)
     sin2, area, su, sw = quality(t, pts, tri)
-    bad_area = area > r.prm[P_AMAX] or area > c.rarea[c.treg[t]]
-    bad_angle = sin2 < r.prm[P_SIN2]
-    if bad_angle and not bad_area and _small_angle_apex(su, sw, s, c):
+    bad_area = area > prm[P_AMAX] or area > rarea[treg[t]]
+    bad_angle = sin2 < prm[P_SIN2]
+    if bad_angle and not bad_area and _small_angle_apex(su, sw, pts, tri, nbr, cons, vtri, vseg, seg):
         st[S_SKIPPED] += 1
         bad_angle = False
     if bad_angle or bad_area:
-        push_bad(sin2, t, tri, r)
+        push_bad(sin2, t, tri, hk, hp, st)
     elif st[S_SIZED] != 0:
         i = st[S_PN]
         st[S_PN] = i + 1
-        r.pend[4 * i] = t
-        r.pend[4 * i + 1] = a
-        r.pend[4 * i + 2] = b
-        r.pend[4 * i + 3] = cc
+        pend[4 * i] = t
+        pend[4 * i + 1] = a
+        pend[4 * i + 2] = b
+        pend[4 * i + 3] = cc
         ox, oy = circumcentre(ax, ay, bx, by, cx, cy)
-        r.pcen[2 * i] = ox
-        r.pcen[2 * i + 1] = oy
+        pcen[2 * i] = ox
+        pcen[2 * i + 1] = oy
 
 
 @njit(cache=True)
 def _examine_star(v, tn, s, c, r):
     """:func:`examine` every new triangle around v that takes part (inside; all in conforming)."""
-    conform = r.st[S_MODE] == MODE_CONFORM
-    tri = s.tri
+    pts, tri, nbr, cons, rank = s.pts, s.tri, s.nbr, s.cons, s.rank
+    vtri, treg, vseg, seg, rarea = c.vtri, c.treg, c.vseg, c.seg, c.rarea
+    hk, hp, sq, pend, pcen, st, prm = r
+    conform = st[S_MODE] == MODE_CONFORM
     t = tn
     while True:
         i = index3(tri, t, v)
-        if tri[3 * t + 2] != GHOST and (conform or c.treg[t] >= 0):
-            examine(t, s, c, r)
-        t = s.nbr[3 * t + next3(i)]
+        if tri[3 * t + 2] != GHOST and (conform or treg[t] >= 0):
+            examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
+        t = nbr[3 * t + next3(i)]
         if t == tn:
             return
 
@@ -301,10 +303,13 @@ def _examine_star(v, tn, s, c, r):
 @njit(cache=True)
 def seed_queues(s, c, r):
     """Examine every taking-part triangle once (the start of a refinement run)."""
-    conform = r.st[S_MODE] == MODE_CONFORM
+    pts, tri, nbr, cons, rank = s.pts, s.tri, s.nbr, s.cons, s.rank
+    vtri, treg, vseg, seg, rarea = c.vtri, c.treg, c.vseg, c.seg, c.rarea
+    hk, hp, sq, pend, pcen, st, prm = r
+    conform = st[S_MODE] == MODE_CONFORM
     for t in range(s.meta[M_NTRI]):
-        if s.tri[3 * t + 2] != GHOST and (conform or c.treg[t] >= 0):
-            examine(t, s, c, r)
+        if tri[3 * t + 2] != GHOST and (conform or treg[t] >= 0):
+            examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
 
 
 @njit(cache=True)
@@ -314,14 +319,15 @@ def apply_sizes(h, s, r):
     ``h`` (pn,) float64 is the size field at their circumcentres ``pcen``; triangles that
     changed since they were queued are dropped (their successors were examined).
     """
-    tri, pend = s.tri, r.pend
-    for i in range(r.st[S_PN]):
+    tri = s.tri
+    pend, st = r.pend, r.st
+    for i in range(st[S_PN]):
         t = pend[4 * i]
         if tri[3 * t] == pend[4 * i + 1] and tri[3 * t + 1] == pend[4 * i + 2] and tri[3 * t + 2] == pend[4 * i + 3]:
             sin2, area, _, _ = quality(t, s.pts, tri)
             if area > _EQUILATERAL * h[i] * h[i]:
-                push_bad(sin2, t, tri, r)
-    r.st[S_PN] = 0
+                push_bad(sin2, t, tri, r.hk, r.hp, st)
+    st[S_PN] = 0
 
 
 @njit(inline="always")
@@ -371,8 +377,8 @@ def refine_loop(s, c, r):
         ``R_BROKEN`` (inconsistent cavity); ``R_OFF_CURVE`` (the split point of the requested
         subsegment lies neither on it nor inside its two triangles).
     """
-    pts, tri, nbr, cons, meta, treg, st, prm = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg, r.st, r.prm
-    sq = r.sq
+    pts, tri, nbr, cons, meta, treg = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg
+    hk, hp, sq, _, _, st, prm = r
     while True:
         nv = meta[M_NV]
         if _short(s, c, r):
@@ -423,14 +429,10 @@ def refine_loop(s, c, r):
             _new_vertex(nv, tn, p, tpar, a, b, fl, fr, 0, s, c, r)
             continue
         if st[S_HN] > 0:
-            t = r.hp[0, 0]
-            stale = (
-                t >= meta[M_NTRI]
-                or tri[3 * t] != r.hp[0, 1]
-                or tri[3 * t + 1] != r.hp[0, 2]
-                or tri[3 * t + 2] != r.hp[0, 3]
-            )
-            heap_pop(r.hk, r.hp, st[S_HN])
+            t = hp[0, 0]
+            stale = t >= meta[M_NTRI] or tri[3 * t] != hp[0, 1] or tri[3 * t + 1] != hp[0, 2]
+            stale = stale or tri[3 * t + 2] != hp[0, 3]
+            heap_pop(hk, hp, st[S_HN])
             st[S_HN] -= 1
             if stale or treg[t] < 0:
                 continue
@@ -445,8 +447,8 @@ def refine_loop(s, c, r):
                 hb = on_constraint(t0, x, y, s)
             if hb >= 0:
                 # Hidden behind, or on, a subsegment: split that one first.
-                push_seg(tri[next3(hb % 3) + hb - hb % 3], tri[prev3(hb % 3) + hb - hb % 3], r)
-                push_bad(quality(t, pts, tri)[0], t, tri, r)
+                push_seg(tri[next3(hb % 3) + hb - hb % 3], tri[prev3(hb % 3) + hb - hb % 3], sq, st)
+                push_bad(quality(t, pts, tri)[0], t, tri, hk, hp, st)
                 continue
             if tri[3 * t0 + 2] == GHOST or treg[t0] < 0:
                 st[S_SKIPPED] += 1  # unreachable without crossing a segment: cannot happen
@@ -457,7 +459,7 @@ def refine_loop(s, c, r):
             pts[nv, 1] = y
             ncav = cavity(nv, t0, s)
             if ncav == NEED_SPACE:
-                push_bad(quality(t, pts, tri)[0], t, tri, r)
+                push_bad(quality(t, pts, tri)[0], t, tri, hk, hp, st)
                 return R_ROOM
             if ncav == BROKEN:
                 return R_BROKEN
@@ -475,10 +477,10 @@ def refine_loop(s, c, r):
                     u = work[o]
                     w = work[o + 1]
                     if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y):
-                        push_seg(u, w, r)
+                        push_seg(u, w, sq, st)
                         enc = True
             if enc:
-                push_bad(quality(t, pts, tri)[0], t, tri, r)
+                push_bad(quality(t, pts, tri)[0], t, tri, hk, hp, st)
                 continue
             f0 = treg[t0]
             tn = fan(nv, ncav, s)
