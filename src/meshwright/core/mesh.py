@@ -490,13 +490,16 @@ class Mesh:
             Also require every interior edge of the triangles of a 2-D mesh to be locally
             Delaunay (exact ``incircle``; cocircular quadruples pass).  Interior edges
             that are ``line`` cells are constraints and exempt (constrained Delaunay).
+            Tetrahedral meshes: every interior face (exact ``insphere``); tetrahedra
+            also get the checks of :mod:`meshwright.core.validate3d` (closed manifold
+            boundary, enclosed volume equal to the tets' volume).
 
         Raises
         ------
         ValidationError
             Naming the first defect: cell type and index, vertex indices, coordinates.
         InputError
-            ``check_delaunay`` on a mesh without 2-D triangles.
+            ``check_delaunay`` on a mesh without 2-D triangles or tetrahedra.
         """
         if self.n_points == 0:
             raise ValidationError("mesh has no points")
@@ -510,7 +513,11 @@ class Mesh:
         if top:
             _check_conformity(self, top)
             _check_embedded(self, top)
-        if check_delaunay:
+        if self.dim == 3 and len(self.tetra):
+            from meshwright.core.validate3d import check_tetra
+
+            check_tetra(self, check_delaunay)  # closed boundary, enclosed volume, Delaunay
+        elif check_delaunay:
             _check_delaunay(self)
 
     # ----------------------------------------------------------------- delegation
