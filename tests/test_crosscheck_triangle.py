@@ -175,7 +175,10 @@ def _check_guarantees(points, tris, poly, q, max_area):
     covered = np.zeros(len(poly))
     for a, b in boundary:
         pa, pb = points[a], points[b]
-        dist = [max(abs(_cross(s1 - s0, pa - s0)), abs(_cross(s1 - s0, pb - s0))) / np.hypot(*(s1 - s0)) for s0, s1 in zip(poly, nxt)]
+        dist = [
+            max(abs(_cross(s1 - s0, pa - s0)), abs(_cross(s1 - s0, pb - s0))) / np.hypot(*(s1 - s0))
+            for s0, s1 in zip(poly, nxt)
+        ]
         side = int(np.argmin(dist))
         assert dist[side] <= 1e-12
         d = nxt[side] - poly[side]
