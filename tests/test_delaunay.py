@@ -184,7 +184,9 @@ def test_collinear_hull_points_are_vertices():
     assert len(tr.hull) == 40
 
 
-@pytest.mark.parametrize("offset, scale", [(1e9, 1.0), (0.0, 1e-9), (-1e9, 1e-3), (1e-300, 1e-290)])
+# Coordinates near 1e-290 lie outside the predicates' exact range and are refused at the door
+# (test_doors.py checks that, and both ends of the range against exact rationals).
+@pytest.mark.parametrize("offset, scale", [(1e9, 1.0), (0.0, 1e-9), (-1e9, 1e-3)])
 def test_extreme_offsets_and_scales(offset, scale):
     rng = np.random.default_rng(5)
     check_both(offset + scale * rng.random((400, 2)))

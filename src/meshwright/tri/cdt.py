@@ -60,6 +60,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import GeometryError, InputError, MeshingError
+from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.flat import GHOST
 from meshwright.tri import _encroach as enc
 from meshwright.tri._kernel2d import M_NTRI, locate_points, make_room
@@ -70,10 +71,6 @@ __all__ = ["ConstrainedTriangulation", "SegmentCurves", "cdt_build"]
 _FLOOD_OK = 0
 _FLOOD_LEAK = 1  # the domain side of a segment reaches a ghost: open boundary
 _FLOOD_CLASH = 2  # the domain side of one segment is the exterior side of another
-
-
-def _fmt(p) -> str:
-    return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
 
 
 # ---------------------------------------------------------------------------- curves

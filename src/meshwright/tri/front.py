@@ -55,6 +55,7 @@ from __future__ import annotations
 import numpy as np
 
 from meshwright.core.errors import MeshingError
+from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.quadtree import Q_NODES, qt_new
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
@@ -234,10 +235,6 @@ class _Front:
                 self.talive, self.meta, par,
             )
         )
-
-
-def _fmt(p) -> str:
-    return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
 
 
 def _is_uniform(field) -> bool:
