@@ -676,8 +676,8 @@ class Domain:
             factors[curved] *= 2
         raise GeometryError(
             "cannot discretise the domain into a valid polygon: curves "
-            f"{sorted(set(int(c) for c in culprits))} stay in conflict; the geometry has features "
-            "below the fine-polyline resolution"
+            f"{sorted(set(int(c) for c in culprits))} stay in conflict after {_MAX_ROUNDS} doublings of their "
+            "segment counts; the geometry has features below the fine-polyline resolution"
         )
 
     def _conflicts(self, asm: _Assembly, verts, inv) -> list[int] | None:
