@@ -8,8 +8,17 @@ Figure 18.1.8) every Voronoi vertex is stored with its *forming points*, the thr
 Delaunay triangle whose circumcentre it is, and its *neighbouring vertices*, the circumcentres of
 the three adjacent triangles (-1, Bowyer's 0, where the Voronoi edge runs to infinity).  The
 diagram is therefore a relabelling of a :class:`~meshwright.tri.triangulation.Triangulation`,
-built in O(n) by vectorised NumPy and ``@njit`` walks; no geometric decision is taken here, so
-exact predicates are needed only to validate a clip polygon.
+built in O(n) by vectorised NumPy and ``@njit`` walks; no topological decision is taken here
+(the exact ``orient2d`` only checks a supplied triangulation and a clip polygon at the door).
+
+Circumcentres are computed in floating point relative to the first vertex, and recomputed in
+exact rationals (then rounded once) for the rare triangle whose float area may have lost more
+than half its bits or whose float centre is not finite, so a triangle that is exactly
+non-degenerate never yields an infinite or NaN Voronoi vertex, however thin.  Inside the
+predicates' coordinate range (checked at the door, :mod:`meshwright.core.validate_input`)
+every exact circumcentre is a finite double: coordinates are then multiples of ``2**-200`` of
+magnitude at most ``2**200``, so twice a nonzero area is at least ``2**-400`` and the centre is
+within ``2**1005`` of the origin.
 
 Layout and invariants (``n`` points, ``nt`` triangles, ``r`` ridges)
 ------------------------------------------------------------------
@@ -49,11 +58,14 @@ cell as the window), its invariants and its limitation on non-convex regions are
 from __future__ import annotations
 
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 from numba import njit
 
-from meshwright.core.errors import DegenerateInputError, InputError
+from meshwright.core.errors import DegenerateInputError, InputError, fmt_point
+from meshwright.core.predicates import orient2d
+from meshwright.core.validate_input import as_points, check_coordinate_range, check_seed
 from meshwright.tri.triangulation import delaunay
 from meshwright.tri.voronoi_clip import clip_diagram, clip_region
 
@@ -180,8 +192,8 @@ def voronoi(points_or_triangulation, clip=None, seed: int = 0) -> Voronoi:
     clip : None, (4,) array_like or (k, 2) array_like of float
         None for the unbounded diagram, a box ``(xmin, ymin, xmax, ymax)``, or a simple polygon
         of either orientation, convex or not, to clip every cell to.
-    seed : int
-        Seed of the Delaunay insertion order (points only).
+    seed : int or numpy.random.Generator
+        Seed of the Delaunay insertion order (used for points only; checked always).
 
     Returns
     -------
@@ -190,14 +202,17 @@ def voronoi(points_or_triangulation, clip=None, seed: int = 0) -> Voronoi:
     Raises
     ------
     InputError
-        Malformed points (shape, NaN/inf), triangulation arrays or clip box.
+        Malformed points (shape, NaN/inf, a nonzero coordinate outside the exact predicates'
+        range ``[2**-148, 2**200]`` in magnitude), triangulation arrays (a point index out of
+        range, a triangle that is not strictly counter-clockwise) or clip box.
     GeometryError
         The clip polygon has fewer than 3 distinct vertices or is not simple.
     DegenerateInputError
         Fewer than three points or all collinear (no triangle).
     """
-    points, tri, nbr = _delaunay_arrays(points_or_triangulation, seed)
     poly = None if clip is None else clip_region(clip)
+    seed = check_seed(seed)
+    points, tri, nbr = _delaunay_arrays(points_or_triangulation, seed)
     n = len(points)
     centres = _circumcentres(points, tri)
     ridge_points, ridge_vertices, he_ridge = _ridges(tri, nbr)
@@ -240,22 +255,16 @@ def voronoi(points_or_triangulation, clip=None, seed: int = 0) -> Voronoi:
 
 
 def _as_points(obj) -> np.ndarray:
-    """Return a C-contiguous (n, 2) float64 copy of ``obj``; InputError names the culprit."""
-    try:
-        points = np.array(obj, dtype=np.float64, order="C")
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"points must be an (n, 2) array of numbers: {exc}") from exc
-    if points.ndim != 2 or points.shape[1] != 2:
-        raise InputError(f"points must have shape (n, 2), got {points.shape}")
-    bad = np.flatnonzero(~np.isfinite(points).all(axis=1))
-    if bad.size:
-        raise InputError(f"point {bad[0]} is not finite: {points[bad[0]].tolist()}")
+    """Return a C-contiguous (n, 2) float64 copy of ``obj`` inside the predicates' range."""
+    points = as_points(obj, copy=True)
+    check_coordinate_range(points)
     return points
 
 
 def _delaunay_arrays(obj, seed: int):
     """Return ``points`` (n, 2) float64, ``triangles`` and ``neighbors`` (nt, 3) int32."""
-    if hasattr(obj, "triangles") and hasattr(obj, "neighbors"):
+    supplied = hasattr(obj, "triangles") and hasattr(obj, "neighbors")
+    if supplied:
         points, tri = _as_points(obj.points), np.ascontiguousarray(obj.triangles, dtype=np.int32)
     else:
         points = _as_points(obj)
@@ -278,27 +287,72 @@ def _delaunay_arrays(obj, seed: int):
     bad = np.flatnonzero(((nbr < -1) | (nbr >= nt)).any(axis=1))
     if bad.size:
         raise InputError(f"neighbors {nbr[bad[0]].tolist()} of triangle {bad[0]} not in -1..{nt - 1}")
+    if supplied:
+        t = _first_not_ccw(points, tri)
+        if t >= 0:
+            corners = ", ".join(f"{i} {fmt_point(points[i])}" for i in tri[t].tolist())
+            raise InputError(
+                f"triangle {t} is not strictly counter-clockwise (exact orient2d <= 0): points {corners}"
+            )
     return points, tri, nbr
+
+
+@njit(cache=True)
+def _first_not_ccw(points, tri):
+    """Index of the first triangle of (nt, 3) int32 ``tri`` that is not strictly ccw, else -1."""
+    for t in range(tri.shape[0]):
+        a, b, c = tri[t, 0], tri[t, 1], tri[t, 2]
+        if orient2d(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[c, 0], points[c, 1]) <= 0.0:
+            return t
+    return -1
 
 
 # --------------------------------------------------------------------------- the dual
 
 
-def _circumcentres(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """Return the circumcentre of every triangle, (nt, 2) float64.
+# The float area keeps at least half its bits where |D| > 2**-26 * permanent (its error is
+# below 4 eps = 2**-51 of the permanent); only thinner triangles take the exact path.
+_SURE_AREA = 2.0**-26
 
-    Computed relative to the first vertex so that the subtractions are exact for nearby
-    points and the result does not lose digits to large absolute coordinates.
+
+def _circumcentres(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Return the circumcentre of every (strictly counter-clockwise) triangle, (nt, 2) float64.
+
+    Computed relative to the first vertex, so that the result does not lose digits to large
+    absolute coordinates.  The float area ``D = b x c`` (with ``b``, ``c`` the rounded edge
+    vectors) errs by less than ``4 eps (|bx cy| + |by cx|)``; where ``|D|`` is not above
+    ``_SURE_AREA`` times that permanent, or the float centre is not finite, the centre is
+    recomputed exactly (:func:`_exact_circumcentre`).
     """
     a = points[tri[:, 0]]
     b = points[tri[:, 1]] - a
     c = points[tri[:, 2]] - a
     b2 = b[:, 0] ** 2 + b[:, 1] ** 2
     c2 = c[:, 0] ** 2 + c[:, 1] ** 2
-    d = 2.0 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
-    ux = (c[:, 1] * b2 - b[:, 1] * c2) / d
-    uy = (b[:, 0] * c2 - c[:, 0] * b2) / d
-    return a + np.stack([ux, uy], axis=1)
+    bc, cb = b[:, 0] * c[:, 1], b[:, 1] * c[:, 0]
+    d = 2.0 * (bc - cb)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        ux = (c[:, 1] * b2 - b[:, 1] * c2) / d
+        uy = (b[:, 0] * c2 - c[:, 0] * b2) / d
+        centres = a + np.stack([ux, uy], axis=1)
+    doubtful = ~(np.abs(bc - cb) > _SURE_AREA * (np.abs(bc) + np.abs(cb)))
+    doubtful |= ~np.isfinite(centres).all(axis=1)
+    for t in np.flatnonzero(doubtful):
+        centres[t] = _exact_circumcentre(points[tri[t]])
+    return centres
+
+
+def _exact_circumcentre(abc: np.ndarray) -> tuple[float, float]:
+    """Circumcentre of the triangle with corners ``abc`` (3, 2) float64, rounded once.
+
+    Exact rational arithmetic on the float inputs; the caller guarantees a nonzero exact area
+    (triangles checked counter-clockwise by ``orient2d``, or built by ``delaunay``).
+    """
+    (ax, ay), (bx, by), (cx, cy) = ((Fraction(float(x)), Fraction(float(y))) for x, y in abc)
+    bx, by, cx, cy = bx - ax, by - ay, cx - ax, cy - ay
+    b2, c2 = bx * bx + by * by, cx * cx + cy * cy
+    d = 2 * (bx * cy - by * cx)
+    return float(ax + (cy * b2 - by * c2) / d), float(ay + (bx * c2 - cx * b2) / d)
 
 
 def _ridges(tri: np.ndarray, nbr: np.ndarray):
