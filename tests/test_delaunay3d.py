@@ -368,3 +368,29 @@ def test_bad_insert_and_locate_arguments():
     with pytest.raises(MeshwrightError):
         T.locate("abc")
     assert T.insert(np.empty((0, 3))).shape == (0,)
+
+
+# ----------------------------------------------------------------------------- command line
+def test_cli_tetrahedralizes_xyz_files(tmp_path, capsys):
+    from meshwright.cli import main
+    from meshwright.io import read
+
+    pts = np.random.default_rng(15).random((50, 3))
+    src = tmp_path / "cloud.xyz"
+    np.savetxt(src, pts)
+    out = tmp_path / "cloud.vtu"
+    assert main(["delaunay", str(src), "-o", str(out), "--algorithm", "watson"]) == 0
+    assert "tetrahedra" in capsys.readouterr().out
+    mesh = read(out)
+    assert len(mesh.cells_of("tetra")) == len(delaunay3d(pts, algorithm="watson").tetrahedra)
+    assert main(["delaunay", str(src), "--superstructure", "box"]) == 0
+    flat = tmp_path / "flat.xyz"
+    np.savetxt(flat, np.column_stack([pts[:, :2], np.ones(50)]))
+    assert main(["delaunay", str(flat)]) == 0
+    assert "triangles" in capsys.readouterr().out
+    assert main(["delaunay", str(flat), "--superstructure", "box"]) == 2
+    coplanar = tmp_path / "coplanar.xyz"
+    ij = np.random.default_rng(16).integers(0, 100, (50, 2))
+    np.savetxt(coplanar, np.column_stack([ij, ij[:, 0] + 2 * ij[:, 1]]))  # exactly on one plane
+    assert main(["delaunay", str(coplanar)]) == 2
+    assert "coplanar" in capsys.readouterr().err
