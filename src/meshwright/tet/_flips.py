@@ -40,6 +40,14 @@ _EDGES = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]], dtype=np.int
 # Counter slots of flip_pass / move_pass: flips by kind, then sliver bookkeeping.
 C_23, C_RING, C_MOVES, C_REMOVED_FLIP, C_REMOVED_MOVE, C_CREATED = 0, 1, 9, 10, 11, 12
 N_COUNTERS = 13  # C_RING + m counts edge removals of ring size m (3..7)
+# Rounds of the compass search that refines a vertex move, and its directions: the 26
+# unit vectors towards the neighbours of a cube cell (many, so that the search does not
+# stall on the kinks of the max-min objective where one axis direction cannot help).
+_SEARCH_ROUNDS = 12
+_DIRS = np.array(
+    [[i, j, k] for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1) if (i, j, k) != (0, 0, 0)], dtype=np.float64
+)
+_DIRS /= np.sqrt((_DIRS**2).sum(axis=1))[:, None]
 
 
 def ring_tables():
@@ -431,8 +439,9 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
         Number of points.
     rows, start, count : from :func:`ring_tables`
     counters : (N_COUNTERS,) int64
-        Incremented: ``C_23``, ``C_RING + m``, ``C_REMOVED_FLIP`` (slivers among the
-        replaced tets) and ``C_CREATED`` (slivers among the new ones).
+        Incremented: ``C_23``, ``C_RING + m``, and by the net change of the number of
+        slivers among the tets a flip replaces, ``C_REMOVED_FLIP`` (fewer) or
+        ``C_CREATED`` (more).
 
     Returns
     -------
@@ -514,12 +523,15 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
                 newv[8 * s + 5] = wc
                 newv[8 * s + 6] = wb
                 newv[8 * s + 7] = p
+        n_bad = 0
         for o in range(n_old):
             if _tet_ratio(pts, tet, old[o]) < threshold:
-                counters[C_REMOVED_FLIP] += 1
+                n_bad += 1
         for s in range(n_new):
             if _ratio(pts, newv[4 * s], newv[4 * s + 1], newv[4 * s + 2], newv[4 * s + 3]) < threshold:
-                counters[C_CREATED] += 1
+                n_bad -= 1
+        counters[C_REMOVED_FLIP] += max(n_bad, 0)
+        counters[C_CREATED] += max(-n_bad, 0)
         need = ntet + n_new
         if 4 * need > tet.shape[0]:
             cap = max(2 * (tet.shape[0] // 4), need)
@@ -599,9 +611,10 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
     For each movable vertex v of the sliver, candidate positions are tried: towards the
     apex of the ideal tet on the opposite face (1/8 .. all the way), straight away from
     that face (1/32 .. 1/4 of its mean edge), and towards the centroid of v's star
-    (1/4 .. all the way).  The position with the best smallest ratio over v's star wins
-    if it beats the current smallest ratio of that star and keeps every star tet
-    positive (exact ``orient3d``).  ``pts`` is updated in place.
+    (1/4 .. all the way); a compass search refines the best of them.  A position counts
+    only if every tet of v's star stays positive (exact ``orient3d``) and the star has
+    no more slivers than before; the one with the best smallest ratio over the star wins
+    if that beats the current one.  ``pts`` is updated in place.
 
     Parameters
     ----------
@@ -613,8 +626,8 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
     threshold : float
     movable : (n,) bool
     counters : (N_COUNTERS,) int64
-        Incremented: ``C_MOVES``, ``C_REMOVED_MOVE`` (slivers of the star before) and
-        ``C_CREATED`` (after).
+        Incremented: ``C_MOVES`` and ``C_REMOVED_MOVE`` (slivers of the star before
+        minus after; a move never adds slivers to the star).
 
     Returns
     -------
@@ -639,7 +652,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
             if not movable[v]:
                 continue
             px, py, pz = pts[v, 0], pts[v, 1], pts[v, 2]
-            q0, _ = _star_worst(pts, tet, first, slots, v, px, py, pz, threshold)
+            q0, bad0 = _star_worst(pts, tet, first, slots, v, px, py, pz, threshold)
             a = tet[4 * t + TET_FACES[k, 0]]
             b = tet[4 * t + TET_FACES[k, 1]]
             c = tet[4 * t + TET_FACES[k, 2]]
@@ -694,14 +707,36 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
                 cands[nc, 1] = py + f * (sy - py)
                 cands[nc, 2] = pz + f * (sz - pz)
                 nc += 1
+            qv = q0
+            xv, yv, zv = px, py, pz
             for i in range(nc):
-                q, _ = _star_worst(pts, tet, first, slots, v, cands[i, 0], cands[i, 1], cands[i, 2], threshold)
-                if q - q0 > best_gain:
-                    best_gain = q - q0
-                    best_v = v
-                    best_x = cands[i, 0]
-                    best_y = cands[i, 1]
-                    best_z = cands[i, 2]
+                q, bad = _star_worst(pts, tet, first, slots, v, cands[i, 0], cands[i, 1], cands[i, 2], threshold)
+                if q > qv and bad <= bad0:
+                    qv = q
+                    xv, yv, zv = cands[i, 0], cands[i, 1], cands[i, 2]
+            # Compass search from the best candidate along _DIRS and the face normal,
+            # halving the step after a round without gain.
+            step = 0.125 * h
+            for _ in range(_SEARCH_ROUNDS):
+                gained = False
+                for dxn in range(_DIRS.shape[0] + 2):
+                    if dxn < _DIRS.shape[0]:
+                        ax, ay, az = _DIRS[dxn, 0], _DIRS[dxn, 1], _DIRS[dxn, 2]
+                    else:
+                        sign = 1.0 if dxn == _DIRS.shape[0] else -1.0
+                        ax, ay, az = sign * nx, sign * ny, sign * nz
+                    cx, cy, cz = xv + step * ax, yv + step * ay, zv + step * az
+                    q, bad = _star_worst(pts, tet, first, slots, v, cx, cy, cz, threshold)
+                    if q > qv and bad <= bad0:
+                        qv = q
+                        xv, yv, zv = cx, cy, cz
+                        gained = True
+                if not gained:
+                    step *= 0.5
+            if qv - q0 > best_gain:
+                best_gain = qv - q0
+                best_v = v
+                best_x, best_y, best_z = xv, yv, zv
         if best_v < 0:
             continue
         _, before = _star_worst(pts, tet, first, slots, best_v, pts[best_v, 0], pts[best_v, 1], pts[best_v, 2], threshold)
@@ -710,7 +745,6 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
         pts[best_v, 1] = best_y
         pts[best_v, 2] = best_z
         counters[C_MOVES] += 1
-        counters[C_REMOVED_MOVE] += before
-        counters[C_CREATED] += after
+        counters[C_REMOVED_MOVE] += before - after
         moved += 1
     return moved

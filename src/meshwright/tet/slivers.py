@@ -46,12 +46,15 @@ __all__ = ["remove_slivers", "SliverReport", "LEFT_REASONS"]
 
 # Why a sliver is left.  Every left sliver also had no improving flip in the last pass.
 LEFT_REASONS = {
-    "boundary": "all four vertices lie on the boundary surface (or on constrained cells): none may move",
+    "boundary": "it has a face on the boundary surface, which no flip may change, or all four vertices lie "
+    "on the boundary or on constrained cells, so none may move",
     "not_movable": "its vertices off the boundary are not movable (move_points=False or the movable mask)",
-    "no_improving_move": "no tried position of a movable vertex raised the worst ratio of its star",
-    "iteration_cap": "max_iter passes ran out while passes were still changing the mesh",
+    "no_improving_move": "moves of its movable vertices did not lift it above the threshold",
+    "iteration_cap": "max_iter passes ran out while the number of slivers was still falling",
 }
 
+# Passes without fewer slivers after which the loop stops (moves can creep on forever).
+_STALL_PASSES = 3
 _RING_NAMES = {3: "3-2", 4: "4-4", 5: "5-6", 6: "6-8", 7: "7-10"}
 _ROWS, _START, _COUNT = _flips.ring_tables()
 
@@ -60,10 +63,10 @@ _ROWS, _START, _COUNT = _flips.ring_tables()
 class SliverReport:
     """What :func:`remove_slivers` did.
 
-    ``found - removed_by_flip - removed_by_move + created == left``: ``created`` counts
-    slivers among the new tets of a flip or the star of a moved vertex (each operation
-    raises the worst ratio of the tets it touches, which need not lift all of them
-    above the threshold); a sliver created and then removed is counted in both.
+    ``found - removed_by_flip - removed_by_move + created == left``.  Every operation
+    counts the net change of the number of slivers among the tets it touches: a flip
+    raises their worst ratio but may leave more of them below the threshold
+    (``created``); a move never adds slivers to its vertex's star.
 
     Attributes
     ----------
@@ -148,7 +151,7 @@ def _fixed_vertices(mesh: Mesh) -> np.ndarray:
     return fixed
 
 
-def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True, movable=None, max_iter: int = 20):
+def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True, movable=None, max_iter: int = 50):
     """Remove slivers (r_in / R_circ < threshold) by flips and vertex moves (section 18.1.1).
 
     Parameters
@@ -169,7 +172,8 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
         mask) to keep the input points where they are.  Boundary and constrained
         vertices never move; marking one movable is an error.
     max_iter : int
-        Cap on the flip + move passes.
+        Cap on the flip + move passes; the loop also stops when a pass changes nothing
+        or three passes in a row did not lower the number of slivers.
 
     Returns
     -------
@@ -235,6 +239,7 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
     min_before = float(ratios.min())
     capped = False
     iterations = 0
+    fewest, stalled = found, 0
     any_movable = bool(movable.any())
     for it in range(max_iter):
         cand = np.flatnonzero(ratios < threshold)
@@ -254,9 +259,14 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
             cand = cand[np.argsort(ratios[cand], kind="stable")].astype(np.int64)
             moved = _flips.move_pass(pts, tet, ntet, cand, threshold, movable, counters)
         ratios = _flips.all_ratios(pts, tet, ntet)
-        if flips + moved == 0:
+        n_slivers = int(np.count_nonzero(ratios < threshold))
+        if n_slivers < fewest:
+            fewest, stalled = n_slivers, 0
+        else:
+            stalled += 1
+        if flips + moved == 0 or stalled == _STALL_PASSES:
             break
-        if it == max_iter - 1 and np.any(ratios < threshold):
+        if it == max_iter - 1 and n_slivers:
             capped = True
 
     alive = tet[: 4 * ntet].reshape(ntet, 4)[:, 0] >= 0
@@ -278,12 +288,14 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
     if capped:
         reasons["iteration_cap"] = len(left_cells)
     else:
-        verts = new_tets[left_cells]
-        for row in verts:
-            if movable[row].any():
-                reasons["no_improving_move"] += 1
-            elif fixed[row].all():
+        on_surface = np.zeros(len(new_tets), bool)
+        on_surface[_boundary_cells(new_tets)] = True
+        for t in left_cells:
+            row = new_tets[t]
+            if on_surface[t] or fixed[row].all():
                 reasons["boundary"] += 1
+            elif movable[row].any():
+                reasons["no_improving_move"] += 1
             else:
                 reasons["not_movable"] += 1
     flips_by_kind = {"2-3": int(counters[_flips.C_23])}
@@ -304,3 +316,9 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
         min_ratio_after=float(final.min()),
     )
     return out, report
+
+
+def _boundary_cells(tets: np.ndarray) -> np.ndarray:
+    """Indices of the tets with a face on the boundary (a face no other tet has)."""
+    nbr = build_neighbors_tet(tets)
+    return np.flatnonzero((nbr < 0).any(axis=1))
