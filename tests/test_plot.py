@@ -102,3 +102,27 @@ def test_plot_errors_name_the_option():
         plot_mesh(mesh, color_by=np.zeros(3))
     with pytest.raises(InputError, match=r"triangles must have shape"):
         plot_triangulation(mesh.points, np.zeros((2, 4), int))
+
+
+def test_plot_tetra_surface_quality_and_histogram(tmp_path):
+    from meshwright.plot.mesh_plot import plot_quality_histogram
+
+    pts = np.random.default_rng(0).random((60, 3))
+    spatial = pytest.importorskip("scipy.spatial")
+    tets = spatial.Delaunay(pts).simplices
+    p = pts[tets]
+    neg = np.linalg.det(p[:, 1:] - p[:, :1]) < 0
+    tets[neg, 0], tets[neg, 1] = tets[neg, 1], tets[neg, 0].copy()
+    mesh = Mesh(pts, {"tetra": tets})
+    ax = mesh.plot(path=tmp_path / "q.png", show_quality="min_dihedral", title="dihedrals")
+    assert ax.name == "3d" and len(ax.figure.axes) == 3  # surface, colour bar, histogram
+    assert_png(tmp_path / "q.png")
+    hist = plot_quality_histogram(mesh, "sliver_ratio", path=tmp_path / "h.png")
+    assert "sliver flag" in [t.get_text() for t in hist.get_legend().get_texts()][0]
+    assert_png(tmp_path / "h.png")
+    with pytest.raises(InputError, match="no quality measure 'min_angle'"):
+        mesh.plot(show_quality="min_angle")
+    with pytest.raises(InputError, match="color_by is for 2-D"):
+        mesh.plot(color_by="marker")
+    with pytest.raises(InputError, match="bins must be"):
+        plot_quality_histogram(mesh, bins=0)
