@@ -19,6 +19,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import meshwright as mw
 from meshwright import geometry as g
@@ -28,6 +30,7 @@ from meshwright.core.errors import (
     GeometryError,
     InputError,
     MeshingError,
+    MeshwrightError,
     SizeError,
     fmt_point,
 )
@@ -496,3 +499,76 @@ def test_size_less_modes_interpolate_the_boundary_spacing(method):
     assert fine < middle < coarse, (fine, middle, coarse)
     assert coarse > 10 * fine
     assert mesh.area() == pytest.approx(1.0, rel=1e-12)
+
+
+# ---------------------------------------------------------------------------- fuzzing the doors
+_ANY = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.integers(-(2**70), 2**70),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.text(max_size=4),
+    st.lists(st.floats(-2, 2), max_size=3),
+)
+
+
+@settings(deadline=None, max_examples=60, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    st.fixed_dictionaries(
+        {},
+        optional={
+            "size": st.one_of(_ANY, st.floats(0.05, 2.0)),
+            "min_angle": st.one_of(_ANY, st.floats(0, 34)),
+            "method": st.one_of(st.sampled_from(METHODS), _ANY),
+            "smooth": st.one_of(_ANY, st.integers(0, 3)),
+            "max_area": st.one_of(_ANY, st.floats(1e-3, 1.0)),
+            "seed": _ANY,
+            "progress": _ANY,
+            "conforming": _ANY,
+            "alpha": st.one_of(_ANY, st.floats(0.3, 2.0)),
+        },
+    )
+)
+def test_triangulate_fuzz_raises_only_meshwright_errors(kwargs):
+    # A small cap keeps every accepted request cheap: refused at the door or capped in the method.
+    try:
+        mesh = mw.triangulate("circle", max_points=3000, **kwargs)
+    except MeshwrightError:
+        return
+    mesh.validate()
+
+
+_KEYS = [
+    "outer", "holes", "segments", "points", "regions", "size", "version", "polygon", "markers", "marker",
+    "circle", "center", "radius", "ellipse", "a", "b", "rotation", "naca", "chord", "aoa", "origin",
+    "closed_te", "curves", "line", "arc", "theta0", "theta1", "degrees", "polyline", "spline", "closed",
+    "point", "max_area",
+]
+_JSON = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.just(-(10**400)) | st.floats() | st.text(max_size=5),
+    lambda inner: st.lists(inner, max_size=5) | st.dictionaries(st.sampled_from(_KEYS), inner, max_size=4),
+    max_leaves=25,
+)
+
+
+@settings(deadline=None, max_examples=300)
+@given(st.dictionaries(st.sampled_from(_KEYS[:7]), _JSON, max_size=4))
+def test_domain_from_dict_fuzz_raises_only_format_or_geometry_errors(spec):
+    try:
+        g.domain_from_dict(spec)
+    except (FormatError, GeometryError):
+        pass
+
+
+@settings(deadline=None, max_examples=200)
+@given(
+    st.sampled_from(["outer", "holes", "regions"]),
+    _JSON,
+)
+def test_domain_from_dict_fuzz_inside_a_valid_file(key, value):
+    spec = {"outer": {"circle": {"center": [0.5, 0.5], "radius": 2}}, "holes": [OUTER], "regions": []}
+    spec[key] = value if key == "outer" else [value]
+    try:
+        g.domain_from_dict(spec)
+    except (FormatError, GeometryError):
+        pass

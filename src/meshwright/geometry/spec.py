@@ -96,6 +96,10 @@ def _json_type(v) -> str:
 def _number(v, where: str, positive: bool = False) -> float:
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
         raise FormatError(f"{where}: expected a number, got {_json_type(v)}")
+    try:
+        v = float(v)
+    except OverflowError:
+        raise FormatError(f"{where}: {str(v)[:20]}... is too large for a float") from None
     if not math.isfinite(v) or (positive and v <= 0):
         raise FormatError(f"{where}: expected a {'positive ' if positive else ''}finite number, got {v!r}")
     return float(v)
@@ -104,6 +108,8 @@ def _number(v, where: str, positive: bool = False) -> float:
 def _int(v, where: str) -> int:
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
         raise FormatError(f"{where}: expected an integer, got {_json_type(v)}")
+    if not -(2**31) <= int(v) < 2**31:
+        raise FormatError(f"{where}: {int(v)} does not fit a 32-bit marker")
     return int(v)
 
 
@@ -136,9 +142,9 @@ def _markers(obj: dict, where: str):
     key = "markers" if "markers" in obj else "marker"
     m = obj.get(key)
     if m is None or (isinstance(m, int) and not isinstance(m, bool)):
-        return m
+        return None if m is None else _int(m, f"{where}.{key}")
     if isinstance(m, list) and all(isinstance(k, int) and not isinstance(k, bool) for k in m):
-        return np.asarray(m, dtype=np.int32)
+        return np.asarray([_int(k, f"{where}.{key}[{i}]") for i, k in enumerate(m)], dtype=np.int32)
     raise FormatError(f"{where}.{key}: markers must be an int or a list of ints, got {_json_type(m)}")
 
 
