@@ -572,3 +572,42 @@ def test_domain_from_dict_fuzz_inside_a_valid_file(key, value):
         g.domain_from_dict(spec)
     except (FormatError, GeometryError):
         pass
+
+
+@settings(deadline=None, max_examples=150)
+@given(
+    st.sampled_from([".txt", ".csv", ".npy", ".node"]),
+    st.one_of(
+        st.binary(max_size=60),
+        st.lists(
+            st.lists(st.sampled_from(["0", "1.5", "-2e3", "nan", "inf", "x", ",", "#", "1e400", ""]), max_size=4).map(
+                " ".join
+            ),
+            max_size=6,
+        ).map(lambda rows: "\n".join(rows).encode()),
+    ),
+)
+def test_read_points_fuzz_raises_only_format_errors(tmp_path_factory, suffix, data):
+    path = tmp_path_factory.mktemp("fuzz") / ("pts" + suffix)
+    path.write_bytes(data)
+    try:
+        pts = mw.read_points(path)
+    except FormatError as exc:
+        assert "pts" + suffix in str(exc)
+        return
+    assert pts.ndim == 2 and pts.shape[1] in (2, 3) and len(pts) and np.isfinite(pts).all()
+
+
+@settings(deadline=None, max_examples=80)
+@given(
+    st.lists(st.tuples(st.floats(-4, 4), st.floats(-4, 4)), min_size=0, max_size=8),
+    st.lists(st.tuples(st.integers(-2, 9), st.integers(-2, 9), st.integers(-2, 9)), max_size=6),
+    st.one_of(_ANY, st.integers(0, 3)),
+)
+def test_smooth_fuzz_raises_only_input_errors(points, triangles, passes):
+    try:
+        pts = np.array(points, dtype=float).reshape(-1, 2)
+        out = mw.smooth(pts, np.array(triangles, dtype=np.int64).reshape(-1, 3), passes=passes)
+    except InputError:
+        return
+    assert out.shape == (len(points), 2)
