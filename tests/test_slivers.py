@@ -191,3 +191,31 @@ def test_arguments_are_checked():
         remove_slivers(Mesh(mesh.points, {"tetra": mesh.tetra}, cell_data={"q": {"tetra": np.zeros(len(mesh.tetra))}}))
     with pytest.raises(InputError, match="must be a meshwright Mesh"):
         remove_slivers(mesh.tetra)
+
+
+def test_on_meshwright_delaunay_of_points_on_a_sphere():
+    import meshwright as mw
+
+    rng = np.random.default_rng(4)
+    v = rng.normal(size=(300, 3))
+    pts = np.vstack([v / np.linalg.norm(v, axis=1)[:, None], 0.5 * rng.random((60, 3)) - 0.25])
+    mesh = mw.delaunay(pts).to_mesh()
+    mesh.validate(check_delaunay=True)
+    out, report = remove_slivers(mesh)
+    check_result(mesh, out, report)
+    assert report.found > 0 and report.left < report.found
+    assert hull_set(out) == hull_set(mesh)
+
+
+def test_only_the_vertices_of_the_mask_move_and_the_input_is_untouched():
+    mesh = scipy_mesh(lattice_points(6, seed=3))
+    points, tets = mesh.points.copy(), mesh.tetra.copy()
+    interior = np.ones(mesh.n_points, bool)
+    interior[np.unique(mesh.boundary_facets())] = False
+    mask = interior & (np.arange(mesh.n_points) % 2 == 0)
+    out, report = remove_slivers(mesh, movable=mask)
+    check_result(mesh, out, report)
+    moved = np.any(out.points != mesh.points, axis=1)
+    assert report.moves > 0 and moved.any() and not (moved & ~mask).any()
+    np.testing.assert_array_equal(mesh.points, points)
+    np.testing.assert_array_equal(mesh.tetra, tets)

@@ -243,15 +243,20 @@ def _eval_ring(pts, tet, nbr, lock, ekeys, nv, t, i, j, ring, rtets, tq, rows, s
     triangulation of the ring polygon gives 2 (m - 2) tets (w_a, w_b, w_c, q) and
     (w_a, w_c, w_b, p).  m = 3 is the 3-2 flip (the chapter's flip: sliver ABCD with
     neighbours ABDE and BCDE sharing E becomes ABCE, ACDE, edge BD removed), m = 4 the
-    4-4 flip::
+    4-4 flip.  Seen down the edge from q (x is the edge pq, p below, q above)::
 
-          3-2 (ring w0 w1 w2)                 4-4 (ring w0 w1 w2 w3)
-              q                                    q
-            / | \\          q                   /  |  \\             q
-          w0--+--w2  ->  w0---w2           w0-- + --w2   ->   w0---w2
-           \\ w1 /         \\ w1 /            \\ w1 w3 /          | \\ |   diagonal w0-w2
-            \\ | /   +      \\ | /             \\ | /             w1 w3   (or w1-w3)
-              p            p                   p              two tets each on p and q
+        3-2:        w2                      w2
+                   / | \\                    /  \\
+                  /  x  \\       ->         /    \\     3 tets (p, q, w_i, w_i+1) become
+                 / /   \\ \\                /      \\    2 tets on the triangle w0 w1 w2:
+                w0-------w1              w0------w1   (w0, w1, w2, q) and (w0, w2, w1, p)
+
+        4-4:    w3-------w2              w3-------w2
+                | \\     / |              |       / |
+                |   \\ /   |     ->       |     /   |  4 tets around x become 2 tets on
+                |   / x   |              |   /     |  each of the triangles w0 w1 w2 and
+                | /     \\ |              | /       |  w0 w2 w3 (or on w0 w1 w3, w1 w2 w3)
+                w0-------w1              w0-------w1
 
     Returns (best smaller new ratio or -inf, ring size m, best triangulation index).
     ``tq[a, b, c]`` is scratch: the worse ratio of the two tets on triangle (a, b, c), or
