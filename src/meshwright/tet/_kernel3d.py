@@ -187,11 +187,11 @@ def _orient(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
 
 
 @njit(inline="always")
-def _conflict(s, t, v, px, py, pz):
+def _conflict(pts, tet, nbr, sph, rank, t, v, px, py, pz):
     """Conflict of tet t with the new vertex: Watson's filter if spheres are kept."""
-    if s.sph.shape[0] > 0:
-        return watson.conflict(s.pts, s.tet, s.nbr, s.sph, s.rank, t, v, px, py, pz)
-    return bowyer.conflict(s.pts, s.tet, s.nbr, s.rank, t, v, px, py, pz)
+    if sph.shape[0] > 0:
+        return watson.conflict(pts, tet, nbr, sph, rank, t, v, px, py, pz)
+    return bowyer.conflict(pts, tet, nbr, rank, t, v, px, py, pz)
 
 
 @njit(inline="always")
@@ -201,7 +201,7 @@ def _vslot(u, vmark):
 
 
 @njit(inline="always")
-def walk(s, t, px, py, pz):
+def walk(pts, tet, nbr, meta, t, px, py, pz):
     """Stochastic visibility walk from tet t towards p; advances ``meta[M_RNG]``.
 
     Returns
@@ -210,14 +210,11 @@ def walk(s, t, px, py, pz):
         A finite tet whose closure contains p, a ghost whose hull face has p strictly
         outside, or -1 when the step cap (four times the slots plus 100) is hit.
     """
-    pts = s.pts
-    tet = s.tet
-    nbr = s.nbr
     if tet[4 * t + 3] == GHOST:
         t = nbr[4 * t + 3]
     came = -1
-    r = s.meta[M_RNG]
-    cap = 4 * s.meta[M_NTET] + 100
+    r = meta[M_RNG]
+    cap = 4 * meta[M_NTET] + 100
     steps = 0
     while True:
         r = xorshift32(r)
@@ -245,7 +242,7 @@ def walk(s, t, px, py, pz):
         if steps > cap:
             t = -1
             break
-    s.meta[M_RNG] = r
+    meta[M_RNG] = r
     return t
 
 
@@ -258,28 +255,24 @@ def _unmark(tet, cav, m):
 
 
 @njit(inline="always")
-def _need(s, m, code, size):
+def _need(tet, cav, meta, m, code, size):
     """Undo the marks of an m-tet cavity and ask for ``size`` entries of array ``code``."""
-    _unmark(s.tet, s.cav, m)
-    s.meta[M_NEED] = code
-    s.meta[M_NEEDN] = size
+    _unmark(tet, cav, m)
+    meta[M_NEED] = code
+    meta[M_NEEDN] = size
     return NEED_SPACE
 
 
 @njit(inline="always")
-def _grow_cavity(s, v, t0):
-    """Breadth-first cavity from t0; returns ``(m, nf)`` or ``(NEED_SPACE|BROKEN, 0)``.
+def _grow_cavity(pts, tet, nbr, sph, rank, meta, cav, bnd, v, t0):
+    """Breadth-first cavity from t0; returns ``(m, nf)`` or ``(NEED_SPACE, 0)``.
 
     On success the m cavity tets (still marked) are in ``cav`` and the nf boundary faces in
     ``bnd``.
     """
-    tet = s.tet
-    nbr = s.nbr
-    cav = s.cav
-    bnd = s.bnd
-    px = s.pts[v, 0]
-    py = s.pts[v, 1]
-    pz = s.pts[v, 2]
+    px = pts[v, 0]
+    py = pts[v, 1]
+    pz = pts[v, 2]
     ccap = cav.shape[0]
     fcap = bnd.shape[0] // 4
     cav[0] = t0
@@ -295,15 +288,15 @@ def _grow_cavity(s, v, t0):
             n = nbr[b4 + k]
             if tet[4 * n] < -1:
                 continue
-            if _conflict(s, n, v, px, py, pz):
+            if _conflict(pts, tet, nbr, sph, rank, n, v, px, py, pz):
                 if m == ccap:
-                    return _need(s, m, NEED_CAV, 2 * ccap), 0
+                    return _need(tet, cav, meta, m, NEED_CAV, 2 * ccap), 0
                 tet[4 * n] = -2 - tet[4 * n]
                 cav[m] = n
                 m += 1
             else:
                 if nf == fcap:
-                    return _need(s, m, NEED_FACES, 2 * fcap), 0
+                    return _need(tet, cav, meta, m, NEED_FACES, 2 * fcap), 0
                 n4 = 4 * n
                 j = 0
                 while j < 3 and nbr[n4 + j] != c:
@@ -318,35 +311,31 @@ def _grow_cavity(s, v, t0):
 
 
 @njit(inline="always")
-def _check_boundary(s, m, nf):
+def _check_boundary(tet, meta, cav, bnd, twin, vloc, etab, vmark, m, nf):
     """Number the boundary vertices, pair the directed edges; 0, NEED_SPACE or BROKEN.
 
     Fills ``twin``.  Only scratch arrays are written; on failure the cavity marks are undone.
     """
-    bnd = s.bnd
-    vmark = s.vmark
-    vloc = s.vloc
     lcap = vloc.shape[0]
-    if 3 * nf > s.twin.shape[0]:
-        return _need(s, m, NEED_FACES, nf)
+    if 3 * nf > twin.shape[0]:
+        return _need(tet, cav, meta, m, NEED_FACES, nf)
     nl = 0
-    for o in range(3 * nf + nf):
+    for o in range(4 * nf):
         if o % 4 == 3:
             continue
         u = _vslot(bnd[o], vmark)
         lu = vmark[u]
         if lu < 0 or lu >= nl or vloc[lu] != u:
             if nl == lcap:
-                return _need(s, m, NEED_LOCAL, 2 * lcap)
+                return _need(tet, cav, meta, m, NEED_LOCAL, 2 * lcap)
             vmark[u] = nl
             vloc[nl] = u
             nl += 1
     if 2 * nl != nf + 4:
-        _unmark(s.tet, s.cav, m)
+        _unmark(tet, cav, m)
         return BROKEN
-    if nl * nl > s.etab.shape[0]:
-        return _need(s, m, NEED_LOCAL, nl)
-    etab = s.etab
+    if nl * nl > etab.shape[0]:
+        return _need(tet, cav, meta, m, NEED_LOCAL, nl)
     for j in range(nf):
         o = 4 * j
         for e in range(3):
@@ -367,9 +356,9 @@ def _check_boundary(s, m, nf):
                 e2 = h % 3
                 ok = bnd[o2 + e2] == w and bnd[o2 + (e2 + 1) % 3] == u
             if not ok:
-                _unmark(s.tet, s.cav, m)
+                _unmark(tet, cav, m)
                 return BROKEN
-            s.twin[3 * j + e] = h
+            twin[3 * j + e] = h
     return 0
 
 
@@ -400,15 +389,8 @@ def _perm(g):
 
 
 @njit(inline="always")
-def _fan(s, v, m, nf):
+def _fan(pts, tet, nbr, sph, meta, cav, bnd, twin, free, v, m, nf):
     """Replace the checked cavity by the fan of v; returns a new finite tet incident to v."""
-    tet = s.tet
-    nbr = s.nbr
-    bnd = s.bnd
-    twin = s.twin
-    cav = s.cav
-    free = s.free
-    meta = s.meta
     ntet = meta[M_NTET]
     nfree = meta[M_NFREE]
     result = -1
@@ -431,17 +413,14 @@ def _fan(s, v, m, nf):
         nbr[h] = tn
         # X0 = f0 is opposite the edge f1 -> f2 (e = 1), X1 = f2 opposite f0 -> f1 (e = 0),
         # X2 = f1 opposite f2 -> f0 (e = 2).
-        h1 = twin[3 * j + 1]
-        h0 = twin[3 * j]
-        h2 = twin[3 * j + 2]
-        nbr[b4 + q0] = _slot(h1 // 3, m, nfree, ntet, cav, free)
-        nbr[b4 + q1] = _slot(h0 // 3, m, nfree, ntet, cav, free)
-        nbr[b4 + q2] = _slot(h2 // 3, m, nfree, ntet, cav, free)
+        nbr[b4 + q0] = _slot(twin[3 * j + 1] // 3, m, nfree, ntet, cav, free)
+        nbr[b4 + q1] = _slot(twin[3 * j] // 3, m, nfree, ntet, cav, free)
+        nbr[b4 + q2] = _slot(twin[3 * j + 2] // 3, m, nfree, ntet, cav, free)
         if g < 0:
             result = tn
-    if s.sph.shape[0] > 0:
+    if sph.shape[0] > 0:
         for j in range(nf):
-            watson.sphere(s.pts, tet, s.sph, _slot(j, m, nfree, ntet, cav, free))
+            watson.sphere(pts, tet, sph, _slot(j, m, nfree, ntet, cav, free))
     if nf >= m:
         used = min(nfree, nf - m)
         meta[M_NFREE] = nfree - used
@@ -456,6 +435,45 @@ def _fan(s, v, m, nf):
         meta[M_NFREE] = nfree
     meta[M_LAST] = result
     return result
+
+
+@njit(inline="always")
+def _insert(pts, tet, nbr, sph, rank, meta, cav, bnd, twin, vloc, etab, vmark, free, v, t):
+    """Body of :func:`insert_vertex` over the unpacked bundle, inlined into the batch loop.
+
+    Helpers take arrays, not the bundle: every attribute read of a NamedTuple inside a loop
+    costs an atomic reference-count pair in Numba.
+    """
+    if vmark.shape[0] <= max(v, pts.shape[0]):
+        meta[M_NEED] = NEED_VERTS
+        meta[M_NEEDN] = pts.shape[0] + 1
+        return NEED_SPACE
+    px = pts[v, 0]
+    py = pts[v, 1]
+    pz = pts[v, 2]
+    t0 = walk(pts, tet, nbr, meta, t, px, py, pz)
+    if t0 < 0:
+        return BROKEN
+    if tet[4 * t0 + 3] != GHOST:
+        for k in range(4):
+            w = tet[4 * t0 + k]
+            if pts[w, 0] == px and pts[w, 1] == py and pts[w, 2] == pz:
+                return DUP_BASE - w
+    m, nf = _grow_cavity(pts, tet, nbr, sph, rank, meta, cav, bnd, v, t0)
+    if m < 0:
+        return m
+    st = _check_boundary(tet, meta, cav, bnd, twin, vloc, etab, vmark, m, nf)
+    if st < 0:
+        return st
+    extra = nf - m - meta[M_NFREE]
+    need = meta[M_NTET] + max(extra, 0)
+    if 4 * need > tet.shape[0] or 4 * need > nbr.shape[0] or (
+        sph.shape[0] > 0 and watson.RECORD * need > sph.shape[0]
+    ):
+        return _need(tet, cav, meta, m, NEED_TETS, need)
+    if m > nf and meta[M_NFREE] + m - nf > free.shape[0]:
+        return _need(tet, cav, meta, m, NEED_FREE, meta[M_NFREE] + m - nf)
+    return _fan(pts, tet, nbr, sph, meta, cav, bnd, twin, free, v, m, nf)
 
 
 @njit(cache=True)
@@ -478,37 +496,7 @@ def insert_vertex(s, v, t):
         ``DUP_BASE - w`` when v coincides with vertex w.  Only success modifies the
         tetrahedralization.
     """
-    pts = s.pts
-    if s.vmark.shape[0] <= max(v, pts.shape[0]):
-        s.meta[M_NEED] = NEED_VERTS
-        s.meta[M_NEEDN] = pts.shape[0] + 1
-        return NEED_SPACE
-    px = pts[v, 0]
-    py = pts[v, 1]
-    pz = pts[v, 2]
-    t0 = walk(s, t, px, py, pz)
-    if t0 < 0:
-        return BROKEN
-    if s.tet[4 * t0 + 3] != GHOST:
-        for k in range(4):
-            w = s.tet[4 * t0 + k]
-            if pts[w, 0] == px and pts[w, 1] == py and pts[w, 2] == pz:
-                return DUP_BASE - w
-    m, nf = _grow_cavity(s, v, t0)
-    if m < 0:
-        return m
-    st = _check_boundary(s, m, nf)
-    if st < 0:
-        return st
-    extra = nf - m - s.meta[M_NFREE]
-    need = s.meta[M_NTET] + max(extra, 0)
-    if 4 * need > s.tet.shape[0] or 4 * need > s.nbr.shape[0] or (
-        s.sph.shape[0] > 0 and watson.RECORD * need > s.sph.shape[0]
-    ):
-        return _need(s, m, NEED_TETS, need)
-    if m > nf and s.meta[M_NFREE] + m - nf > s.free.shape[0]:
-        return _need(s, m, NEED_FREE, s.meta[M_NFREE] + m - nf)
-    return _fan(s, v, m, nf)
+    return _insert(s.pts, s.tet, s.nbr, s.sph, s.rank, s.meta, s.cav, s.bnd, s.twin, s.vloc, s.etab, s.vmark, s.free, v, t)
 
 
 @njit(cache=True)
@@ -534,10 +522,11 @@ def insert_batch(s, order, start, stop, vbase, vmap):
         the array ``meta[M_NEED]`` names and call again from i); ``BROKEN`` at position i
         (the tetrahedralization is unchanged by ``order[i]``, later vertices not inserted).
     """
-    t = s.meta[M_LAST]
+    pts, tet, nbr, sph, rank, meta, cav, bnd, twin, vloc, etab, vmark, free = s
+    t = meta[M_LAST]
     for i in range(start, stop):
         v = order[i]
-        st = insert_vertex(s, v, t)
+        st = _insert(pts, tet, nbr, sph, rank, meta, cav, bnd, twin, vloc, etab, vmark, free, v, t)
         if st >= 0:
             vmap[v - vbase] = v
             t = st
@@ -564,14 +553,18 @@ def locate_points(s, xyz):
         A finite tet slot; ``-1 - g`` for a ghost slot g (the point is outside the hull);
         ``-1 - 2**40`` if the walk hit its cap.
     """
+    pts = s.pts
+    tet = s.tet
+    nbr = s.nbr
+    meta = s.meta
     m = xyz.shape[0]
     out = np.empty(m, dtype=np.int64)
-    t = s.meta[M_LAST]
+    t = meta[M_LAST]
     for i in range(m):
-        r = walk(s, t, xyz[i, 0], xyz[i, 1], xyz[i, 2])
+        r = walk(pts, tet, nbr, meta, t, xyz[i, 0], xyz[i, 1], xyz[i, 2])
         if r < 0:
             out[i] = -1 - (1 << 40)
             continue
         t = r
-        out[i] = -1 - r if s.tet[4 * r + 3] == GHOST else r
+        out[i] = -1 - r if tet[4 * r + 3] == GHOST else r
     return out

@@ -73,7 +73,7 @@ from meshwright.tet._kernel3d import (
     new_meta,
 )
 
-__all__ = ["TetAlgorithm", "TET_ALGORITHMS", "SUPERSTRUCTURES", "Tetrahedralization", "grow", "delaunay3d"]
+__all__ = ["TetAlgorithm", "TET_ALGORITHMS", "SUPERSTRUCTURES", "BOX_TETS", "Tetrahedralization", "grow", "delaunay3d"]
 
 
 class TetAlgorithm(NamedTuple):
@@ -101,7 +101,7 @@ SUPERSTRUCTURES = ("ghost", "box")
 
 # The chapter's hexahedron split into five tets: the central one and four corners
 # (corner i has coordinates (i & 1, (i >> 1) & 1, (i >> 2) & 1) of the box).
-_BOX_TETS = np.array([[0, 3, 5, 6], [1, 0, 3, 5], [2, 0, 3, 6], [4, 0, 5, 6], [7, 3, 5, 6]])
+BOX_TETS = np.array([[0, 3, 5, 6], [1, 0, 3, 5], [2, 0, 3, 6], [4, 0, 5, 6], [7, 3, 5, 6]])
 _SCRATCH = 64  # initial cavity / face / local-vertex capacity
 
 
@@ -202,6 +202,7 @@ class Tetrahedralization:
         self.superstructure = superstructure
         self._rng = np.random.default_rng(seed)
         self._cache: dict = {}
+        self._exported = False
         order = self._order(pts)
         vb = 8 if superstructure == "box" else 0
         self._vb = vb
@@ -231,7 +232,7 @@ class Tetrahedralization:
         s = self._s
         vmap = np.empty(n, dtype=np.int32)
         if vb:
-            init_tets(P, _BOX_TETS, s.tet, s.nbr, s.sph, s.meta)
+            init_tets(P, BOX_TETS, s.tet, s.nbr, s.sph, s.meta)
             first = vb
         else:
             init_tets(P, np.array([[0, 1, 2, 3]]), s.tet, s.nbr, s.sph, s.meta)
@@ -326,29 +327,40 @@ class Tetrahedralization:
             self._s = s._replace(rank=(np.cumsum(dense, dtype=np.int32) - 1)[ranks])
         return newid[vmap]
 
-    def _public(self) -> dict:
-        """Public arrays (box mode: the tets not attached to a box vertex), cached."""
-        if "tetrahedra" in self._cache:
-            return self._cache
+    def _public(self, name: str) -> np.ndarray:
+        """Public array ``name`` (tetrahedra, neighbors, hull, or pub: slot -> public index), cached.
+
+        With the ghost superstructure ``tetrahedra`` is a read-only view of the kernel's array
+        (:meth:`insert` copies that array first if the view was handed out); with the box it is
+        the filtered copy of the tets not attached to a box vertex.
+        """
+        if name in self._cache:
+            return self._cache[name]
         nt = self._nt
+        slots = int(self._s.meta[M_NTET])
         tet = self._s.tet[: 4 * nt].reshape(nt, 4)
-        nb = self._s.nbr[: 4 * nt].reshape(nt, 4)
         if self._vb:
             keep = (tet >= self._vb).all(axis=1)
-            pub = np.full(int(self._s.meta[M_NTET]), -1, dtype=np.int32)
+            pub = np.full(slots, -1, dtype=np.int32)
             pub[:nt][keep] = np.arange(int(keep.sum()), dtype=np.int32)
-            tets = (tet[keep] - self._vb).astype(np.int32)
-            nbrs = pub[nb[keep]]
         else:
-            pub = np.concatenate([np.arange(nt, dtype=np.int32), np.full(int(self._s.meta[M_NTET]) - nt, -1, dtype=np.int32)])
-            tets = tet.copy()
-            nbrs = np.where(nb >= nt, np.int32(-1), nb).astype(np.int32)
-        t, k = np.nonzero(nbrs < 0)
-        hull = tets[t[:, None], TET_FACES[k]].astype(np.int32)
-        for name, arr in (("tetrahedra", tets), ("neighbors", nbrs), ("hull", hull), ("pub", pub)):
-            arr.flags.writeable = False
-            self._cache[name] = arr
-        return self._cache
+            keep = None
+            pub = np.concatenate([np.arange(nt, dtype=np.int32), np.full(slots - nt, -1, dtype=np.int32)])
+        if name == "pub":
+            out = pub
+        elif name == "tetrahedra":
+            out = (tet[keep] - self._vb).astype(np.int32) if self._vb else tet
+            self._exported = True
+        elif name == "neighbors":
+            nb = self._s.nbr[: 4 * nt].reshape(nt, 4)
+            out = pub[nb[keep]] if self._vb else np.where(nb >= nt, np.int32(-1), nb).astype(np.int32)
+        else:
+            tets = self._public("tetrahedra")
+            t, k = np.nonzero(self._public("neighbors") < 0)
+            out = tets[t[:, None], TET_FACES[k]].astype(np.int32)
+        out.flags.writeable = False
+        self._cache[name] = out
+        return out
 
     # ------------------------------------------------------------------ public arrays
     @property
@@ -361,17 +373,17 @@ class Tetrahedralization:
     @property
     def tetrahedra(self) -> np.ndarray:
         """(nt, 4) int32 tetrahedra, ``orient3d(v0, v1, v2, v3) > 0`` (read-only)."""
-        return self._public()["tetrahedra"]
+        return self._public("tetrahedra")
 
     @property
     def neighbors(self) -> np.ndarray:
         """(nt, 4) int32: ``neighbors[t, k]`` is across the face opposite vertex k, -1 on the boundary."""
-        return self._public()["neighbors"]
+        return self._public("neighbors")
 
     @property
     def hull(self) -> np.ndarray:
         """(h, 3) int32 boundary faces, counter-clockwise seen from outside (outward normals)."""
-        return self._public()["hull"]
+        return self._public("hull")
 
     def __repr__(self) -> str:
         return f"Tetrahedralization({self.algorithm}, {self.superstructure}: {self._nv} points, {len(self.tetrahedra)} tetrahedra)"
@@ -416,6 +428,9 @@ class Tetrahedralization:
         s.pts[base:rows] = new
         if s.vmark.shape[0] <= s.pts.shape[0]:
             s = s._replace(vmark=np.empty(s.pts.shape[0] + 1, dtype=np.int32))
+        if self._exported:
+            s = s._replace(tet=s.tet.copy())  # arrays already handed out keep their values
+            self._exported = False
         self._s = s
         self._cache = {}
         order = (brio_order(new, self._rng) + base).astype(np.int32)
@@ -449,7 +464,7 @@ class Tetrahedralization:
         if np.any(slots < -(1 << 39)):
             bad = int(np.flatnonzero(slots < -(1 << 39))[0])
             raise MeshingError(f"locating point {bad} {fmt_point(q[bad])}: the walk hit its step cap")
-        pub = self._public()["pub"]
+        pub = self._public("pub")
         out = np.where(slots >= 0, pub[np.maximum(slots, 0)], -1).astype(np.int32)
         return int(out[0]) if single else out
 
