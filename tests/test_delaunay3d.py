@@ -15,6 +15,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import meshwright as mw
 from meshwright.core.errors import DegenerateInputError, DuplicatePointError, InputError, MeshwrightError
@@ -214,6 +216,23 @@ def test_seeds_give_valid_results_on_degenerate_input():
     pts = _lattice(5)
     for seed in range(3):
         check_delaunay(delaunay3d(pts, seed=seed), pts, strict=False)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(*[st.integers(0, 3)] * 3), min_size=4, max_size=40), st.integers(0, 3))
+def test_small_integer_sets_are_exactly_delaunay(cells, seed):
+    # Points of a 4 x 4 x 4 lattice, with repeats: every degeneracy at once (coincident,
+    # collinear, coplanar and cospherical points, points on hull faces and edges).
+    pts = np.array(cells, dtype=float)
+    try:
+        B = delaunay3d(pts, seed=seed)
+    except DegenerateInputError:
+        flat = pts - pts[0]
+        assert np.linalg.matrix_rank(flat) < 3  # only when no tetrahedron exists
+        return
+    check_delaunay(B, np.unique(pts, axis=0), strict=False)
+    assert np.array_equal(B.points[B.index_map], pts)
+    assert tet_set(delaunay3d(pts, algorithm="watson", seed=seed)) == tet_set(B)
 
 
 # ----------------------------------------------------------------------------- incremental

@@ -18,7 +18,9 @@ from meshwright.core.predicates import orient2d, orient3d
 from meshwright.tet import watson
 from meshwright.tet._kernel3d import DELETED, M_LAST, M_NFREE, M_NTET
 
-__all__ = ["find_start", "init_tets", "compact", "relabel"]
+_MARK = -3  # temporary link value while two swapped slots are repaired
+
+__all__ = ["find_start", "init_tets", "compact", "relabel", "scatter_rows", "input_order_maps", "first_repeat"]
 
 
 @njit(cache=True)
@@ -120,12 +122,65 @@ def _sphere(pts, tet, sph, t):
     watson.sphere(pts, tet, sph, t)
 
 
+@njit(inline="always")
+def _swap_slots(tet, nbr, sph, meta, i, j, live_i, live_j):
+    """Exchange the tets in slots i and j and repair every link to them.
+
+    ``live_x``: whether the tet first in slot x is finite or ghost (a freed slot's links are
+    stale and are neither followed nor repaired).  A neighbour of both is repaired through a
+    temporary mark so that its two links cannot be confused.
+    """
+    for k in range(4):
+        x = tet[4 * i + k]
+        tet[4 * i + k] = tet[4 * j + k]
+        tet[4 * j + k] = x
+        y = nbr[4 * i + k]
+        nbr[4 * i + k] = nbr[4 * j + k]
+        nbr[4 * j + k] = y
+    if sph.shape[0] > 0:
+        for k in range(watson.RECORD):
+            z = sph[watson.RECORD * i + k]
+            sph[watson.RECORD * i + k] = sph[watson.RECORD * j + k]
+            sph[watson.RECORD * j + k] = z
+    # slot i now holds the old j (live_j), slot j the old i (live_i)
+    for k in range(4):
+        if live_j and nbr[4 * i + k] == i:
+            nbr[4 * i + k] = j
+        if live_i and nbr[4 * j + k] == j:
+            nbr[4 * j + k] = i
+    if live_j:
+        for k in range(4):
+            nb = nbr[4 * i + k]
+            if nb != j:
+                for m in range(4):
+                    if nbr[4 * nb + m] == j:
+                        nbr[4 * nb + m] = _MARK
+    if live_i:
+        for k in range(4):
+            nb = nbr[4 * j + k]
+            if nb != i:
+                for m in range(4):
+                    if nbr[4 * nb + m] == i:
+                        nbr[4 * nb + m] = j
+    if live_j:
+        for k in range(4):
+            nb = nbr[4 * i + k]
+            if nb != j:
+                for m in range(4):
+                    if nbr[4 * nb + m] == _MARK:
+                        nbr[4 * nb + m] = i
+    if meta[M_LAST] == i:
+        meta[M_LAST] = j
+    elif meta[M_LAST] == j:
+        meta[M_LAST] = i
+
+
 @njit(cache=True)
 def compact(tet, nbr, sph, meta):
     """Finite tets to slots ``[0, nt)``, ghosts to ``[nt, ng)``, freed slots dropped.
 
-    Neighbour links and ``meta[M_LAST]`` follow; ``meta[M_NTET] = ng`` afterwards.  In place
-    (one int32 per slot of scratch).
+    In place, without scratch: two sweeps from both ends swap misplaced slots
+    (:func:`_swap_slots` repairs the links).  ``meta[M_NTET] = ng`` afterwards.
 
     Returns
     -------
@@ -133,55 +188,100 @@ def compact(tet, nbr, sph, meta):
         nt, the number of finite tets.
     """
     ntet = meta[M_NTET]
-    newid = np.empty(ntet, dtype=np.int32)
+    # sweep 1: finite before the rest; sweep 2: ghosts before freed slots
+    bounds = (0, 0)
     nt = 0
-    for t in range(ntet):
-        if tet[4 * t + 3] >= 0:
-            newid[t] = nt
-            nt += 1
-    ng = nt
-    for t in range(ntet):
-        if tet[4 * t + 3] == GHOST:
-            newid[t] = ng
-            ng += 1
-    nd = ng
-    for t in range(ntet):
-        if tet[4 * t + 3] == DELETED:
-            newid[t] = nd
-            nd += 1
-    for t in range(ntet):
-        if tet[4 * t + 3] != DELETED:
-            for k in range(4):
-                nbr[4 * t + k] = newid[nbr[4 * t + k]]
+    for sweep in range(2):
+        i = nt if sweep == 1 else 0
+        j = ntet - 1
+        while True:
+            while i < j and (tet[4 * i + 3] >= 0 if sweep == 0 else tet[4 * i + 3] == GHOST):
+                i += 1
+            while j > i and not (tet[4 * j + 3] >= 0 if sweep == 0 else tet[4 * j + 3] == GHOST):
+                j -= 1
+            if i >= j:
+                break
+            _swap_slots(tet, nbr, sph, meta, i, j, tet[4 * i + 3] != DELETED, True)
+        # first slot past the class just gathered
+        k = nt if sweep == 1 else 0
+        while k < ntet and (tet[4 * k + 3] >= 0 if sweep == 0 else tet[4 * k + 3] == GHOST):
+            k += 1
+        if sweep == 0:
+            nt = k
+        else:
+            bounds = (nt, k)
+    ng = bounds[1]
     last = meta[M_LAST]
-    meta[M_LAST] = newid[last] if 0 <= last < ntet and newid[last] < nt else 0
-    keep = sph.shape[0] > 0
-    for i in range(ntet):
-        while newid[i] != i:
-            j = newid[i]
-            for k in range(4):
-                x = tet[4 * i + k]
-                tet[4 * i + k] = tet[4 * j + k]
-                tet[4 * j + k] = x
-                y = nbr[4 * i + k]
-                nbr[4 * i + k] = nbr[4 * j + k]
-                nbr[4 * j + k] = y
-            if keep:
-                for k in range(watson.RECORD):
-                    z = sph[watson.RECORD * i + k]
-                    sph[watson.RECORD * i + k] = sph[watson.RECORD * j + k]
-                    sph[watson.RECORD * j + k] = z
-            newid[i] = newid[j]
-            newid[j] = j
+    if not (0 <= last < nt):
+        meta[M_LAST] = 0
     meta[M_NTET] = ng
     meta[M_NFREE] = 0
     return nt
 
 
 @njit(cache=True)
-def relabel(tet, ntet, newid):
-    """Replace every non-ghost vertex id v in slots ``[0, ntet)`` by ``newid[v]``."""
+def relabel(tet, ntet, newid, base, shift):
+    """Replace every vertex id v >= base in slots ``[0, ntet)`` by ``shift + newid[v - base]``."""
     for i in range(4 * ntet):
         v = tet[i]
-        if v >= 0:
-            tet[i] = newid[v]
+        if v >= base:
+            tet[i] = shift + newid[v - base]
+
+
+@njit(cache=True)
+def input_order_maps(order, vmap, base, rank, index_map):
+    """From insertion order to input order, without temporaries.
+
+    Vertex ``base + k`` was the k-th inserted point, input point ``order[k]``, and is renamed
+    ``base + order[k]``.  Fills ``rank[base + order[k]] = base + k`` (its perturbation key:
+    the insertion rank) and ``index_map[order[k]] = base + order[vmap[k] - base]`` (the
+    renamed vertex the point became).
+    """
+    for k in range(order.shape[0]):
+        rank[base + order[k]] = base + k
+        index_map[order[k]] = base + order[vmap[k] - base]
+
+
+@njit(cache=True)
+def first_repeat(vmap, base):
+    """First k with ``vmap[k] != base + k`` (a point merged into another vertex), or -1."""
+    for k in range(vmap.shape[0]):
+        if vmap[k] != base + k:
+            return k
+    return -1
+
+
+@njit(cache=True)
+def scatter_rows(pts, base, order):
+    """In place, move row ``base + k`` of ``pts`` to row ``base + order[k]`` (a permutation).
+
+    Follows the permutation's cycles with one row of scratch, so no copy of the points.
+    ``order`` is left unchanged (it is negated while a cycle is open, then restored).
+    """
+    n = order.shape[0]
+    for k in range(n):
+        if order[k] < 0 or order[k] == k:
+            continue
+        x = pts[base + k, 0]
+        y = pts[base + k, 1]
+        z = pts[base + k, 2]
+        j = order[k]
+        order[k] = -1 - order[k]
+        while True:
+            tx = pts[base + j, 0]
+            ty = pts[base + j, 1]
+            tz = pts[base + j, 2]
+            pts[base + j, 0] = x
+            pts[base + j, 1] = y
+            pts[base + j, 2] = z
+            x = tx
+            y = ty
+            z = tz
+            if order[j] < 0:
+                break
+            nj = order[j]
+            order[j] = -1 - order[j]
+            j = nj
+    for k in range(n):
+        if order[k] < 0:
+            order[k] = -1 - order[k]

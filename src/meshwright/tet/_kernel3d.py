@@ -66,7 +66,11 @@ Insertion of vertex v
 
 Hot-path rules: no allocation and no Python objects; an array that may be too small makes
 :func:`insert_vertex` return ``NEED_SPACE`` *before* anything is modified, and the caller
-grows it (:func:`meshwright.tet.tetrahedralization.grow`) and retries.
+grows it (:func:`meshwright.tet.tetrahedralization.grow`, a new bundle by
+``state._replace``) and retries.  The bundle is the one argument of the ``@njit`` entry
+points (:func:`insert_vertex`, :func:`insert_batch`, :func:`locate_points`); they unpack it
+once and the inlined helpers take the arrays one by one, because in Numba every attribute
+read of a NamedTuple inside a loop is a new reference (an atomic increment and decrement).
 """
 
 from __future__ import annotations

@@ -53,7 +53,7 @@ from meshwright.core.rng import seed_state
 from meshwright.core.spatial_sort import brio_order
 from meshwright.core.validate_input import as_points, check_coordinate_range, check_seed
 from meshwright.tet import bowyer, watson
-from meshwright.tet._build3d import compact, find_start, init_tets, relabel
+from meshwright.tet._build3d import compact, find_start, first_repeat, init_tets, input_order_maps, relabel, scatter_rows
 from meshwright.tet._kernel3d import (
     BROKEN,
     M_NEED,
@@ -240,23 +240,24 @@ class Tetrahedralization:
             first = 4
         self._nv = n
         self._run(np.arange(first, rows, dtype=np.int32), vmap, vb, order)
-        newid = np.arange(rows, dtype=np.int32)
-        newid[vb:] = vb + order
-        relabel(self._s.tet, int(self._s.meta[M_NTET]), newid)
-        P[vb + order] = P[vb:].copy()
+        # Peak memory is here: release what the renumbering does not need, in place after.
+        self._s = self._s._replace(vmark=np.empty(0, dtype=np.int32))  # regrown by the next insert
+        relabel(self._s.tet, int(self._s.meta[M_NTET]), order, vb, vb)
+        scatter_rows(P, vb, order)
+        rank = np.empty(rows, dtype=np.int32)
+        rank[:vb] = np.arange(vb, dtype=np.int32)
         index_map = np.empty(n, dtype=np.int32)
-        index_map[order] = newid[vmap]
-        del vmap
-        rank = np.arange(rows, dtype=np.int32)
-        rank[vb + order] = np.arange(vb, rows, dtype=np.int32)
+        input_order_maps(order, vmap, vb, rank, index_map)
+        del vmap, order
         self._s = self._s._replace(rank=rank)
-        del order, newid
-        if duplicates == "reject" and np.any(index_map != np.arange(vb, rows)):
-            dup = int(np.flatnonzero(index_map != np.arange(vb, rows))[0])
-            raise DuplicatePointError(
-                f"coincident points: {index_map[dup] - vb} and {dup} at {fmt_point(pts[dup])}"
-            )
-        self.index_map = self._merge(index_map, vb) - vb
+        if duplicates == "reject":
+            dup = first_repeat(index_map, vb)
+            if dup >= 0:
+                raise DuplicatePointError(
+                    f"coincident points: {index_map[dup] - vb} and {dup} at {fmt_point(pts[dup])}"
+                )
+        self.index_map = self._merge(index_map, vb)
+        self.index_map -= vb
         self._nt = compact(self._s.tet, self._s.nbr, self._s.sph, self._s.meta)
 
     # ------------------------------------------------------------------ build helpers
@@ -308,15 +309,14 @@ class Tetrahedralization:
 
     def _merge(self, vmap: np.ndarray, base: int) -> np.ndarray:
         """Drop duplicate rows ``>= base``, renumber monotonically; return the updated ``vmap``."""
-        keep = vmap == np.arange(base, base + vmap.size, dtype=np.int32)
-        if keep.all():
+        if first_repeat(vmap, base) < 0:
             self._nv = base + vmap.size - self._vb
             return vmap
+        keep = vmap == np.arange(base, base + vmap.size, dtype=np.int32)
         s = self._s
         rows = base + vmap.size
-        newid = np.arange(rows, dtype=np.int32)
-        newid[base:] = base + np.cumsum(keep) - 1
-        relabel(s.tet, int(s.meta[M_NTET]), newid)
+        newid = (base + np.cumsum(keep) - 1).astype(np.int32)
+        relabel(s.tet, int(s.meta[M_NTET]), newid, base, 0)
         kept = int(newid[-1]) + 1
         s.pts[base:kept] = s.pts[base:rows][keep]
         self._nv = kept - self._vb
@@ -325,7 +325,7 @@ class Tetrahedralization:
             dense = np.zeros(s.rank.size, dtype=np.int32)
             dense[ranks] = 1
             self._s = s._replace(rank=(np.cumsum(dense, dtype=np.int32) - 1)[ranks])
-        return newid[vmap]
+        return np.where(vmap >= base, newid[np.maximum(vmap - base, 0)], vmap).astype(np.int32)
 
     def _public(self, name: str) -> np.ndarray:
         """Public array ``name`` (tetrahedra, neighbors, hull, or pub: slot -> public index), cached.
@@ -339,13 +339,13 @@ class Tetrahedralization:
         nt = self._nt
         slots = int(self._s.meta[M_NTET])
         tet = self._s.tet[: 4 * nt].reshape(nt, 4)
-        if self._vb:
-            keep = (tet >= self._vb).all(axis=1)
+        keep = (tet >= self._vb).all(axis=1) if self._vb else None
+        if name == "pub" or (self._vb and name == "neighbors"):
             pub = np.full(slots, -1, dtype=np.int32)
-            pub[:nt][keep] = np.arange(int(keep.sum()), dtype=np.int32)
-        else:
-            keep = None
-            pub = np.concatenate([np.arange(nt, dtype=np.int32), np.full(slots - nt, -1, dtype=np.int32)])
+            if self._vb:
+                pub[:nt][keep] = np.arange(int(keep.sum()), dtype=np.int32)
+            else:
+                pub[:nt] = np.arange(nt, dtype=np.int32)
         if name == "pub":
             out = pub
         elif name == "tetrahedra":
