@@ -192,9 +192,13 @@ def _orient(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
 
 @njit(inline="always")
 def _conflict(pts, tet, nbr, sph, rank, t, v, px, py, pz):
-    """Conflict of tet t with the new vertex: Watson's filter if spheres are kept."""
+    """Conflict of tet t with the new vertex: Watson's filter first if spheres are kept.
+
+    One copy of the exact test serves both algorithms (half the compiled code)."""
     if sph.shape[0] > 0:
-        return watson.conflict(pts, tet, nbr, sph, rank, t, v, px, py, pz)
+        f = watson.filter_sign(tet, sph, t, px, py, pz)
+        if f != 0:
+            return f > 0
     return bowyer.conflict(pts, tet, nbr, rank, t, v, px, py, pz)
 
 

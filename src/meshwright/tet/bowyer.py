@@ -186,13 +186,13 @@ def conflict(pts, tet, nbr, rank, t, v, px, py, pz):
         :func:`finite_conflict` for a finite tet; the ghost rule of the module docstring
         for a ghost.
     """
-    if tet[4 * t + 3] != GHOST:
-        return finite_conflict(pts, tet, rank, t, v, px, py, pz)
-    a = vertex0(tet, t)
-    b = tet[4 * t + 1]
-    c = tet[4 * t + 2]
-    o = orient3d(pts[a, 0], pts[a, 1], pts[a, 2], pts[b, 0], pts[b, 1], pts[b, 2],
-                 pts[c, 0], pts[c, 1], pts[c, 2], px, py, pz)
-    if o != 0.0:
-        return o > 0.0
-    return finite_conflict(pts, tet, rank, nbr[4 * t + 3], v, px, py, pz)
+    if tet[4 * t + 3] == GHOST:
+        a = vertex0(tet, t)
+        b = tet[4 * t + 1]
+        c = tet[4 * t + 2]
+        o = orient3d(pts[a, 0], pts[a, 1], pts[a, 2], pts[b, 0], pts[b, 1], pts[b, 2],
+                     pts[c, 0], pts[c, 1], pts[c, 2], px, py, pz)
+        if o != 0.0:
+            return o > 0.0
+        t = nbr[4 * t + 3]  # coplanar: the finite tet across the hull face decides
+    return finite_conflict(pts, tet, rank, t, v, px, py, pz)

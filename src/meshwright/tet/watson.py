@@ -57,7 +57,7 @@ from numba import njit
 from meshwright.core.flat import GHOST
 from meshwright.tet import bowyer
 
-__all__ = ["conflict", "sphere", "RECORD"]
+__all__ = ["conflict", "filter_sign", "sphere", "RECORD"]
 
 RECORD = 5  # float32 entries per tet slot
 _EPS = 2.0**-53
@@ -69,6 +69,37 @@ _F32_HUGE = 1e37
 
 
 @njit(inline="always")
+def filter_sign(tet, sph, t, px, py, pz):
+    """The distance filter alone: +1 proven inside tet t's circumsphere, -1 outside, 0 unsure.
+
+    Parameters
+    ----------
+    tet : (4 cap,) int32
+    sph : (5 cap,) float32
+        Sphere records ``(cx, cy, cz, lo, hi)``.
+    t : int
+        Tet; ghosts are always unsure (their rule is exact, :mod:`meshwright.tet.bowyer`).
+    px, py, pz : float
+
+    Returns
+    -------
+    int
+    """
+    if tet[4 * t + 3] == GHOST:
+        return 0
+    s5 = 5 * t
+    dx = px - np.float64(sph[s5])
+    dy = py - np.float64(sph[s5 + 1])
+    dz = pz - np.float64(sph[s5 + 2])
+    d2 = dx * dx + dy * dy + dz * dz
+    if d2 < sph[s5 + 3]:
+        return 1
+    if d2 > sph[s5 + 4]:
+        return -1
+    return 0
+
+
+@njit(inline="always")
 def conflict(pts, tet, nbr, sph, rank, t, v, px, py, pz):
     """Whether tet t's circumball contains the new point v: distance filter, exact fallback.
 
@@ -77,7 +108,6 @@ def conflict(pts, tet, nbr, sph, rank, t, v, px, py, pz):
     pts : (rows, 3) float64
     tet, nbr : (4 cap,) int32
     sph : (5 cap,) float32
-        Sphere records ``(cx, cy, cz, lo, hi)``.
     rank : (r,) int32
     t, v : int
     px, py, pz : float
@@ -88,16 +118,9 @@ def conflict(pts, tet, nbr, sph, rank, t, v, px, py, pz):
     bool
         Always the value of :func:`meshwright.tet.bowyer.conflict`.
     """
-    if tet[4 * t + 3] != GHOST:
-        s5 = 5 * t
-        dx = px - np.float64(sph[s5])
-        dy = py - np.float64(sph[s5 + 1])
-        dz = pz - np.float64(sph[s5 + 2])
-        d2 = dx * dx + dy * dy + dz * dz
-        if d2 < sph[s5 + 3]:
-            return True
-        if d2 > sph[s5 + 4]:
-            return False
+    f = filter_sign(tet, sph, t, px, py, pz)
+    if f != 0:
+        return f > 0
     return bowyer.conflict(pts, tet, nbr, rank, t, v, px, py, pz)
 
 
