@@ -1,37 +1,30 @@
 """Triangle ``.poly`` files as :class:`~meshwright.geometry.Domain` objects.
 
-Format (J. R. Shewchuk, Triangle documentation, https://www.cs.cmu.edu/~quake/triangle.poly.html)::
+The file is parsed by :func:`meshwright.geometry.poly_format.parse_poly` (the one parser
+of the format, shared with :mod:`meshwright.io`; grammar, Triangle's rules and errors are
+documented there) and written by :func:`~meshwright.geometry.poly_format.write_poly_file`.
 
-    <# vertices> <dimension (2)> <# attributes> <# boundary markers (0 or 1)>
-    <vertex #> <x> <y> [attributes] [boundary marker]          (one line per vertex)
-    <# segments> <# boundary markers (0 or 1)>
-    <segment #> <endpoint> <endpoint> [boundary marker]
-    <# holes>
-    <hole #> <x> <y>
-    [<# regions>
-     <region #> <x> <y> <attribute> <maximum area>]
-
-``#`` starts a comment; numbering may start at 0 or 1 (the first vertex decides); with zero
-vertices the vertices are read from the ``.node`` file of the same name.
-
-Triangle treats every segment as a constraint and removes the triangles reachable from a
-hole seed or from the outside without crossing a segment.  :func:`read_poly` rebuilds that
-meaning as loops: the segment graph is split into faces (half-edges sorted by angle around
-each vertex); a face holding a hole seed is a hole, faces enclosed by segments and holding
-no seed are domain; segments between domain and non-domain form the loops (as
-:class:`~meshwright.geometry.curves.Polyline` curves keeping the segment markers, 0 turned
-into 1 on the boundary as Triangle does), segments inside the domain become interior
-constraints and segments outside it are dropped.  Vertices on no segment become interior
-points when they lie inside the domain.  Vertex attributes and markers are not kept.
+Triangle (J. R. Shewchuk, 1996) treats every segment as a constraint and removes the
+triangles reachable from a hole seed or from the outside without crossing a segment.
+:func:`read_poly` rebuilds that meaning as loops: the segment graph is split into faces
+(half-edges sorted by angle around each vertex); a face holding a hole seed is a hole,
+faces enclosed by segments and holding no seed are domain; segments between domain and
+non-domain form the loops (as :class:`~meshwright.geometry.curves.Polyline` curves keeping
+the segment markers, 0 turned into 1 on the boundary as Triangle does), segments inside
+the domain become interior constraints and segments outside it are dropped.  Vertices on
+no segment become interior points when they lie inside the domain.  Vertex attributes and
+markers are not kept.  Regional attributes must be integers: they become the regions'
+markers.
 """
 
 from __future__ import annotations
 
+from os import PathLike
 from pathlib import Path
 
 import numpy as np
 
-from meshwright.core.errors import FormatError, GeometryError
+from meshwright.core.errors import FormatError, GeometryError, InputError
 from meshwright.geometry._discretize import unique_rows
 from meshwright.geometry._kernels import (
     INSIDE,
@@ -42,111 +35,9 @@ from meshwright.geometry._kernels import (
 )
 from meshwright.geometry.curves import Polyline, _fmt
 from meshwright.geometry.domain import Discretization, Domain
+from meshwright.geometry.poly_format import PolyData, parse_poly, write_poly_file
 
 __all__ = ["read_poly", "write_poly"]
-
-
-class _Lines:
-    """Non-empty, comment-free lines of a file, with line numbers for error messages."""
-
-    def __init__(self, path: Path):
-        self.path = path
-        try:
-            text = path.read_text()
-        except OSError as exc:
-            raise FormatError(f"{path}: cannot read ({exc.strerror})") from exc
-        self.lines = [
-            (i + 1, ln.split("#", 1)[0].split())
-            for i, ln in enumerate(text.splitlines())
-            if ln.split("#", 1)[0].strip()
-        ]
-        self.pos = 0
-
-    def more(self) -> bool:
-        return self.pos < len(self.lines)
-
-    def next(self, what: str, least: int) -> tuple[int, list[str]]:
-        if not self.more():
-            raise FormatError(f"{self.path}: unexpected end of file, expected {what}")
-        lineno, tok = self.lines[self.pos]
-        self.pos += 1
-        if len(tok) < least:
-            raise FormatError(
-                f"{self.path}:{lineno}: expected {what} ({least} fields), got {len(tok)}"
-            )
-        return lineno, tok
-
-    def numbers(self, what: str, least: int, kind=float) -> tuple[int, list]:
-        lineno, tok = self.next(what, least)
-        try:
-            return lineno, [int(t) if kind is int else float(t) for t in tok]
-        except ValueError:
-            raise FormatError(
-                f"{self.path}:{lineno}: cannot parse {what} from {' '.join(tok)!r}"
-            ) from None
-
-
-def _read_vertices(src: _Lines, path: Path):
-    _, head = src.numbers("vertex header '<#vertices> <dim> <#attributes> <#markers>'", 1, int)
-    head += [2, 0, 0][len(head) - 1 :]
-    nv, dim, nattr, nmark = head[:4]
-    if nv == 0:
-        node = path.with_suffix(".node")
-        if not node.exists():
-            raise FormatError(f"{path}: no vertices and no {node.name} next to it")
-        return _read_vertices(_Lines(node), node)
-    if dim != 2:
-        raise FormatError(f"{path}: dimension must be 2, got {dim}")
-    xy = np.empty((nv, 2))
-    lines = np.empty(nv, dtype=np.int64)
-    base = 0
-    for k in range(nv):
-        lineno, v = src.numbers(f"vertex {k}", 3 + nattr + nmark)
-        if k == 0:
-            base = int(v[0])
-            if base not in (0, 1):
-                raise FormatError(
-                    f"{path}:{lineno}: vertex numbering must start at 0 or 1, got {v[0]:g}"
-                )
-        if v[0] != base + k:
-            raise FormatError(f"{path}:{lineno}: expected vertex number {base + k}, got {v[0]:g}")
-        xy[k] = v[1:3]
-        lines[k] = lineno
-        if not np.isfinite(xy[k]).all():
-            raise FormatError(f"{path}:{lineno}: vertex {v[0]:g} has non-finite coordinates")
-    return xy, lines, base
-
-
-def _read(path: Path):
-    src = _Lines(path)
-    xy, vlines, base = _read_vertices(src, path)
-    _, head = src.numbers("segment header '<#segments> <#markers>'", 1, int)
-    nseg, has_mark = head[0], (head[1] if len(head) > 1 else 0)
-    seg = np.empty((nseg, 2), dtype=np.int64)
-    marks = np.zeros(nseg, dtype=np.int32)
-    slines = np.empty(nseg, dtype=np.int64)
-    for k in range(nseg):
-        lineno, s = src.numbers(f"segment {k}", 3 + (1 if has_mark else 0), int)
-        seg[k] = np.array(s[1:3]) - base
-        if (seg[k] < 0).any() or (seg[k] >= len(xy)).any():
-            raise FormatError(f"{path}:{lineno}: segment {s[0]} refers to a missing vertex")
-        if has_mark:
-            marks[k] = s[3]
-        slines[k] = lineno
-    _, head = src.numbers("hole header '<#holes>'", 1, int)
-    holes = np.array([src.numbers(f"hole {k}", 3)[1][1:3] for k in range(head[0])]).reshape(-1, 2)
-    regions = []
-    if src.more():
-        _, head = src.numbers("region header '<#regions>'", 1, int)
-        for k in range(head[0]):
-            lineno, r = src.numbers(f"region {k}", 4)
-            if r[3] != int(r[3]):
-                raise FormatError(
-                    f"{path}:{lineno}: region attribute {r[3]:g} is not an integer marker"
-                )
-            area = r[4] if len(r) > 4 and r[4] > 0 else None
-            regions.append((r[1], r[2], int(r[3]), area))
-    return xy, vlines, seg, marks if has_mark else None, slines, holes, regions
 
 
 def _faces(xy: np.ndarray, seg: np.ndarray):
@@ -179,30 +70,62 @@ def _faces(xy: np.ndarray, seg: np.ndarray):
     return face, area, org, dst
 
 
+def _regions(data: PolyData, path: Path) -> list[tuple[float, float, int, float | None]]:
+    """Region seeds of ``data`` as :class:`Domain` regions (integer markers)."""
+    out = []
+    for (x, y, attribute, area), line in zip(data.regions, data.region_lines):
+        if attribute != round(attribute):
+            raise FormatError(
+                f"{path}, line {line}: region attribute {attribute:g} is not an integer; "
+                "a Domain's regions carry integer markers"
+            )
+        out.append((float(x), float(y), int(attribute), float(area) if area > 0 else None))
+    return out
+
+
 def read_poly(path) -> Domain:
     """Read a Triangle ``.poly`` file as a :class:`Domain`.
 
+    Parameters
+    ----------
+    path : str or Path
+        The ``.poly`` file; with 0 vertices declared, its vertices are read from the
+        ``.node`` file of the same base name.
+
+    Returns
+    -------
+    Domain
+
     Raises
     ------
+    InputError
+        ``path`` is not a str or path.
     FormatError
-        Unreadable or malformed file (message names file and line).
+        Missing, unreadable or malformed file (message names file and line; see
+        :func:`~meshwright.geometry.poly_format.parse_poly`), or a region attribute that
+        is not an integer.
     GeometryError
         Crossing segments, touching loops or no enclosed region (message names the file
         and the segments' lines).
     """
+    if not isinstance(path, (str, PathLike)):
+        raise InputError(f"read_poly needs a file path, got {type(path).__name__}")
     path = Path(path)
-    xy, vlines, seg0, marks, slines, holes, regions = _read(path)
+    data = parse_poly(path)
+    xy, seg0, marks, holes = data.vertices, data.segments, data.segment_markers, data.holes
+    slines = data.segment_lines
+    regions = _regions(data, path)
     verts, inv = unique_rows(xy)
     seg = inv[seg0]
     zero = np.flatnonzero(seg[:, 0] == seg[:, 1])
     if len(zero):
-        raise GeometryError(f"{path}:{slines[zero[0]]}: segment has zero length")
+        raise GeometryError(f"{path}, line {slines[zero[0]]}: segment has zero length")
     key = np.sort(seg, axis=1)
     _, first, count = np.unique(key, axis=0, return_index=True, return_counts=True)
     if (count > 1).any():
         dup = np.flatnonzero((key == key[first[np.flatnonzero(count > 1)[0]]]).all(axis=1))
         raise GeometryError(
-            f"{path}:{slines[dup[1]]}: segment duplicates the one on line {slines[dup[0]]}"
+            f"{path}, line {slines[dup[1]]}: segment duplicates the one on line {slines[dup[0]]}"
         )
     bad = find_bad_pairs(verts, seg, 1)
     if len(bad):
@@ -291,28 +214,42 @@ def _polylines(verts, seg, marks, which, boundary_marks: bool) -> list[tuple[Pol
     return out
 
 
-def write_poly(path, domain, size=None, base: int = 1) -> None:
+def write_poly(path, domain, size=None, first_index: int = 1) -> None:
     """Write a Domain's discretisation (or a :class:`Discretization`) as a ``.poly`` file.
 
     Vertices carry their markers, segments theirs; holes and regions follow.  Coordinates
     are written with 17 significant digits, so :func:`read_poly` reads them back exactly.
+
+    Parameters
+    ----------
+    path : str or Path
+    domain : Domain or Discretization
+    size : optional
+        Spacing of the discretisation (anything :meth:`Domain.discretize` accepts);
+        ignored for a Discretization, so giving both is an error.
+    first_index : {0, 1}
+        Number of the first vertex (Triangle's default is 1).
+
+    Raises
+    ------
+    InputError
+        ``domain`` of another type, ``size`` with a Discretization, bad ``first_index``.
     """
-    disc = domain if isinstance(domain, Discretization) else domain.discretize(size)
-    rows = [f"# written by meshwright\n{len(disc.points)} 2 0 1"]
-    rows += [
-        f"{i + base} {x:.17g} {y:.17g} {m}"
-        for i, ((x, y), m) in enumerate(zip(disc.points, disc.point_markers))
-    ]
-    rows.append(f"{len(disc.segments)} 1")
-    rows += [
-        f"{i + base} {a + base} {b + base} {m}"
-        for i, ((a, b), m) in enumerate(zip(disc.segments, disc.segment_markers))
-    ]
-    rows.append(f"{len(disc.holes)}")
-    rows += [f"{i + base} {x:.17g} {y:.17g}" for i, (x, y) in enumerate(disc.holes)]
-    rows.append(f"{len(disc.regions)}")
-    rows += [
-        f"{i + base} {x:.17g} {y:.17g} {int(m)} {a:.17g}"
-        for i, (x, y, m, a) in enumerate(disc.regions)
-    ]
-    Path(path).write_text("\n".join(rows) + "\n")
+    if isinstance(domain, Discretization):
+        if size is not None:
+            raise InputError("size applies to a Domain; a Discretization is already discretised")
+        disc = domain
+    elif isinstance(domain, Domain):
+        disc = domain.discretize(size)
+    else:
+        raise InputError(f"write_poly needs a Domain or a Discretization, got {type(domain).__name__}")
+    write_poly_file(
+        path,
+        disc.segments,
+        disc.segment_markers,
+        disc.holes,
+        disc.regions,
+        points=disc.points,
+        point_markers=disc.point_markers,
+        first_index=first_index,
+    )

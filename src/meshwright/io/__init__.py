@@ -2,12 +2,15 @@
 
 * :mod:`~meshwright.io.meshio_io`: every meshio format (``.vtu``, ``.vtk``, ``.msh``,
   ``.xdmf``, ``.off``, ``.mesh``, ...);
-* :mod:`~meshwright.io.triangle_format`: Triangle / TetGen ``.node``, ``.ele``, ``.poly``;
+* :mod:`~meshwright.io.triangle_format`: Triangle / TetGen ``.node``, ``.ele``, ``.poly``
+  (``.node`` and ``.poly`` parsed by :mod:`meshwright.geometry.poly_format`, the one parser
+  of those formats, which :func:`meshwright.geometry.read_poly` uses too);
 * :mod:`~meshwright.io.points`: point sets (``.txt``, ``.csv``, ``.xyz``, ``.npy``, ``.node``).
 
 :func:`read` and :func:`write` pick the module from the extension (or ``file_format``:
-``"triangle"`` or any meshio format name).  Unreadable files raise
-:class:`~meshwright.core.errors.FormatError` naming the file and, for text formats, the line.
+``"triangle"`` or any meshio format name).  Missing, unreadable, corrupt, truncated or
+non-UTF-8 files raise :class:`~meshwright.core.errors.FormatError` naming the file and, for
+the Triangle and point formats, the line.
 """
 
 from __future__ import annotations
