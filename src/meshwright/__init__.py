@@ -7,6 +7,7 @@ The public API is re-exported here; everything else is private kernels over flat
 >>> tet = mw.delaunay(points3d)               # (n, 3) points: a Tetrahedralization
 >>> vor = mw.voronoi(points, clip=(0, 0, 1, 1))
 >>> mesh = mw.triangulate(mw.geometry.naca("0012"), size=0.02, min_angle=30, smooth=5)
+>>> quads = mw.quadrangulate("three-element", method="quadtree")   # all-quad
 >>> mesh = tri.to_mesh(); mesh.validate(); mesh.write("out.vtu")
 """
 
@@ -29,6 +30,7 @@ from meshwright.io import read, read_points
 from meshwright._api import delaunay
 from meshwright.tet import Tetrahedralization
 from meshwright.tri import DELAUNAY_ALGORITHMS, MESH_METHODS, Triangulation, triangulate
+from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.tri.smoothing import smooth
 from meshwright.tri.voronoi import Voronoi, voronoi
 
@@ -44,8 +46,10 @@ __all__ = [
     "Voronoi",
     "DELAUNAY_ALGORITHMS",
     "MESH_METHODS",
+    "QUAD_METHODS",
     "delaunay",
     "triangulate",
+    "quadrangulate",
     "voronoi",
     "smooth",
     "read",

@@ -1,0 +1,263 @@
+"""``quadrangulate``: one entry point from a domain to a boundary-conforming quad mesh.
+
+Section 18.5 of the reference text builds quadrilaterals three ways; each is a method of
+:data:`QUAD_METHODS` (the CLI's ``meshwright quad --method`` choices), one module per
+method:
+
+* ``quadtree``: Yerry and Shephard's modified quadtree (1984, 18.5.3),
+  :mod:`meshwright.quad.quadtree`;
+* ``pairing`` (Zhu et al. 1991, 18.5.1, :mod:`meshwright.quad.pairing`) registers here
+  when it lands; paving (Blacker and Stephenson 1991, 18.5.2) is not built yet.
+
+Pipeline::
+
+    Domain, size --door (every argument checked against the method's QuadMethod)-->
+        method(job) -> QuadFill --all-quad finish (below)--> Mesh
+
+Method contract
+---------------
+A method is a :class:`QuadMethod` entry whose ``build`` is ``build(job: QuadJob) ->
+QuadFill``.  The job carries the checked request: ``domain`` (a validated
+:class:`~meshwright.geometry.Domain`), ``field`` (a :class:`~meshwright.sizing.SizeField`,
+or None when neither the caller nor the domain gave a size: only methods declaring
+``needs_size=False`` see None), ``all_quad``, ``smooth`` (passes; 0 unless the method
+declares ``smooths``), ``max_points`` (cap on vertices of the returned fill), ``seed`` (an
+int or a ``numpy.random.Generator``, from :func:`meshwright.core.validate_input.check_seed`)
+and ``progress`` (True only for methods declaring ``reports_progress``).  The fill is:
+
+==============  =============  ==========================================================
+field           array          meaning
+==============  =============  ==========================================================
+points          (n, 2) f8      every vertex, C-contiguous
+quads           (m, 4) i4      counter-clockwise, strictly convex unless the method says
+triangles       (t, 3) i4      counter-clockwise leftovers, ``(0, 3)`` when none
+lines           (k, 2) i4      boundary and interior-segment edges, domain on the left
+                               of boundary edges
+line_markers    (k,) i4        the segment markers (as ``triangulate`` gives)
+line_curves     (k,) i4        index into ``domain.curves`` of the curve each line
+                               discretises (every boundary vertex lies on its curve)
+==============  =============  ==========================================================
+
+A method that cannot finish raises a :class:`~meshwright.core.errors.MeshingError`
+naming the cap or the stuck front; it never returns a broken fill.
+
+All-quad guarantee
+------------------
+With ``all_quad=True`` a fill that still has triangles is finished by one midpoint split
+of every element (:func:`meshwright.quad.subdivide.split_all`): a triangle becomes three
+quads and a quad four, edge midpoints shared so the mesh stays conforming, boundary
+midpoints placed on their true curves.  The split halves the spacing, so a method that
+knows it will leave triangles builds at twice the size when ``job.all_quad`` is set
+(the quadtree does).  ``all_quad=False`` returns the fill as it is: quad-dominant, with
+its triangles in a ``"triangle"`` block (``len(mesh.triangles)`` says how many).
+"""
+
+from __future__ import annotations
+
+from typing import Callable, NamedTuple
+
+import numpy as np
+
+from meshwright.core.errors import InputError
+from meshwright.core.mesh import Mesh
+from meshwright.core.validate_input import check_count, check_seed
+from meshwright.geometry.domain import Domain
+from meshwright.sizing.field import SizeField, as_size_field
+from meshwright.tri.mesher import DEFAULT_MAX_POINTS, _as_domain, _check_work
+
+__all__ = ["QUAD_METHODS", "QuadMethod", "QuadJob", "QuadFill", "quadrangulate"]
+
+
+class QuadJob(NamedTuple):
+    """The checked request a method's ``build`` gets (see the module docstring)."""
+
+    domain: Domain
+    field: SizeField | None
+    all_quad: bool
+    smooth: int
+    max_points: int
+    seed: object
+    progress: bool
+
+
+class QuadFill(NamedTuple):
+    """What a method returns (array layout in the module docstring)."""
+
+    points: np.ndarray
+    quads: np.ndarray
+    triangles: np.ndarray
+    lines: np.ndarray
+    line_markers: np.ndarray
+    line_curves: np.ndarray
+
+
+class QuadMethod(NamedTuple):
+    """A quad method of :func:`quadrangulate`.
+
+    Attributes
+    ----------
+    name : str
+    summary : str
+        One line for ``--help``.
+    build : callable
+        ``build(job: QuadJob) -> QuadFill``.
+    needs_size : bool
+        The method needs a size field (from the caller or the domain).
+    smooths : bool
+        The method honours ``smooth > 0`` (it runs ``job.smooth`` passes itself).
+    reports_progress : bool
+        Whether ``progress=True`` shows a bar for this method.
+    segments : bool
+        The method honours the domain's interior segments (constraints).
+    points : bool
+        The method honours the domain's interior points.
+    regions : bool
+        The method honours the domain's region seeds (markers, area bounds).
+    """
+
+    name: str
+    summary: str
+    build: Callable[[QuadJob], QuadFill]
+    needs_size: bool
+    smooths: bool
+    reports_progress: bool
+    segments: bool
+    points: bool
+    regions: bool
+
+
+def _quadtree(job: QuadJob) -> QuadFill:
+    from meshwright.quad.quadtree import quadtree_fill
+
+    return quadtree_fill(job)
+
+
+QUAD_METHODS: dict[str, QuadMethod] = {
+    m.name: m
+    for m in (
+        QuadMethod(
+            "quadtree", "modified quadtree with a boundary layer of split triangles (Yerry-Shephard, 18.5.3)",
+            _quadtree, needs_size=True, smooths=False, reports_progress=False, segments=True, points=False,
+            regions=False,
+        ),
+    )
+}
+
+
+def _flag(value, name: str) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def _check_domain(m: QuadMethod, dom: Domain) -> None:
+    """Refuse domain features the method cannot honour (named)."""
+    if dom.constraints and not m.segments:
+        raise InputError(f"method {m.name!r} does not honour interior segments; the domain has {len(dom.constraints)}")
+    if len(dom.points) and not m.points:
+        p = dom.points[0]
+        raise InputError(
+            f"method {m.name!r} does not honour interior points; the domain has {len(dom.points)} "
+            f"(the first at ({p[0]:.17g}, {p[1]:.17g}))"
+        )
+    if dom.regions and not m.regions:
+        r = dom.regions[0]
+        raise InputError(
+            f"method {m.name!r} does not honour region seeds; the domain has {len(dom.regions)} "
+            f"(the first at ({r[0]:.17g}, {r[1]:.17g}), marker {r[2]})"
+        )
+
+
+def quadrangulate(
+    domain,
+    size=None,
+    *,
+    method: str = "quadtree",
+    all_quad: bool = True,
+    smooth: int = 0,
+    max_points: int | None = None,
+    seed: int = 0,
+    progress: bool = False,
+) -> Mesh:
+    """Boundary-conforming quadrilateral mesh of a 2-D domain.
+
+    Every argument is checked here, before any work, against what the chosen method
+    honours (its :class:`QuadMethod` entry); a parameter the method cannot honour is an
+    error, never silently dropped.
+
+    Parameters
+    ----------
+    domain : Domain, str, path or (n, 2) array_like
+        As for :func:`meshwright.triangulate`: a domain, a built-in name, a ``.json`` /
+        ``.poly`` path or a polygon's vertex loop.
+    size : number, callable or SizeField, optional
+        Target edge length ``h(x)`` of the quads; default: the domain's own size (a method
+        with ``needs_size`` refuses a domain without one).
+    method : str
+        A key of :data:`QUAD_METHODS`.
+    all_quad : bool
+        Finish by the documented midpoint split if the method leaves triangles (module
+        docstring); False returns a quad-dominant mesh with its triangles.
+    smooth : int
+        Smoothing passes; only for methods declaring ``smooths`` (0 otherwise).
+    max_points : int, optional
+        Cap on the mesh's vertices (default
+        :data:`meshwright.tri.mesher.DEFAULT_MAX_POINTS`); a size needing more is refused
+        at once with a :class:`SizeError`, a method reaching it raises
+        :class:`MeshingError`.
+    seed : int or numpy.random.Generator
+        Randomness of the methods that use any (reproducible for a seed).
+    progress : bool
+        Show a progress bar; only for methods whose ``reports_progress`` is set.
+
+    Returns
+    -------
+    Mesh
+        ``"quad"`` cells (counter-clockwise), ``"triangle"`` cells only with
+        ``all_quad=False``, ``"line"`` cells on the boundary and interior segments with
+        their segment markers in ``cell_data["marker"]["line"]``.
+
+    Raises
+    ------
+    GeometryError
+        Invalid geometry (named loops, segments, coordinates).
+    InputError
+        Not a domain, unknown method, a parameter of the wrong type or range, or one the
+        method cannot honour (interior points, regions, smoothing, progress; named).
+    SizeError
+        ``size`` zero, negative, NaN or infinite, or needing more than ``max_points``.
+    FormatError
+        A domain file that cannot be read (the file named).
+    MeshingError
+        A cap on points or steps was hit.
+    """
+    if not isinstance(method, str) or method not in QUAD_METHODS:
+        raise InputError(f"unknown quad method {method!r}; choose one of {', '.join(sorted(QUAD_METHODS))}")
+    m = QUAD_METHODS[method]
+    all_quad = _flag(all_quad, "all_quad")
+    progress = _flag(progress, "progress")
+    passes = check_count(smooth, "smooth (passes)")
+    if passes and not m.smooths:
+        raise InputError(f"method {method!r} does not smooth; call it with smooth=0")
+    if progress and not m.reports_progress:
+        raise InputError(f"method {method!r} reports no progress; call it with progress=False")
+    cap = DEFAULT_MAX_POINTS if max_points is None else check_count(max_points, "max_points", 4)
+    seed = check_seed(seed)
+    field = None if size is None else as_size_field(size)
+    dom = _as_domain(domain)
+    if field is None:
+        field = dom.size
+    if field is None and m.needs_size:
+        raise InputError(f"method {method!r} needs a size: give size=... (the domain carries none)")
+    _check_domain(m, dom)
+    _check_work(dom, field, None, cap)
+    fill = m.build(QuadJob(dom, field, all_quad, passes, cap, seed, progress))
+    if all_quad and len(fill.triangles):
+        from meshwright.quad.subdivide import split_all
+
+        fill = split_all(fill, dom, cap)
+    cells = {"quad": fill.quads}
+    if len(fill.triangles):
+        cells["triangle"] = fill.triangles
+    cells["line"] = fill.lines
+    return Mesh(fill.points, cells, cell_data={"marker": {"line": fill.line_markers}})
