@@ -717,6 +717,34 @@ def test_damaged_poly_files_raise_meshwright_errors_only(data):
             pytest.fail(f"{type(exc).__name__} without the file name: {exc}")
 
 
+def test_poly_faces_exact_for_directions_closer_than_arctan2_resolves(tmp_path):
+    """Two segments leave (0, 0) 4e-19 rad apart (arctan2 ties them) and bound a sliver
+    face of area 1/2 whose float shoelace sum rounds to 0: the half-edge order around each
+    vertex and the faces' orientations must still be the exact ones."""
+    from fractions import Fraction
+
+    from meshwright.geometry.poly import _angular_order, _faces
+
+    a = 2**30
+    xy = np.array([(0, 0), (a, a + 1), (a + 1, a + 2), (0, 2 * a), (2 * a, 0)], dtype=np.float64)
+    seg = np.array([(0, 1), (0, 2), (1, 2), (1, 3), (0, 3), (0, 4), (4, 2)])
+    org = np.concatenate([seg[:, 0], seg[:, 1]])
+    dst = np.concatenate([seg[:, 1], seg[:, 0]])
+
+    def before(e, f):  # counter-clockwise from the +x axis, in rationals
+        u = [Fraction(xy[dst[e], k]) - Fraction(xy[org[e], k]) for k in (0, 1)]
+        v = [Fraction(xy[dst[f], k]) - Fraction(xy[org[f], k]) for k in (0, 1)]
+        hu, hv = (w[1] < 0 or (w[1] == 0 and w[0] < 0) for w in (u, v))
+        return hu < hv or (hu == hv and u[0] * v[1] - u[1] * v[0] > 0)
+
+    order = _angular_order(xy, org, dst).tolist()
+    assert order == sorted(order, key=lambda e: (org[e], sum(before(f, e) for f in range(len(org)) if org[f] == org[e])))
+    face, area, positive, _, _ = _faces(xy, seg)
+    sliver = face[1]  # half-edge 0 -> 2 runs along the sliver (0, 0), b, a
+    assert area[sliver] == 0.0 and positive[sliver]  # the float sum loses it, the exact test not
+    assert positive.sum() == 3 and len(positive) == 4
+
+
 def _fraction_area(points, triangles):
     """Exact total area of triangles (absolute values), with rationals."""
     from fractions import Fraction

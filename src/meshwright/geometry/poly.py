@@ -7,8 +7,10 @@ documented there) and written by :func:`~meshwright.geometry.poly_format.write_p
 Triangle (J. R. Shewchuk, 1996) treats every segment as a constraint and removes the
 triangles reachable from a hole seed or from the outside without crossing a segment.
 :func:`read_poly` rebuilds that meaning as loops: the segment graph is split into faces
-(half-edges sorted by angle around each vertex); a face holding a hole seed is a hole,
-faces enclosed by segments and holding no seed are domain; segments between domain and
+(half-edges sorted by angle around each vertex, faces oriented by their signed area, both
+decided exactly: ``orient2d`` and rational sums, floats only as a filter); a face holding
+a hole seed is a hole, faces enclosed by segments and holding no seed are domain;
+segments between domain and
 non-domain form the loops (as :class:`~meshwright.geometry.curves.Polyline` curves keeping
 the segment markers, 0 turned into 1 on the boundary as Triangle does), segments inside
 the domain become interior constraints and segments outside it are dropped.  Vertices on
@@ -19,12 +21,15 @@ markers.
 
 from __future__ import annotations
 
+from fractions import Fraction
+from functools import cmp_to_key
 from os import PathLike
 from pathlib import Path
 
 import numpy as np
 
 from meshwright.core.errors import FormatError, GeometryError, InputError
+from meshwright.core.predicates import orient2d, orient2d_batch
 from meshwright.geometry._discretize import unique_rows
 from meshwright.geometry._kernels import (
     INSIDE,
@@ -40,17 +45,64 @@ from meshwright.geometry.poly_format import PolyData, parse_poly, write_poly_fil
 __all__ = ["read_poly", "write_poly"]
 
 
+def _angular_order(xy: np.ndarray, org: np.ndarray, dst: np.ndarray) -> np.ndarray:
+    """Half-edges sorted by origin, then counter-clockwise by direction from the +x axis.
+
+    The order decides which faces the segments bound, so it is exact: a direction's half
+    plane (angles in [0, pi) or [pi, 2 pi)) comes from the signs of its coordinate
+    differences, which floating-point subtraction always gets right, and the order within
+    a half from ``orient2d``.  ``arctan2`` only gives the first guess: it ties or swaps
+    directions closer than its rounding (about 1e-16 rad), so every origin whose
+    neighbouring half-edges the exact test finds out of order is sorted again with it.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64
+    org, dst : (2m,) int64
+        Origin and head of every half-edge; no two half-edges from one origin share a
+        direction (overlapping segments are rejected before).
+
+    Returns
+    -------
+    (2m,) int64
+        Half-edge indices in that order.
+    """
+    d = xy[dst] - xy[org]
+    lower = (d[:, 1] < 0) | ((d[:, 1] == 0) & (d[:, 0] < 0))
+    guess = np.arctan2(d[:, 1], d[:, 0])
+    guess = np.where(lower & (guess > 0), guess - 2 * np.pi, guess)  # pi itself leads its half
+    order = np.lexsort((guess, lower, org))
+    a, b = order[:-1], order[1:]
+    same = np.flatnonzero((org[a] == org[b]) & (lower[a] == lower[b]))
+    if len(same):
+        tri = np.column_stack([org[a[same]], dst[a[same]], dst[b[same]]])
+        wrong = same[orient2d_batch(xy, tri) <= 0]
+        for o in np.unique(org[a[wrong]]):
+            fan = np.flatnonzero(org[order] == o)
+            order[fan] = sorted(order[fan], key=cmp_to_key(lambda e, f: _ccw_compare(xy, org, dst, lower, e, f)))
+    return order
+
+
+def _ccw_compare(xy, org, dst, lower, e: int, f: int) -> int:
+    """-1 when half-edge ``e`` comes before ``f`` counter-clockwise around their origin."""
+    if lower[e] != lower[f]:
+        return -1 if lower[f] else 1
+    o, p, q = xy[org[e]], xy[dst[e]], xy[dst[f]]
+    turn = orient2d(o[0], o[1], p[0], p[1], q[0], q[1])
+    return -1 if turn > 0 else (1 if turn < 0 else 0)
+
+
 def _faces(xy: np.ndarray, seg: np.ndarray):
     """Faces of a planar segment graph; half-edge ``e < m`` is ``seg[e]``, ``e + m`` its twin.
 
-    Returns the face of each half-edge (faces to the left, bounded ones counter-clockwise)
-    and each face's signed area.
+    Returns the face of each half-edge (faces to the left, bounded ones counter-clockwise),
+    each face's signed area (float), whether it is positive (exact), and the half-edges'
+    origins and heads.
     """
     m = len(seg)
     org = np.concatenate([seg[:, 0], seg[:, 1]])
     dst = np.concatenate([seg[:, 1], seg[:, 0]])
-    d = xy[dst] - xy[org]
-    order = np.lexsort((np.arctan2(d[:, 1], d[:, 0]), org))
+    order = _angular_order(xy, org, dst)
     pos = np.empty(2 * m, dtype=np.int64)
     pos[order] = np.arange(2 * m)
     deg = np.bincount(org, minlength=len(xy))
@@ -67,7 +119,22 @@ def _faces(xy: np.ndarray, seg: np.ndarray):
     _, face = np.unique(label, return_inverse=True)
     cross = xy[org, 0] * xy[dst, 1] - xy[dst, 0] * xy[org, 1]
     area = 0.5 * np.bincount(face, cross)
-    return face, area, org, dst
+    # Bounded faces are the counter-clockwise ones: a topological decision, so the sign of
+    # the float shoelace sum is trusted only above its rounding error bound (each term
+    # errs by at most 2u|term|, the sum of k terms by (k - 1)u more); faces below it are
+    # summed again in exact rationals.
+    size = np.bincount(face, minlength=len(area))
+    magnitude = np.bincount(face, np.abs(xy[org, 0] * xy[dst, 1]) + np.abs(xy[dst, 0] * xy[org, 1]))
+    bound = (size + 2) * 2.0**-52 * magnitude
+    positive = area > 0
+    for f in np.flatnonzero(np.abs(area) <= bound):
+        he = np.flatnonzero(face == f)
+        exact = sum(
+            Fraction(xy[o, 0]) * Fraction(xy[t, 1]) - Fraction(xy[t, 0]) * Fraction(xy[o, 1])
+            for o, t in zip(org[he].tolist(), dst[he].tolist())
+        )
+        positive[f] = exact > 0
+    return face, area, positive, org, dst
 
 
 def _regions(data: PolyData, path: Path) -> list[tuple[float, float, int, float | None]]:
@@ -134,8 +201,8 @@ def read_poly(path) -> Domain:
     if len(seg) < 3:
         raise GeometryError(f"{path}: segments enclose no region")
     m = len(seg)
-    face, area, org, dst = _faces(verts, seg)
-    bounded = np.flatnonzero(area > 0)
+    face, area, positive, org, dst = _faces(verts, seg)
+    bounded = np.flatnonzero(positive)
     # Smallest bounded face containing each query point (-1: the unbounded exterior).
     he = np.flatnonzero(np.isin(face, bounded))
     lab = np.searchsorted(bounded, face[he])
@@ -156,7 +223,7 @@ def read_poly(path) -> Domain:
 
     hole_faces = containing(holes)
     # Each component's outer face lies in the face containing one of its vertices.
-    outer_faces = np.flatnonzero(area <= 0)
+    outer_faces = np.flatnonzero(~positive)
     _, first_he = np.unique(face, return_index=True)
     probe = verts[org[first_he[outer_faces]]]
     enclosing = np.full(len(area), -1, dtype=np.int64)
