@@ -18,7 +18,8 @@ Measure names (keys of the per-block dictionaries):
 cell type     measures
 ============  ===================================================================
 triangle      min_angle, max_angle, radius_ratio, edge_ratio, area
-quad          min_angle, max_angle, edge_ratio, scaled_jacobian, area
+quad          min_angle, max_angle, edge_ratio, scaled_jacobian, aspect_ratio,
+              skew, area
 tetra         radius_ratio, sliver_ratio, radius_edge_ratio, min_dihedral,
               max_dihedral, edge_ratio, volume
 ============  ===================================================================
@@ -137,7 +138,12 @@ def quad_quality(points: np.ndarray, quads: np.ndarray) -> dict[str, np.ndarray]
         ``min_angle``, ``max_angle`` (interior corner angles in degrees; a reflex corner
         exceeds 180), ``edge_ratio`` (longest / shortest edge), ``scaled_jacobian``
         (smallest corner sine, 1 for a rectangle, <= 0 for an inverted or non-convex
-        quad) and ``area`` (shoelace; signed in 2-D).
+        quad), ``aspect_ratio`` (longest edge times perimeter over four times the area,
+        1 for a square; the Verdict library's quad aspect ratio, C. Stimpson et al., "The
+        Verdict geometric quality library", Sandia report SAND2007-1751), ``skew`` (the
+        absolute cosine between the two unit principal axes ``(p1 - p0) + (p2 - p3)`` and
+        ``(p2 - p1) + (p3 - p0)``, 0 for a rectangle, also Verdict's) and ``area``
+        (shoelace; signed in 2-D).
     """
     dim = np.asarray(points).shape[1]
     p = _as_xyz(points)[np.asarray(quads, dtype=np.int64)]  # (m, 4, 3)
@@ -164,11 +170,18 @@ def quad_quality(points: np.ndarray, quads: np.ndarray) -> dict[str, np.ndarray]
     area = 0.5 * _signed_normal_component(
         np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]), dim, None if normal is None else normal[:, 0]
     )
+    axis1 = (p[:, 1] - p[:, 0]) + (p[:, 2] - p[:, 3])
+    axis2 = (p[:, 2] - p[:, 1]) + (p[:, 3] - p[:, 0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        aspect = length.max(axis=1) * length.sum(axis=1) / (4.0 * area)
+        skew = np.abs(np.einsum("mi,mi->m", axis1, axis2)) / (_norm(axis1) * _norm(axis2))
     return {
         "min_angle": angles.min(axis=1),
         "max_angle": angles.max(axis=1),
         "edge_ratio": edge_ratio,
         "scaled_jacobian": scaled.min(axis=1),
+        "aspect_ratio": np.where(area > 0.0, aspect, np.inf),
+        "skew": np.nan_to_num(skew, nan=1.0),
         "area": area,
     }
 
