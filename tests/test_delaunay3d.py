@@ -413,3 +413,29 @@ def test_cli_tetrahedralizes_xyz_files(tmp_path, capsys):
     np.savetxt(coplanar, np.column_stack([ij, ij[:, 0] + 2 * ij[:, 1]]))  # exactly on one plane
     assert main(["delaunay", str(coplanar)]) == 2
     assert "coplanar" in capsys.readouterr().err
+
+
+def test_kernel_single_point_entry_and_need_space():
+    # insert_vertex asks for room before changing anything, then inserts after grow().
+    from meshwright.tet._kernel3d import M_NEED, NEED_SPACE, NEED_VERTS, insert_vertex
+    from meshwright.tet._build3d import compact
+    from meshwright.tet.tetrahedralization import grow
+
+    pts = np.random.default_rng(17).random((60, 3))
+    T = delaunay3d(pts, seed=0)
+    s = T._s
+    n = len(T.points)
+    P = np.vstack([s.pts[:n], [[0.5, 0.5, 0.5]]])
+    s = s._replace(pts=P)
+    tet_before = s.tet.copy()
+    st = insert_vertex(s, n, 0)
+    assert st == NEED_SPACE and s.meta[M_NEED] == NEED_VERTS
+    assert np.array_equal(s.tet, tet_before)
+    s = grow(s)
+    st = insert_vertex(s, n, 0)
+    assert st >= 0 and n in s.tet[4 * st : 4 * st + 4]
+    T._s = s
+    T._nv = n + 1
+    T._nt = compact(s.tet, s.nbr, s.sph, s.meta)
+    T._cache = {}
+    assert tet_set(T) == tet_set(delaunay3d(np.vstack([pts, [[0.5, 0.5, 0.5]]]), seed=3))
