@@ -488,7 +488,7 @@ def quadtree_fill(job):
     ang = np.arctan2(allxy[ring_vert, 1] - ccy[ring_cell], allxy[ring_vert, 0] - ccx[ring_cell])
     order = np.lexsort((ang, ring_cell))
     ring_cell, ring_vert = ring_cell[order], ring_vert[order]
-    start = np.flatnonzero(np.r_[True, ring_cell[1:] != ring_cell[:-1]])
+    start = np.flatnonzero(np.r_[len(ring_cell) > 0, ring_cell[1:] != ring_cell[:-1]])
     count = np.diff(np.r_[start, len(ring_cell)])
     nxt = np.arange(len(ring_cell)) + 1
     nxt[start + count - 1] = start  # close each ring
