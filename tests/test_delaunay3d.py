@@ -328,6 +328,8 @@ def test_to_mesh_and_hull_orientation():
     T = delaunay3d(pts)
     m = T.to_mesh()
     assert m.cells_of("tetra").shape == T.tetrahedra.shape
+    m.validate(check_delaunay=True)  # Mesh's own tetra checks, written independently
+    delaunay3d(_lattice(4), superstructure="box").to_mesh().validate(check_delaunay=True)
     assert np.array_equal(m.points, T.points)
     # outward hull faces: the hull's signed volume (divergence theorem) equals the tets' volume
     p = T.points

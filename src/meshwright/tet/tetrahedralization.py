@@ -37,7 +37,7 @@ State kept (so :meth:`Tetrahedralization.insert` is incremental): the kernel bun
 :class:`meshwright.tet._kernel3d.TetState`, the box offset ``vb`` (0 or 8 internal rows before
 the vertices), ``nv`` vertices and ``nt`` finite tets in slots ``[0, nt)``.  Memory of a
 Bowyer bulk build: 32 bytes per tet slot, about 7 slots per point, plus the coordinates,
-keys and scratch: about 260 bytes per point (Watson adds 20 bytes per slot).
+keys and scratch: about 270 bytes per point at its peak (Watson adds 20 bytes per slot).
 """
 
 from __future__ import annotations
