@@ -13,6 +13,7 @@ from meshwright.core.errors import FormatError, InputError
 from meshwright.core.mesh import Mesh
 from meshwright.geometry.poly_format import write_node_file, write_poly_file
 from meshwright.io import read, read_ele, read_node, read_points, read_poly, write, write_triangle
+from meshwright.io.triangle_format import read_area, read_edge, read_neigh
 
 
 def marked_square(n=3):
@@ -485,6 +486,63 @@ def test_triangle_example_poly_files_read_like_triangle_py(name):
     if "segment_markers" in ref:
         np.testing.assert_array_equal(poly.segment_markers, ref["segment_markers"][:, 0])
     np.testing.assert_array_equal(poly.holes, ref.get("holes", np.zeros((0, 2))))
+
+
+def test_voronoi_edge_file_with_rays_reads_like_triangle_py():
+    triangle, data = _triangle_data_dir()
+    edge = read_edge(data / "diamond_02_00009.1.v.edge")
+    ref = triangle.load(str(data), "diamond_02_00009.1.v")
+    ray = edge.edges[:, 1] == -1
+    np.testing.assert_array_equal(edge.edges[~ray], ref["edges"])
+    np.testing.assert_array_equal(edge.edges[ray, 0], ref["ray_origins"][:, 0])
+    np.testing.assert_array_equal(edge.directions[ray], ref["ray_directions"])
+    assert edge.markers is None and not edge.directions[~ray].any()
+
+
+def test_area_file_of_triangle():
+    _, data = _triangle_data_dir()
+    area = read_area(data / "bbox.1.area", n_triangles=12)
+    assert area.tolist() == [-1, -1, 0.02] + [-1] * 9
+
+
+def test_neigh_file_round_trip_with_triangle():
+    """Triangle's neighbours (written to a .neigh here) read back; neighbour k lies across
+    the edge opposite corner k."""
+    triangle = pytest.importorskip("triangle")
+    pts = np.random.default_rng(5).random((30, 2))
+    out = triangle.triangulate({"vertices": pts}, "n")
+    tri, nbr = out["triangles"], out["neighbors"]
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "d.1.neigh"
+        rows = "\n".join(f"{t + 1} " + " ".join(str(n + 1 if n >= 0 else -1) for n in row) for t, row in enumerate(nbr))
+        path.write_text(f"# neighbours\n{len(tri)} 3\n{rows}\n")
+        got = read_neigh(path, n_triangles=len(tri))
+    np.testing.assert_array_equal(got, nbr)
+    for t in range(len(tri)):
+        for k in range(3):
+            if got[t, k] >= 0:
+                assert set(tri[t]) - {tri[t, k]} <= set(tri[got[t, k]])
+
+
+@pytest.mark.parametrize(
+    "name, text, call, pattern",
+    [
+        ("e.edge", "2 1\n1 1 2 0\n2 1 -1 1 0\n", read_edge, r"e\.edge, line 3: an edge line holds 3 to 4 fields .* got 5"),
+        ("e.edge", "1 0\n1 1 -1\n", read_edge, r"e\.edge, line 2: a ray line \(b = -1\)"),
+        ("e.edge", "1 0\n1 1 2 7\n", read_edge, r"e\.edge, line 2: an edge line holds 3 to 3 fields, got 4"),
+        ("e.edge", "1 0\n1 1 0\n", read_edge, r"e\.edge, line 2: edge refers to vertex \[1, 0\] outside"),
+        ("n.neigh", "1 3\n1 2 -1 -1\n", read_neigh, r"n\.neigh, line 2: neighbours \[2, -1, -1\] outside 1\.\.1"),
+        ("n.neigh", "1 4\n", read_neigh, r"n\.neigh, line 1: triangles have 3 neighbours"),
+        ("a.area", "2\n1 0.5\n2 inf\n", read_area, r"a\.area, line 3: triangle maximum area: 'inf'"),
+        ("a.area", "2\n1 0.5\n", read_area, r"a\.area, line 2: unexpected end of file: line 1 declares 2 triangles"),
+    ],
+)
+def test_malformed_edge_neigh_area_files(tmp_path, name, text, call, pattern):
+    (tmp_path / name).write_text(text)
+    with pytest.raises(FormatError, match=pattern):
+        call(tmp_path / name)
+    with pytest.raises(InputError, match="must be None"):
+        call(tmp_path / name, **({"n_triangles": -1} if call is not read_edge else {"first_index": 2}))
 
 
 def test_la_regions_read_as_triangle_wrote_them_back():

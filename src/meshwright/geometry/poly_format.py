@@ -249,7 +249,7 @@ class Records:
                 expected = f"{n_required} to {ncol}" if n_required < ncol else f"{ncol}"
                 raise self.error(
                     lineno,
-                    f"a {what} line holds {expected} fields {_shape(names)} as declared on line "
+                    f"{'an' if what[0] in 'aeiou' else 'a'} {what} line holds {expected} fields {_shape(names)} as declared on line "
                     f"{header_line}, got {len(fields)}: {' '.join(fields)!r}",
                 )
             rows.append(fields + ["0"] * (ncol - len(fields)))

@@ -11,8 +11,20 @@ it and this layer, above geometry, builds meshes from it); :func:`read_node` and
     .ele    <#elements> <nodes per element (3, or 4 for TetGen)> <#attributes>
             <element #> <v0> <v1> <v2> [v3] [attributes]
 
-read with the same :class:`~meshwright.geometry.poly_format.Records` (comments, blank
-lines, file-and-line errors); its vertex references use the numbering of the ``.node``.
+and the files Triangle writes beside it, read into arrays by :func:`read_edge`,
+:func:`read_neigh` and :func:`read_area`::
+
+    .edge   <#edges> <#boundary markers (0 or 1)>
+            <edge #> <endpoint> <endpoint> [marker]    a Voronoi ray (.v.edge) reads
+            <edge #> <endpoint> -1 <dx> <dy>           (no markers in ray files)
+    .neigh  <#triangles> <#neighbours per triangle (3)>
+            <triangle #> <n0> <n1> <n2>                 n_k opposite corner k, -1 = none
+    .area   <#triangles>
+            <triangle #> <maximum area>                 <= 0: no constraint
+
+all read with the same :class:`~meshwright.geometry.poly_format.Records` (comments,
+blank lines, file-and-line errors); vertex and triangle references use the numbering of
+the ``.node`` (the first record's number when not given).
 
 Mapping to :class:`~meshwright.core.mesh.Mesh` data (see ``core/mesh.py``): vertex markers
 are ``point_data["marker"]``, vertex attributes ``point_data["attributes"]`` (n, a);
@@ -40,6 +52,10 @@ __all__ = [
     "PolyData",
     "read_node",
     "read_ele",
+    "EdgeData",
+    "read_edge",
+    "read_neigh",
+    "read_area",
     "read_poly",
     "read_triangle",
     "write_triangle",
@@ -61,6 +77,26 @@ class EleData(NamedTuple):
 
     cells: np.ndarray
     attributes: np.ndarray
+
+
+def _check_base(first_index) -> None:
+    if first_index is not None and (first_index not in (0, 1) or isinstance(first_index, bool)):
+        raise InputError(f"first_index must be None, 0 or 1, got {first_index!r}")
+
+
+def _check_count(value, name: str) -> None:
+    if value is not None and (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0):
+        raise InputError(f"{name} must be None or a non-negative int, got {value!r}")
+
+
+def _base(rec: Records, numbers: np.ndarray, linenos: np.ndarray, first_index: int | None, what: str) -> int:
+    """The given numbering, or that of the first record (0 or 1)."""
+    if first_index is not None:
+        return first_index
+    base = int(numbers[0]) if len(numbers) else 0
+    if base not in (0, 1):
+        raise rec.error(int(linenos[0]), f"the first {what} must be numbered 0 or 1, got {base}")
+    return base
 
 
 def _indices(rec: Records, values, linenos, first_index: int, n_points: int | None, what: str) -> np.ndarray:
@@ -101,10 +137,8 @@ def read_ele(path, first_index: int | None = None, n_points: int | None = None) 
         Missing, unreadable or non-UTF-8 file, malformed or truncated record, unsupported
         nodes per element (second-order elements), a vertex reference out of range.
     """
-    if first_index is not None and (first_index not in (0, 1) or isinstance(first_index, bool)):
-        raise InputError(f"first_index must be None, 0 or 1, got {first_index!r}")
-    if n_points is not None and (not isinstance(n_points, (int, np.integer)) or n_points < 0):
-        raise InputError(f"n_points must be None or a non-negative int, got {n_points!r}")
+    _check_base(first_index)
+    _check_count(n_points, "n_points")
     rec = Records(path)
     line, (n, k, n_attr) = rec.header("the .ele header", ("#elements", "nodes per element", "#attributes"), (3, 0))
     if k not in (3, 4):
@@ -112,14 +146,172 @@ def read_ele(path, first_index: int | None = None, n_points: int | None = None) 
     names = ("element #",) + ("vertex",) * k + ("attribute",) * n_attr
     values, linenos = rec.table(n, "element", names, 1 + k, line)
     numbers = rec.integers(values[:, :1], linenos, "element numbers")[:, 0]
-    base = first_index
-    if base is None:
-        base = int(numbers[0]) if len(numbers) else 0
-        if base not in (0, 1):
-            raise rec.error(int(linenos[0]), f"the first element must be numbered 0 or 1, got {base}")
+    base = _base(rec, numbers, linenos, first_index, "element")
     cells = _indices(rec, values[:, 1 : 1 + k], linenos, base, n_points, "element")
     rec.finish()
     return EleData(cells, np.ascontiguousarray(values[:, 1 + k :]))
+
+
+class EdgeData(NamedTuple):
+    """Contents of an ``.edge`` file.
+
+    Attributes
+    ----------
+    edges : (e, 2) int32
+        0-based vertex indices; the second is -1 for a Voronoi ray.
+    markers : (e,) int32 or None
+        None when the header declares no boundary markers.
+    directions : (e, 2) float64
+        Direction of each ray, zeros for finite edges.
+    """
+
+    edges: np.ndarray
+    markers: np.ndarray | None
+    directions: np.ndarray
+
+
+def read_edge(path, first_index: int | None = None, n_points: int | None = None) -> EdgeData:
+    """Read a Triangle ``.edge`` file (Voronoi ``.v.edge`` rays included).
+
+    Parameters
+    ----------
+    path : str or Path
+    first_index : {0, 1}, optional
+        Numbering of the vertices; default: the number of the first edge.
+    n_points : int, optional
+        Number of vertices, to check the range of the references.
+
+    Returns
+    -------
+    EdgeData
+
+    Raises
+    ------
+    InputError
+        Bad ``first_index`` or ``n_points``.
+    FormatError
+        Missing, unreadable or malformed file, a ray in a file with markers or without its
+        direction, a vertex reference out of range: naming file and line.
+    """
+    _check_base(first_index)
+    _check_count(n_points, "n_points")
+    rec = Records(path)
+    line, (n, n_markers) = rec.header("the .edge header", ("#edges", "#boundary markers"), (0,))
+    if n_markers not in (0, 1):
+        raise rec.error(line, f"number of edge boundary markers must be 0 or 1, got {n_markers}")
+    tail = ("boundary marker",) if n_markers else ("direction x", "direction y")
+    start = rec.pos
+    values, linenos = rec.table(n, "edge", ("edge #", "endpoint", "endpoint") + tail, 3, line)
+    widths = np.fromiter((len(f) for _, f in rec.items[start : rec.pos]), dtype=np.int64, count=len(linenos))
+    numbers = rec.integers(values[:, :1], linenos, "edge numbers")[:, 0]
+    base = _base(rec, numbers, linenos, first_index, "edge")
+    ends = rec.integers(values[:, 1:3], linenos, "edge endpoints")
+    ray = ends[:, 1] == -1
+    bad = np.flatnonzero(ray & (widths != 5) | ~ray & (widths > 3 + n_markers))
+    if len(bad):
+        i = int(bad[0])
+        expected = "a ray line (b = -1) holds '<edge #> <a> -1 <dx> <dy>' in a file without markers"
+        if not ray[i]:
+            expected = f"an edge line holds 3 to {3 + n_markers} fields"
+        raise rec.error(int(linenos[i]), f"{expected}, got {widths[i]} fields")
+    finite = ends.copy()
+    finite[ray, 1] = base  # a valid stand-in for the range check
+    edges = _indices(rec, finite, linenos, base, n_points, "edge")
+    edges[ray, 1] = -1
+    markers = None
+    if n_markers:
+        markers = rec.integers(values[:, 3:4], linenos, "edge boundary markers")[:, 0].astype(np.int32)
+    directions = np.zeros((len(edges), 2))
+    if not n_markers:
+        directions[ray] = values[ray, 3:5]
+    rec.finish()
+    return EdgeData(edges, markers, directions)
+
+
+def read_neigh(path, first_index: int | None = None, n_triangles: int | None = None) -> np.ndarray:
+    """Read a Triangle ``.neigh`` file.
+
+    Parameters
+    ----------
+    path : str or Path
+    first_index : {0, 1}, optional
+        Numbering of the triangles; default: the number of the first record.
+    n_triangles : int, optional
+        Number of triangles (that of the ``.ele``): the record count must agree, and
+        every neighbour lie in range.
+
+    Returns
+    -------
+    (m, 3) int32
+        0-based neighbour of each triangle across the edge opposite corner k; -1 = none
+        (the layout of ``Triangulation.neighbors``).
+
+    Raises
+    ------
+    InputError
+        Bad ``first_index`` or ``n_triangles``.
+    FormatError
+        Missing, unreadable or malformed file, a count other than ``n_triangles``, a
+        neighbour out of range: naming file and line.
+    """
+    _check_base(first_index)
+    _check_count(n_triangles, "n_triangles")
+    rec = Records(path)
+    line, (n, k) = rec.header("the .neigh header", ("#triangles", "#neighbours per triangle"), (3,))
+    if k != 3:
+        raise rec.error(line, f"triangles have 3 neighbours, the header declares {k}")
+    if n_triangles is not None and n != n_triangles:
+        raise rec.error(line, f"{n} triangles declared, the .ele has {n_triangles}")
+    values, linenos = rec.table(n, "triangle", ("triangle #", "neighbour", "neighbour", "neighbour"), 4, line)
+    numbers = rec.integers(values[:, :1], linenos, "triangle numbers")[:, 0]
+    base = _base(rec, numbers, linenos, first_index, "triangle")
+    raw = rec.integers(values[:, 1:4], linenos, "neighbours")
+    none = raw == -1
+    upper = n if n_triangles is None else n_triangles
+    idx = raw - base
+    bad = np.flatnonzero(np.any(~none & ((idx < 0) | (idx >= upper)), axis=1))
+    if len(bad):
+        i = int(bad[0])
+        raise rec.error(
+            int(linenos[i]), f"neighbours {raw[i].tolist()} outside {base}..{base + upper - 1} (or -1 for none)"
+        )
+    rec.finish()
+    return np.where(none, -1, idx).astype(np.int32)
+
+
+def read_area(path, n_triangles: int | None = None) -> np.ndarray:
+    """Read a Triangle ``.area`` file (a maximum area per triangle, for refinement).
+
+    Parameters
+    ----------
+    path : str or Path
+    n_triangles : int, optional
+        Number of triangles (that of the ``.ele``): the record count must agree.
+
+    Returns
+    -------
+    (m,) float64
+        Maximum area of each triangle; -1 where unconstrained (<= 0 in the file).
+
+    Raises
+    ------
+    InputError
+        Bad ``n_triangles``.
+    FormatError
+        Missing, unreadable or malformed file, a non-finite area, a count other than
+        ``n_triangles``: naming file and line.
+    """
+    _check_count(n_triangles, "n_triangles")
+    rec = Records(path)
+    line, (n,) = rec.header("the .area header", ("#triangles",), ())
+    if n_triangles is not None and n != n_triangles:
+        raise rec.error(line, f"{n} triangles declared, the .ele has {n_triangles}")
+    values, linenos = rec.table(n, "triangle", ("triangle #", "maximum area"), 2, line)
+    rec.integers(values[:, :1], linenos, "triangle numbers")
+    rec.finish()
+    area = np.ascontiguousarray(values[:, 1])
+    area[area <= 0] = -1.0
+    return area
 
 
 def _stem(path) -> str:
