@@ -148,3 +148,25 @@ def test_triangle_example_poly_files_mesh(name):
     ref_area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])).sum()
     assert float(exact_total_area(mesh)) == pytest.approx(ref_area, rel=1e-9)
     assert len(mesh.triangles) <= 3 * len(ref["triangles"])
+
+
+def test_what_write_poly_writes_triangle_reads(tmp_path):
+    """A domain written by write_poly (1-based, markers, a hole) is read by the triangle
+    package's loader and meshed by Triangle (``p``) to the domain's area; the mesh
+    meshwright writes (.node/.ele/.poly) loads there too."""
+    triangle = pytest.importorskip("triangle")
+    dom = mw.geometry.polygon(
+        [(0, 0), (3, 0), (3, 2), (0, 2)], holes=[[(1, 0.5), (2, 0.5), (2, 1.5), (1, 1.5)]], markers=[[1, 2, 3, 4], 6]
+    )
+    mw.geometry.write_poly(tmp_path / "dom.poly", dom)
+    ref = triangle.triangulate(triangle.load(str(tmp_path), "dom"), "p")
+    a, b, c = (ref["vertices"][ref["triangles"][:, k]] for k in range(3))
+    area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])).sum()
+    assert area == pytest.approx(dom.area(), rel=1e-12)
+    assert sorted(set(triangle.load(str(tmp_path), "dom")["segment_markers"][:, 0].tolist())) == [1, 2, 3, 4, 6]
+    mesh = mw.triangulate(dom, 0.5)
+    mesh.write(tmp_path / "m.1.node")
+    back = triangle.load(str(tmp_path), "m.1")
+    np.testing.assert_array_equal(back["vertices"], mesh.points)
+    np.testing.assert_array_equal(back["triangles"], mesh.triangles)
+    np.testing.assert_array_equal(back["segments"], mesh.cells["line"])
