@@ -583,6 +583,9 @@ def test_meshio_errors_become_format_errors(tmp_path):
     (tmp_path / "dir.vtu").mkdir()
     with pytest.raises(FormatError, match=r"dir\.vtu: not a regular file"):
         read(tmp_path / "dir.vtu")
+    marked_square().write(tmp_path / "ok.vtu")
+    with pytest.raises(InputError, match="dim must be None, 2 or 3, got 4"):
+        read(tmp_path / "ok.vtu", dim=4)
 
 
 @pytest.mark.parametrize(

@@ -499,6 +499,8 @@ def _float_array(a, name: str, shape: tuple) -> np.ndarray:
         arr = np.asarray(a, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise InputError(f"{name} must be numeric: {exc}") from None
+    if arr.size == 0 and len(shape) == 2 and shape[1] != -1:
+        arr = arr.reshape(0, shape[1])  # [] for "none"
     if arr.ndim != len(shape) or any(s not in (-1, t) for s, t in zip(shape, arr.shape)):
         raise InputError(f"{name} must have shape {shape} (-1: any), got {arr.shape}")
     bad = np.flatnonzero(~np.isfinite(arr.reshape(len(arr), -1)).all(axis=1)) if arr.size else []

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshwright.core.errors import FormatError
+from meshwright.core.errors import FormatError, InputError
 from meshwright.core.mesh import CELL_DIMS, CELL_NODES, Mesh
 
 __all__ = ["read", "write", "to_meshio", "from_meshio"]
@@ -309,6 +309,8 @@ def read(path, file_format: str | None = None, dim: int | None = None) -> Mesh:
 
     Raises
     ------
+    InputError
+        ``dim`` not None, 2 or 3.
     FormatError
         The file is missing or unreadable, cannot be parsed in that format (corrupt,
         truncated, not UTF-8 where the format is text), or holds unsupported cells.
@@ -322,7 +324,7 @@ def read(path, file_format: str | None = None, dim: int | None = None) -> Mesh:
 
     path = Path(path)
     if dim not in (None, 2, 3):
-        raise FormatError(f"{path}: dim must be None, 2 or 3, got {dim!r}")
+        raise InputError(f"dim must be None, 2 or 3, got {dim!r}")
     if not path.is_file():
         raise FormatError(f"{path}: no such file" if not path.exists() else f"{path}: not a regular file")
     errors = []
