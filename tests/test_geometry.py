@@ -477,7 +477,9 @@ def test_island_with_region_is_meshed():
     reverse=st.booleans(),
 )
 def test_random_star_polygons(n, data, reverse):
-    jitter = data.draw(st.lists(st.floats(0, 1), min_size=n, max_size=n))
+    # tiny jitters flushed to zero: a coordinate like 1e-308 beside 1.0 lies outside the
+    # predicates' exact range and is refused at the door (tests/test_doors.py)
+    jitter = [j if j > 1e-30 else 0.0 for j in data.draw(st.lists(st.floats(0, 1), min_size=n, max_size=n))]
     radii = data.draw(st.lists(st.floats(0.2, 1.0), min_size=n, max_size=n))
     p = star(n, jitter, radii)
     if reverse:

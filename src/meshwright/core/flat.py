@@ -1,4 +1,4 @@
-"""Flat-array helpers shared by the ``@njit`` kernels: capacity growth, the ghost sentinel.
+r"""Flat-array helpers shared by the ``@njit`` kernels: capacity growth, the ghost sentinel.
 
 Kernels keep their data in flat, preallocated NumPy arrays (``tri[3*t + k]``,
 ``nbr[3*t + k]``, ...) and a count of used entries.  When a kernel may outgrow its
