@@ -48,7 +48,7 @@ from typing import NamedTuple
 import numpy as np
 
 from meshwright.core.errors import DegenerateInputError, DuplicatePointError, InputError, MeshingError, fmt_point
-from meshwright.core.flat import GHOST, TET_FACES, grown
+from meshwright.core.flat import TET_FACES, grown
 from meshwright.core.rng import seed_state
 from meshwright.core.spatial_sort import brio_order
 from meshwright.core.validate_input import as_points, check_coordinate_range, check_seed
@@ -58,7 +58,6 @@ from meshwright.tet._kernel3d import (
     BROKEN,
     M_NEED,
     M_NEEDN,
-    M_NFREE,
     M_NTET,
     NEED_CAV,
     NEED_FACES,
