@@ -132,12 +132,23 @@ def _quadtree(job: QuadJob) -> QuadFill:
     return quadtree_fill(job)
 
 
+def _pairing(job: QuadJob) -> QuadFill:
+    from meshwright.quad.pairing import pairing_fill
+
+    return pairing_fill(job)
+
+
 QUAD_METHODS: dict[str, QuadMethod] = {
     m.name: m
     for m in (
         QuadMethod(
             "quadtree", "modified quadtree with a boundary layer of split triangles (Yerry-Shephard, 18.5.3)",
             _quadtree, needs_size=True, smooths=False, reports_progress=False, segments=True, points=False,
+            regions=False,
+        ),
+        QuadMethod(
+            "pairing", "advancing-front triangles paired into quads, then shape enhancement (Zhu et al., 18.5.1)",
+            _pairing, needs_size=False, smooths=True, reports_progress=False, segments=True, points=True,
             regions=False,
         ),
     )
