@@ -166,6 +166,17 @@ def test_degenerate_families_are_exactly_delaunay_and_watson_equals_bowyer(name,
     assert tet_set(W) == tet_set(B)
 
 
+@pytest.mark.parametrize("scale", [2.0**-140, 2.0**190])
+def test_exact_at_both_ends_of_the_coordinate_range(scale):
+    # Lattice points scaled so every nonzero coordinate stays in [2**-148, 2**200]; Watson's
+    # float32 spheres underflow or overflow there and must fall back to the exact test.
+    cells = np.random.default_rng(3).permutation(32**3)[:150]
+    pts = np.column_stack([cells // 1024 + 1, (cells // 32) % 32 + 1, cells % 32 + 1]) / 32.0 * scale
+    B = delaunay3d(pts, seed=0)
+    check_delaunay(B, pts, strict=False)
+    assert tet_set(delaunay3d(pts, algorithm="watson", seed=0)) == tet_set(B)
+
+
 def test_lattice_15_cubed():
     pts = _lattice(15)
     T = delaunay3d(pts, seed=2)
