@@ -38,7 +38,6 @@ from meshwright.quad.subdivide import split_all
         (dict(all_quad="yes"), InputError, "all_quad"),
         (dict(progress=1), InputError, "progress"),
         (dict(progress=True), InputError, "reports no progress"),
-        (dict(smooth=2), InputError, "does not smooth"),
         (dict(smooth=-1), InputError, "smooth"),
         (dict(max_points=2), InputError, "max_points"),
         (dict(max_points=1.5), InputError, "max_points"),
@@ -72,7 +71,7 @@ def test_door_rejects_what_the_quadtree_cannot_honour():
 
 def test_registry_declares_capabilities():
     m = QUAD_METHODS["quadtree"]
-    assert m.needs_size and not m.smooths and not m.reports_progress and m.segments
+    assert m.needs_size and m.smooths and not m.reports_progress and m.segments
     assert mw.QUAD_METHODS is QUAD_METHODS and mw.quadrangulate is quadrangulate
 
 
@@ -291,6 +290,21 @@ def test_quadtree_mixed_mode_and_interior_segments():
     assert len(full.boundary_facets()) == len(full.lines) - on_segment.sum()
 
 
+def test_smoothing_keeps_boundary_and_never_lowers_the_minimum():
+    dom = builtin("naca0012")
+    raw = quadrangulate(dom)
+    smooth = quadrangulate(dom, smooth=3)
+    smooth.validate()
+    assert np.array_equal(raw.quads, smooth.quads)
+    nodes = np.unique(raw.lines)
+    assert np.array_equal(raw.points[nodes], smooth.points[nodes])
+    before = raw.quality()["quad"]["scaled_jacobian"]
+    after = smooth.quality()["quad"]["scaled_jacobian"]
+    assert after.min() >= before.min() and after.mean() > before.mean() + 0.02
+    mixed = quadrangulate("circle", 0.2, all_quad=False, smooth=2)
+    mixed.validate()
+
+
 def test_quadtree_caps_are_named():
     with pytest.raises(MeshingError, match="max_points|cells"):
         quadrangulate("circle", 0.05, max_points=1200)
@@ -310,6 +324,6 @@ def test_cli_quad(tmp_path, capsys):
     assert main(["quad", "circle", "--size", "0.2", "--mixed"]) == 0
     assert "triangles left" in capsys.readouterr().out
     assert main(["quad", "circle", "--size", "-1"]) == 2
-    assert main(["quad", "circle", "--smooth", "3"]) == 2
+    assert main(["quad", "circle", "--smooth", "-3"]) == 2
     err = capsys.readouterr().err
-    assert "Traceback" not in err and "does not smooth" in err
+    assert "Traceback" not in err and "smooth" in err

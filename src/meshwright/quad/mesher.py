@@ -12,7 +12,7 @@ method:
 Pipeline::
 
     Domain, size --door (every argument checked against the method's QuadMethod)-->
-        method(job) -> QuadFill --all-quad finish (below)--> Mesh
+        method(job) -> QuadFill --all-quad finish (below)--> optional smoothing --> Mesh
 
 Method contract
 ---------------
@@ -20,8 +20,9 @@ A method is a :class:`QuadMethod` entry whose ``build`` is ``build(job: QuadJob)
 QuadFill``.  The job carries the checked request: ``domain`` (a validated
 :class:`~meshwright.geometry.Domain`), ``field`` (a :class:`~meshwright.sizing.SizeField`,
 or None when neither the caller nor the domain gave a size: only methods declaring
-``needs_size=False`` see None), ``all_quad``, ``smooth`` (passes; 0 unless the method
-declares ``smooths``), ``max_points`` (cap on vertices of the returned fill), ``seed`` (an
+``needs_size=False`` see None), ``all_quad``, ``smooth`` (the passes the mesher will run
+on the finished mesh, for information; 0 unless the method declares ``smooths``),
+``max_points`` (cap on vertices of the returned fill), ``seed`` (an
 int or a ``numpy.random.Generator``, from :func:`meshwright.core.validate_input.check_seed`)
 and ``progress`` (True only for methods declaring ``reports_progress``).  The fill is:
 
@@ -50,6 +51,13 @@ midpoints placed on their true curves.  The split halves the spacing, so a metho
 knows it will leave triangles builds at twice the size when ``job.all_quad`` is set
 (the quadtree does).  ``all_quad=False`` returns the fill as it is: quad-dominant, with
 its triangles in a ``"triangle"`` block (``len(mesh.triangles)`` says how many).
+
+Smoothing
+---------
+``smooth=N`` (methods declaring ``smooths``) runs N sweeps of the shared guarded
+Laplacian (:func:`meshwright.quad.smoothing.smooth_cells`) on the finished mesh: boundary
+and segment vertices stay on their curves, and no move lowers the smallest corner sine
+around a vertex, so the mesh stays valid and its minimum scaled Jacobian never falls.
 """
 
 from __future__ import annotations
@@ -104,7 +112,8 @@ class QuadMethod(NamedTuple):
     needs_size : bool
         The method needs a size field (from the caller or the domain).
     smooths : bool
-        The method honours ``smooth > 0`` (it runs ``job.smooth`` passes itself).
+        The method honours ``smooth > 0``: the mesher runs the shared smoother on its
+        finished mesh (module docstring).
     reports_progress : bool
         Whether ``progress=True`` shows a bar for this method.
     segments : bool
@@ -143,7 +152,7 @@ QUAD_METHODS: dict[str, QuadMethod] = {
     for m in (
         QuadMethod(
             "quadtree", "modified quadtree with a boundary layer of split triangles (Yerry-Shephard, 18.5.3)",
-            _quadtree, needs_size=True, smooths=False, reports_progress=False, segments=True, points=False,
+            _quadtree, needs_size=True, smooths=True, reports_progress=False, segments=True, points=False,
             regions=False,
         ),
         QuadMethod(
@@ -210,7 +219,8 @@ def quadrangulate(
         Finish by the documented midpoint split if the method leaves triangles (module
         docstring); False returns a quad-dominant mesh with its triangles.
     smooth : int
-        Smoothing passes; only for methods declaring ``smooths`` (0 otherwise).
+        Sweeps of the guarded Laplacian smoother on the finished mesh (module docstring);
+        only for methods declaring ``smooths`` (0 otherwise).
     max_points : int, optional
         Cap on the mesh's vertices (default
         :data:`meshwright.tri.mesher.DEFAULT_MAX_POINTS`); a size needing more is refused
@@ -267,8 +277,15 @@ def quadrangulate(
         from meshwright.quad.subdivide import split_all
 
         fill = split_all(fill, dom, cap)
+    points = fill.points
+    if passes:
+        from meshwright.quad.smoothing import smooth_cells
+
+        fixed = np.zeros(len(points), dtype=bool)
+        fixed[fill.lines.ravel()] = True
+        points = smooth_cells(points, fill.quads, fill.triangles, fixed, passes)
     cells = {"quad": fill.quads}
     if len(fill.triangles):
         cells["triangle"] = fill.triangles
     cells["line"] = fill.lines
-    return Mesh(fill.points, cells, cell_data={"marker": {"line": fill.line_markers}})
+    return Mesh(points, cells, cell_data={"marker": {"line": fill.line_markers}})
