@@ -6,6 +6,8 @@ core.quality (a separate implementation from the kernels'), hull faces as sets."
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from meshwright.core.errors import InputError
 from meshwright.core.mesh import Mesh
@@ -219,3 +221,26 @@ def test_only_the_vertices_of_the_mask_move_and_the_input_is_untouched():
     assert report.moves > 0 and moved.any() and not (moved & ~mask).any()
     np.testing.assert_array_equal(mesh.points, points)
     np.testing.assert_array_equal(mesh.tetra, tets)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.integers(0, 2**32 - 1),
+    st.integers(20, 200),
+    st.sampled_from(["uniform", "flat", "lattice"]),
+    st.floats(0.005, 1 / 3),
+    st.booleans(),
+)
+def test_any_delaunay_mesh_stays_valid(seed, n, kind, threshold, move_points):
+    rng = np.random.default_rng(seed)
+    if kind == "uniform":
+        pts = rng.random((n, 3))
+    elif kind == "flat":  # a thin slab: slivers everywhere
+        pts = rng.random((n, 3)) * [1, 1, 0.05]
+    else:
+        k = max(3, round(n ** (1 / 3)))
+        pts = lattice_points(k, seed=seed)
+    mesh = scipy_mesh(pts)
+    out, report = remove_slivers(mesh, threshold=threshold, move_points=move_points, max_iter=10)
+    check_result(mesh, out, report)
+    assert hull_set(out) == hull_set(mesh)

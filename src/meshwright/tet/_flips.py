@@ -40,12 +40,13 @@ _EDGES = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]], dtype=np.int
 # Counter slots of flip_pass / move_pass: flips by kind, then sliver bookkeeping.
 C_23, C_RING, C_MOVES, C_REMOVED_FLIP, C_REMOVED_MOVE, C_CREATED = 0, 1, 9, 10, 11, 12
 N_COUNTERS = 13  # C_RING + m counts edge removals of ring size m (3..7)
-# Rounds of the compass search that refines a vertex move, and its directions: the 26
-# unit vectors towards the neighbours of a cube cell (many, so that the search does not
-# stall on the kinks of the max-min objective where one axis direction cannot help).
-_SEARCH_ROUNDS = 12
+# Rounds of the compass search that refines a vertex move, and its directions: the six
+# axes and the eight cube diagonals (more than the axes, so that the search does not
+# stall on the kinks of the max-min objective where no axis direction helps).
+_SEARCH_ROUNDS = 8
 _DIRS = np.array(
-    [[i, j, k] for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1) if (i, j, k) != (0, 0, 0)], dtype=np.float64
+    [[i, j, k] for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1) if abs(i) + abs(j) + abs(k) in (1, 3)],
+    dtype=np.float64,
 )
 _DIRS /= np.sqrt((_DIRS**2).sum(axis=1))[:, None]
 

@@ -208,29 +208,9 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
                 f"surface or a constrained cell ({len(bad)} such vertices): those never move"
             )
 
-    tets = np.ascontiguousarray(mesh.tetra, dtype=np.int32)
-    m = len(tets)
-    cap = 2 * m + 16
-    tet = np.full(4 * cap, -1, np.int32)
-    tet[: 4 * m] = tets.ravel()
-    nbr = np.full(4 * cap, -1, np.int32)
-    nbr[: 4 * m] = build_neighbors_tet(tets).ravel()
-    region = np.zeros(cap, np.int32)
-    markers = mesh.cell_data.get("marker", {}).get("tetra")
-    if markers is not None:
-        region[:m] = np.asarray(markers, dtype=np.int32)
-    lock = np.zeros(4 * cap, np.uint8)
-    nb = nbr[: 4 * m].reshape(m, 4)
-    # Faces between regions, and faces that are triangle cells, are kept.
-    lock[: 4 * m] = ((nb >= 0) & (region[np.maximum(nb, 0)] != region[:m, None])).ravel()
-    faces = mesh.cells_of("triangle")
-    if len(faces):
-        tet_faces = tets[:, TET_FACES].reshape(-1, 3)
-        lock[: 4 * m] |= _rows_in(tet_faces, faces, n).astype(np.uint8)
-    lines = np.sort(mesh.cells_of("line").astype(np.int64), axis=1)
-    ekeys = np.unique(lines[:, 0] * n + lines[:, 1]) if len(lines) else np.zeros(0, np.int64)
-    free = np.zeros(cap, np.int64)
-    nfree, ntet = 0, m
+    tet, nbr, lock, region, ekeys = _flat_state(mesh)
+    free = np.zeros(len(region), np.int64)
+    nfree, ntet = 0, len(mesh.tetra)
     pts = mesh.points.copy()
 
     counters = np.zeros(_flips.N_COUNTERS, np.int64)
@@ -274,7 +254,7 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
     cells = {t: c for t, c in mesh.cells.items() if t != "tetra"}
     cells["tetra"] = new_tets
     cell_data = {name: {t: v for t, v in blocks.items() if t != "tetra"} for name, blocks in mesh.cell_data.items()}
-    if markers is not None:
+    if "tetra" in mesh.cell_data.get("marker", {}):
         cell_data["marker"]["tetra"] = region[:ntet][alive].copy()
     out = Mesh(pts, cells, point_data=dict(mesh.point_data), cell_data={k: v for k, v in cell_data.items() if v})
     try:
@@ -284,20 +264,7 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
 
     final = ratios[alive]
     left_cells = np.flatnonzero(final < threshold)
-    reasons = dict.fromkeys(LEFT_REASONS, 0)
-    if capped:
-        reasons["iteration_cap"] = len(left_cells)
-    else:
-        on_surface = np.zeros(len(new_tets), bool)
-        on_surface[_boundary_cells(new_tets)] = True
-        for t in left_cells:
-            row = new_tets[t]
-            if on_surface[t] or fixed[row].all():
-                reasons["boundary"] += 1
-            elif movable[row].any():
-                reasons["no_improving_move"] += 1
-            else:
-                reasons["not_movable"] += 1
+    reasons = _left_reasons(new_tets, left_cells, fixed, movable, capped)
     flips_by_kind = {"2-3": int(counters[_flips.C_23])}
     flips_by_kind.update({name: int(counters[_flips.C_RING + size]) for size, name in _RING_NAMES.items()})
     report = SliverReport(
@@ -318,7 +285,54 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
     return out, report
 
 
-def _boundary_cells(tets: np.ndarray) -> np.ndarray:
-    """Indices of the tets with a face on the boundary (a face no other tet has)."""
-    nbr = build_neighbors_tet(tets)
-    return np.flatnonzero((nbr < 0).any(axis=1))
+def _flat_state(mesh: Mesh):
+    """Flat kernel arrays of the tetra block, with room for twice as many tets.
+
+    Returns
+    -------
+    tet, nbr : (4 cap,) int32
+        Vertices and neighbours (-1 = boundary; unused slots -1).
+    lock : (4 cap,) uint8
+        1 on faces between two regions and on faces that are ``triangle`` cells.
+    region : (cap,) int32
+        ``cell_data["marker"]["tetra"]``, or 0.
+    ekeys : (e,) int64
+        Sorted ``min * n + max`` of the ``line`` cells (edges no flip may remove).
+    """
+    n = mesh.n_points
+    tets = np.ascontiguousarray(mesh.tetra, dtype=np.int32)
+    m = len(tets)
+    cap = 2 * m + 16
+    tet = np.full(4 * cap, -1, np.int32)
+    tet[: 4 * m] = tets.ravel()
+    nbr = np.full(4 * cap, -1, np.int32)
+    nb = build_neighbors_tet(tets)
+    nbr[: 4 * m] = nb.ravel()
+    region = np.zeros(cap, np.int32)
+    markers = mesh.cell_data.get("marker", {}).get("tetra")
+    if markers is not None:
+        region[:m] = np.asarray(markers, dtype=np.int32)
+    lock = np.zeros(4 * cap, np.uint8)
+    lock[: 4 * m] = ((nb >= 0) & (region[np.maximum(nb, 0)] != region[:m, None])).ravel()
+    faces = mesh.cells_of("triangle")
+    if len(faces):
+        lock[: 4 * m] |= _rows_in(tets[:, TET_FACES].reshape(-1, 3), faces, n).astype(np.uint8)
+    lines = np.sort(mesh.cells_of("line").astype(np.int64), axis=1)
+    ekeys = np.unique(lines[:, 0] * n + lines[:, 1]) if len(lines) else np.zeros(0, np.int64)
+    return tet, nbr, lock, region, ekeys
+
+
+def _left_reasons(tets, left, fixed, movable, capped) -> dict[str, int]:
+    """Count the left slivers by reason (see LEFT_REASONS), first matching reason wins."""
+    reasons = dict.fromkeys(LEFT_REASONS, 0)
+    if capped:
+        reasons["iteration_cap"] = len(left)
+        return reasons
+    rows = tets[left]
+    on_surface = (build_neighbors_tet(tets)[left] < 0).any(axis=1)
+    boundary = on_surface | fixed[rows].all(axis=1)
+    can_move = movable[rows].any(axis=1)
+    reasons["boundary"] = int(np.count_nonzero(boundary))
+    reasons["no_improving_move"] = int(np.count_nonzero(~boundary & can_move))
+    reasons["not_movable"] = int(np.count_nonzero(~boundary & ~can_move))
+    return reasons
