@@ -452,3 +452,16 @@ def test_kernel_single_point_entry_and_need_space():
     T._nt = compact(s.tet, s.nbr, s.sph, s.meta)
     T._cache = {}
     assert tet_set(T) == tet_set(delaunay3d(np.vstack([pts, [[0.5, 0.5, 0.5]]]), seed=3))
+
+
+def test_inconsistent_structure_is_reported_not_corrupted():
+    # Vertices moved behind the kernel's back make tets inverted and spheres wrong: the
+    # cavity check (Euler count, paired edges) must refuse with an error naming the point,
+    # never crash, hang or carry on silently.
+    from meshwright.core.errors import MeshingError
+
+    rng = np.random.default_rng(18)
+    T = delaunay3d(rng.random((200, 3)), seed=0)
+    T._s.pts[rng.choice(200, 20, replace=False)] = rng.random((20, 3))
+    with pytest.raises(MeshingError, match=r"inserting point \d+ at \(.*\) met an inconsistent cavity"):
+        T.insert(rng.random((200, 3)))
