@@ -386,6 +386,81 @@ def _gap_mesh(dom: Domain, gap_dom: Domain, hfield, marker_gap: int, job):
     )
 
 
+@njit(cache=True)
+def _outline_rows(qx, qy, oa, ob):
+    """For each query point, the outline edge (axis-parallel, ends ``oa``/``ob``) whose
+    interior contains it exactly; -1 if none, -2 if several."""
+    out = np.full(qx.shape[0], -1, dtype=np.int64)
+    for e in range(qx.shape[0]):
+        for r in range(oa.shape[0]):
+            if oa[r, 1] == qy[e] and ob[r, 1] == qy[e]:
+                inside = min(oa[r, 0], ob[r, 0]) < qx[e] < max(oa[r, 0], ob[r, 0])
+            elif oa[r, 0] == qx[e] and ob[r, 0] == qx[e]:
+                inside = min(oa[r, 1], ob[r, 1]) < qy[e] < max(oa[r, 1], ob[r, 1])
+            else:
+                inside = False
+            if inside:
+                out[e] = r if out[e] == -1 else -2
+    return out
+
+
+def _gap_domain(dom: Domain, core_xy, ends, marker_gap: int) -> Domain:
+    """The domain between the core's outline (loops of ``core_xy[ends]`` edges, marked
+    ``marker_gap``) and the domain's own loops and segments."""
+    holes = [list(lp) for lp in dom.loops[1:]]
+    seeds = []
+    if len(ends):
+        verts, edge_order, offsets, _ = trace_chains(len(core_xy), ends)
+        for k in range(len(offsets) - 1):
+            loop = verts[offsets[k] + k : offsets[k + 1] + k + 1]
+            holes.append([Polyline(core_xy[loop], closed=True, marker=marker_gap)])
+            # A seed just off the outline on the gap side (the right of the directed edge):
+            # the gap inside a ring-shaped core is an island of the gap domain.
+            a, b = core_xy[ends[edge_order[offsets[k]]]]
+            seeds.append((*(0.5 * (a + b) + 0.1 * np.array([b[1] - a[1], a[0] - b[0]])), 0, None))
+    return Domain(list(dom.loops[0]), holes, segments=[list(c) for c in dom.constraints], regions=seeds)
+
+
+def _fans(pid, owner, extra_id, centres, xy):
+    """Fan triangles of the core cells that are not plain quads.
+
+    Parameters
+    ----------
+    pid : (c, 8) int64
+        Each cell's polygon vertex ids (-1 padded).
+    owner : (e,) int64
+        Cell row of each extra outline vertex ``extra_id``.
+    centres : (c, 2) float64
+    xy : (n, 2) float64
+        Coordinates of the ids.
+
+    Returns
+    -------
+    plain : (c,) bool
+        Cells kept as quads.
+    fan : (f, 3) int64
+        Triangles ``(centre, v_i, v_i+1)``, centre ids ``n + k`` for the k-th fan cell.
+    fan_rows : (k,) int64
+        The fan cells (rows of ``pid``), in centre-id order.
+    """
+    nv = (pid >= 0).sum(axis=1)
+    plain = (nv == 4) & ~np.isin(np.arange(len(pid)), owner)
+    fan_rows = np.flatnonzero(~plain)
+    ring_cell = np.concatenate([np.repeat(fan_rows, nv[fan_rows]), owner])
+    ring_vert = np.concatenate([pid[fan_rows][pid[fan_rows] >= 0], extra_id])
+    # Every ring vertex lies on its cell's boundary: sorting by angle about the centre
+    # orders the ring counter-clockwise.
+    ang = np.arctan2(xy[ring_vert, 1] - centres[ring_cell, 1], xy[ring_vert, 0] - centres[ring_cell, 0])
+    order = np.lexsort((ang, ring_cell))
+    ring_cell, ring_vert = ring_cell[order], ring_vert[order]
+    start = np.flatnonzero(np.r_[len(ring_cell) > 0, ring_cell[1:] != ring_cell[:-1]])
+    count = np.diff(np.r_[start, len(ring_cell)])
+    nxt = np.arange(len(ring_cell)) + 1
+    nxt[start + count - 1] = start  # close each ring
+    centre_id = len(xy) + np.searchsorted(fan_rows, ring_cell)
+    return plain, np.column_stack([centre_id, ring_vert, ring_vert[nxt]]), fan_rows
+
+
 def quadtree_fill(job):
     """The quadtree method of :func:`meshwright.quadrangulate` (see the module docstring).
 
@@ -401,7 +476,8 @@ def quadtree_fill(job):
     Raises
     ------
     MeshingError
-        A cap on cells or points was hit (named).
+        A cap on cells or points was hit, or the gap triangulation broke the outline
+        (named).
     """
     from meshwright.quad.mesher import QuadFill
 
@@ -431,81 +507,46 @@ def quadtree_fill(job):
     keys = np.unique(poly[poly >= 0])
     kx, ky = keys // ((1 << top) + 1), keys % ((1 << top) + 1)
     core_xy = np.column_stack([root[0] + kx * unit, root[1] + ky * unit])
+    ends = np.searchsorted(keys, outline[:, :2])
 
-    # The gap between the core's outline and the domain's boundary.
     marker_gap = int(disc.segment_markers.max(initial=0)) + 1
-    holes = [list(lp) for lp in dom.loops[1:]]
-    seeds = []
-    if len(outline):
-        ends = np.searchsorted(keys, outline[:, :2])
-        verts, edge_order, offsets, _ = trace_chains(len(keys), ends)
-        for k in range(len(offsets) - 1):
-            ring = verts[offsets[k] + k : offsets[k + 1] + k + 1]
-            holes.append([Polyline(core_xy[ring], closed=True, marker=marker_gap)])
-            # A seed just off the outline on the gap side (the right of the directed edge):
-            # the gap inside a ring-shaped core is an island of the gap domain.
-            a, b = core_xy[ends[edge_order[offsets[k]]]]
-            seeds.append((*(0.5 * (a + b) + 0.1 * np.array([b[1] - a[1], a[0] - b[0]])), 0, None))
-    gap_dom = Domain(list(dom.loops[0]), holes, segments=[list(c) for c in dom.constraints], regions=seeds)
+    gap_dom = _gap_domain(dom, core_xy, ends, marker_gap)
     hfield = as_size_field(lambda xy: factor * field(xy))
     gap, boundary, line_curves = _gap_mesh(dom, gap_dom, hfield, marker_gap, job)
 
-    # One vertex numbering: core vertices first, then the gap's own.
+    # One vertex numbering for the core's vertices and the gap's.
     allxy, inv = np.unique(np.vstack([core_xy, gap.points]), axis=0, return_inverse=True)
     inv = inv.ravel()
     core_id, gap_id = inv[: len(core_xy)], inv[len(core_xy) :]
+    lost = ends[~np.isin(core_id[ends[:, 0]], gap_id), 0]
+    if len(lost):
+        x, y = core_xy[lost[0]]
+        raise MeshingError(f"the gap triangulation lost the core's outline vertex ({x:.17g}, {y:.17g})")
     gl = gap.cells["line"]
     gm = gap.cell_data["marker"]["line"]
     # Gap vertices inserted on the outline (Delaunay refinement splits) join their cell's fan.
     on_outline = np.unique(gl[gm == marker_gap])
     extra = on_outline[~np.isin(gap_id[on_outline], core_id)]
-    ex_xy = gap.points[extra]
-    oa = core_xy[np.searchsorted(keys, outline[:, 0])]
-    ob = core_xy[np.searchsorted(keys, outline[:, 1])]
-    owner = np.empty(len(extra), np.int64)
-    for e in range(len(extra)):
-        px, py = ex_xy[e]
-        hit = (((oa[:, 1] == py) & (ob[:, 1] == py) & (np.minimum(oa[:, 0], ob[:, 0]) < px)
-                & (px < np.maximum(oa[:, 0], ob[:, 0])))
-               | ((oa[:, 0] == px) & (ob[:, 0] == px) & (np.minimum(oa[:, 1], ob[:, 1]) < py)
-                  & (py < np.maximum(oa[:, 1], ob[:, 1]))))
-        rows = np.flatnonzero(hit)
-        if len(rows) != 1:
-            raise MeshingError(f"gap vertex ({px:.17g}, {py:.17g}) lies on {len(rows)} outline edges of the core")
-        owner[e] = outline[rows[0], 2]
+    rows = _outline_rows(gap.points[extra, 0], gap.points[extra, 1], core_xy[ends[:, 0]], core_xy[ends[:, 1]])
+    if len(rows) and rows.min() < 0:
+        e = int(np.argmin(rows))
+        px, py = gap.points[extra[e]]
+        raise MeshingError(
+            f"gap vertex ({px:.17g}, {py:.17g}) lies on {'no' if rows[e] == -1 else 'several'} outline edges of the core"
+        )
 
     pid = np.where(poly >= 0, core_id[np.searchsorted(keys, np.maximum(poly, 0))], -1)
-    nv = (pid >= 0).sum(axis=1)
-    plain = (nv == 4) & ~np.isin(np.arange(len(cells)), owner)
-    quads = pid[plain][:, :4]
-    fan_rows = np.flatnonzero(~plain)
-    # Ring of each fan cell: its polygon vertices plus the gap's extra vertices, by angle.
-    ring_cell = np.concatenate([np.repeat(fan_rows, nv[fan_rows]), owner])
-    ring_vert = np.concatenate([pid[fan_rows][pid[fan_rows] >= 0], gap_id[extra]])
     s_cell = side / 2.0 ** lev[cells]
-    ccx = root[0] + (ci[cells] + 0.5) * s_cell
-    ccy = root[1] + (cj[cells] + 0.5) * s_cell
-    ang = np.arctan2(allxy[ring_vert, 1] - ccy[ring_cell], allxy[ring_vert, 0] - ccx[ring_cell])
-    order = np.lexsort((ang, ring_cell))
-    ring_cell, ring_vert = ring_cell[order], ring_vert[order]
-    start = np.flatnonzero(np.r_[len(ring_cell) > 0, ring_cell[1:] != ring_cell[:-1]])
-    count = np.diff(np.r_[start, len(ring_cell)])
-    nxt = np.arange(len(ring_cell)) + 1
-    nxt[start + count - 1] = start  # close each ring
-    centre_row = np.searchsorted(fan_rows, ring_cell)
-    centre_id = len(allxy) + centre_row
-    fan = np.column_stack([centre_id, ring_vert, ring_vert[nxt]])
-    points = np.ascontiguousarray(np.vstack([allxy, np.column_stack([ccx[fan_rows], ccy[fan_rows]])]))
-    triangles = np.concatenate([fan, gap_id[gap.cells["triangle"]]]).astype(np.int32)
-
-    lines = gap_id[gl[boundary]].astype(np.int32)
+    centres = np.column_stack([root[0] + (ci[cells] + 0.5) * s_cell, root[1] + (cj[cells] + 0.5) * s_cell])
+    plain, fan, fan_rows = _fans(pid, outline[rows, 2], gap_id[extra], centres, allxy)
+    points = np.ascontiguousarray(np.vstack([allxy, centres[fan_rows]]))
     if len(points) > job.max_points:
         raise MeshingError(f"the quadtree mesh has {len(points)} vertices, above max_points = {job.max_points}")
     return QuadFill(
         points,
-        np.ascontiguousarray(quads, dtype=np.int32),
-        np.ascontiguousarray(triangles),
-        lines,
+        np.ascontiguousarray(pid[plain][:, :4], dtype=np.int32),
+        np.concatenate([fan, gap_id[gap.cells["triangle"]]]).astype(np.int32),
+        gap_id[gl[boundary]].astype(np.int32),
         gm[boundary].astype(np.int32),
         line_curves,
     )
