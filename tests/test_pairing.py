@@ -134,12 +134,39 @@ def test_pairs_are_counter_clockwise_strictly_convex_and_cover_the_triangles():
     assert first.tolist() == [0, 2]
 
 
-def test_a_non_convex_pair_is_never_formed():
+def test_a_non_convex_pair_only_in_the_relaxed_round():
     # A dart: the two triangles' union has a reflex corner at vertex 2.
     xy = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2]], dtype=np.float64)
     tris = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.int32)
-    quads, _, left, _, _ = pair_triangles(xy, tris, walks=0)
+    quads, _, left, _, _ = pair_triangles(xy, tris, bounds=(0.5, 0.0), walks=0)
     assert len(quads) == 0 and sorted(left.tolist()) == [0, 1]
+    # The relaxed round admits reflex corners, but not between two boundary sides (here
+    # vertex 2 lies on the boundary of this two-triangle mesh).
+    quads, _, left, _, _ = pair_triangles(xy, tris, bounds=(0.0, -1.0), walks=0)
+    assert len(quads) == 0
+    # Surrounded by triangles, the same dart pairs in the relaxed round only.
+    ring = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2], [1, -1], [3, 1], [-1, 1]], dtype=np.float64)
+    tris = np.array([[0, 1, 2], [0, 2, 3], [0, 4, 1], [1, 5, 2], [2, 5, 3], [0, 3, 6]], dtype=np.int32)
+    blocked = np.array([[0, 4], [4, 1], [1, 5], [5, 3], [3, 6], [6, 0]])
+    from meshwright.core.mesh import build_neighbors
+
+    nbr = build_neighbors(tris).astype(np.int32)
+    assert nbr[0, 1] == 1  # triangle 0 meets the dart's other half across side 0-2
+    assert pk.pair_score(ring, tris.ravel(), nbr.ravel(), 0, 1, 0.0) == -1.0
+    assert pk.pair_score(ring, tris.ravel(), nbr.ravel(), 0, 1, -1.0) == 0.0
+    quads, _, left, _, _ = pair_triangles(ring, tris, blocked, walks=0)
+    assert len(left) == 0 and all(_strictly_convex(ring, q) for q in quads)
+
+
+def test_a_quad_smoothing_cannot_open_is_cut_back_into_triangles():
+    from meshwright.quad.pairing import _unpair_nonconvex
+
+    xy = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2]], dtype=np.float64)
+    quads = np.array([[0, 1, 3, 2]], dtype=np.int32)  # reflex at vertex 2
+    q, t = _unpair_nonconvex(xy, quads, np.zeros((0, 3), dtype=np.int32))
+    assert len(q) == 0 and len(t) == 2
+    assert all(_cross(xy[a], xy[b], xy[c]) > 0 for a, b, c in t)
+    assert sorted(set(t.ravel().tolist())) == [0, 1, 2, 3]
 
 
 def test_blocked_sides_are_never_crossed():
@@ -230,7 +257,7 @@ def test_stretched_background_grid_gives_stretched_quads():
 def test_quad_dominant_mesh_reports_its_triangles():
     dom, size, _ = CASES["naca 0012 far field graded"]
     fill, report = pair_domain(dom, as_size_field(size), all_quad=False)
-    assert report.triangles_left == len(fill.triangles) == report.left_over
+    assert report.triangles_left == len(fill.triangles) == report.left_over + 2 * report.reverted
     assert not report.split
     assert 2 * report.paired + report.left_over == report.triangles
     mesh = quadrangulate(dom, size, method="pairing", all_quad=False, smooth=5)
@@ -244,7 +271,8 @@ def test_uneven_finish_splits_every_element_and_keeps_boundary_on_curves():
     if not report.split:
         pytest.skip("this pairing left no triangle; the split is not exercised here")
     assert len(fill.triangles) == 0
-    assert len(fill.quads) == 4 * report.paired - 4 * sum(report.eliminated[:2]) + 3 * report.left_over
+    quads = report.paired - sum(report.eliminated[:2]) - report.reverted
+    assert len(fill.quads) == 4 * quads + 3 * (report.left_over + 2 * report.reverted)
 
 
 def test_enhancement_counts_and_result_stay_convex():

@@ -115,17 +115,21 @@ def pair_quad(tri, nbr, t, k):
 
 @njit(cache=True)
 def pair_score(xy, tri, nbr, t, k, qmin):
-    """Scaled Jacobian of the pair (t, side k), or -1 when not allowed: not strictly convex,
-    below ``qmin``, or below :data:`FLAT` with a corner between two boundary sides (a
-    boundary node left in one quad at a nearly straight boundary, which no later step
-    can open)."""
+    """Scaled Jacobian of the pair (t, side k), or -1 when not allowed: below ``qmin``, not
+    strictly convex (allowed with the score 0 when ``qmin < 0``: the chapter's quads with
+    a corner of 180 degrees or more, left to enhancement and smoothing), or with a corner
+    wider than 150 degrees between two boundary sides (a boundary node left in one quad
+    at a nearly straight boundary, which no later step can open)."""
     a, b, d, c = pair_quad(tri, nbr, t, k)
     if a < 0 or d < 0:
         return -1.0
     # Corners a and d are those of the two triangles, already counter-clockwise.
-    if not (corner_ok(xy, a, b, d) and corner_ok(xy, d, c, a)):
+    if corner_ok(xy, a, b, d) and corner_ok(xy, d, c, a):
+        q = quad_sj(xy, a, b, d, c)
+    elif qmin < 0.0:
+        q = 0.0
+    else:
         return -1.0
-    q = quad_sj(xy, a, b, d, c)
     s = nbr[3 * t + k]
     jb = 0
     jc = 0

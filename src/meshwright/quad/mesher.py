@@ -283,6 +283,9 @@ def quadrangulate(
 
         fixed = np.zeros(len(points), dtype=bool)
         fixed[fill.lines.ravel()] = True
+        if len(dom.points):
+            # The domain's interior points are vertices of methods honouring them: they stay.
+            fixed |= (points[:, None, :] == dom.points[None, :, :]).all(axis=2).any(axis=1)
         points = smooth_cells(points, fill.quads, fill.triangles, fixed, passes)
     cells = {"quad": fill.quads}
     if len(fill.triangles):

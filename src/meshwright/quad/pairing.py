@@ -27,9 +27,12 @@ the order the front made them, and the pairing then walks them in that order.
 2. **Pairing in front order** (:func:`~meshwright.quad._pairing_kernel.greedy_pairs`): the
    first unpaired triangle ABC (the chapter's step 2) is combined with the neighbour across
    one of its sides (steps 5-6, 8) that has no other partner left, else with the one
-   making the best quadrilateral.  Only strictly convex pairs (exact ``orient2d`` at both
-   new corners) whose scaled Jacobian reaches a bound are allowed; the bound is lowered in
-   steps (:data:`PAIR_BOUNDS`) down to plain convexity.
+   making the best quadrilateral.  Strictly convex pairs (exact ``orient2d`` at both new
+   corners) whose scaled Jacobian reaches a bound come first; the bound is lowered in
+   steps (:data:`PAIR_BOUNDS`) down to plain convexity, and a last round admits, as the
+   chapter does before enhancement, pairs with a corner of 180 degrees or more (step 5
+   below repairs or reverts them).  No round pairs across a boundary or interior segment,
+   or leaves a boundary node in one quad at a corner wider than 150 degrees.
 3. **Side elimination** of left-over triangles
    (:func:`~meshwright.quad._pairing_kernel.augment`): an unpaired triangle and another
    one reached through an alternating chain of pairs exchange partners along the chain, so
@@ -49,7 +52,9 @@ the order the front made them, and the pairing then walks them in that order.
 5. **Smoothing**: the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over
    the four corner triangles of every quad, so a move is accepted only if every quad stays
    strictly convex; boundary nodes slide on their true curves (``smooth_boundary=True``)
-   or stay fixed; curve joints, polygon corners and interior points never move.
+   or stay fixed; curve joints, polygon corners and interior points never move.  The
+   nodes of a non-convex quad move only to make it convex; a quad still non-convex after
+   smoothing is cut back into two triangles (``PairingReport.reverted``).
 6. **All-quad route**: triangles that are still unpaired (a face of the domain cut off
    by interior segments with an odd count, or a pairing the searches missed) are finished,
    when ``all_quad=True``, by splitting every element once through its edge midpoints and
@@ -60,9 +65,11 @@ the order the front made them, and the pairing then walks them in that order.
 Still missing from the chapter's full method: the second triangle is not *generated* by the
 front beside the first (the front makes triangles only; pairing follows their creation
 order), so the chapter's per-sub-front parity bookkeeping (steps 3, 5(a)-(c), 6) is
-replaced by the even loops of step 1 plus the alternating chains of step 3; quads with
-corners of 180 degrees or more, which the chapter tolerates before enhancement, are never
-formed here.
+replaced by the even loops of step 1 plus the alternating chains of step 3, and the
+placement of the front's nodes ignores the pairing (so a boundary fan of triangles can
+leave an unpairable one, and then the whole mesh is split).  The chapter does not define
+its four enhancement operations; "side elimination" is read here as the removal of the
+side between two unpaired triangles (step 3) and the others as in Zhu et al.'s names.
 
 Array layout: points (n, 2) float64; triangles (t, 3) and quads (q, 4) int32
 counter-clockwise; the kernel's flat arrays in :mod:`meshwright.quad._pairing_kernel`.
@@ -92,7 +99,7 @@ __all__ = [
     "PAIR_BOUNDS", "MAX_VISIT", "MAX_WALKS", "FLAT_ANGLE", "RESPACE", "ENHANCE_PASSES", "ACCEPT", "SWAP_GAIN",
 ]
 
-PAIR_BOUNDS = (0.5, 0.3, 0.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex only
+PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
 MAX_VISIT = 4096  # triangles one alternating-chain search may enter
 MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
@@ -121,6 +128,9 @@ class PairingReport(NamedTuple):
         Pairs gained along alternating chains (side elimination).
     left_over : int
         Triangles left unpaired after pairing.
+    reverted : int
+        Quads that enhancement and smoothing left non-convex, cut back into two
+        triangles each.
     eliminated : tuple of int
         Node eliminations, element eliminations and diagonal swaps.
     split : bool
@@ -134,6 +144,7 @@ class PairingReport(NamedTuple):
     paired: int
     chains: int
     left_over: int
+    reverted: int
     eliminated: tuple
     split: bool
     triangles_left: int
@@ -347,7 +358,7 @@ def pair_triangles(
         chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(q), int(max_visit)))
     rng = np.random.default_rng(seed)
     for _ in range(walks):
-        if not (mate < 0).any() or _walk_left_overs(xy, tris, nbr, mate, rng, float(bounds[-1])) == 0:
+        if not (mate < 0).any() or _walk_left_overs(xy, tris, nbr, mate, rng, max(float(bounds[-1]), 0.0)) == 0:
             break
         nbr = _neighbours(tris, bkey, n)
         chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
@@ -422,6 +433,32 @@ def _nonconvex(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
         corner = np.column_stack([q[:, (k + 3) % 4], q[:, k], q[:, (k + 1) % 4]])
         bad |= orient2d_batch(xy, corner) <= 0.0
     return np.flatnonzero(bad)
+
+
+def _unpair_nonconvex(xy, quads, tris):
+    """Quads that enhancement and smoothing left non-convex go back to two triangles each,
+    cut along the diagonal that makes both counter-clockwise (exact ``orient2d``; a simple
+    quadrilateral always has one).  Returns (quads, triangles)."""
+    bad = _nonconvex(xy, quads)
+    if not len(bad):
+        return quads, tris
+    q = quads[bad].astype(np.int64)
+    cut02 = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
+    cut13 = np.concatenate([q[:, [1, 2, 3]], q[:, [1, 3, 0]]])
+    m = len(q)
+    o02 = orient2d_batch(xy, cut02)
+    o13 = orient2d_batch(xy, cut13)
+    use02 = (o02[:m] > 0.0) & (o02[m:] > 0.0)
+    use13 = (o13[:m] > 0.0) & (o13[m:] > 0.0)
+    if not (use02 | use13).all():
+        i = int(bad[np.flatnonzero(~(use02 | use13))[0]])
+        raise MeshingError(
+            f"pairing left quad {i} with corners {', '.join(_fmt(xy[v]) for v in quads[i])} that no diagonal splits"
+        )
+    halves = np.where(np.concatenate([use02, use02])[:, None], cut02, cut13)
+    keep = np.ones(len(quads), dtype=bool)
+    keep[bad] = False
+    return quads[keep], np.concatenate([np.asarray(tris, dtype=np.int32).reshape(-1, 3), halves.astype(np.int32)])
 
 
 def _corner_triangles(quads: np.ndarray) -> np.ndarray:
@@ -563,6 +600,9 @@ def pair_domain(
     bnd[fixed_pts] = True
     xy, quads, _, counts = enhance(xy, quads, bnd, lt)
     xy = _smooth(xy, quads, lt, lines, line_curve, domain, fixed_pts, passes, smooth_boundary)
+    n_quads = len(quads)
+    quads, lt = _unpair_nonconvex(xy, quads, lt)
+    reverted = n_quads - len(quads)
     xy, (quads, lt, lines), remap = _compact(xy, [quads, lt, lines])
     fixed_pts = remap[fixed_pts]
     fill = QuadFill(xy, quads, lt, lines, line_marker, line_curve)
@@ -576,7 +616,9 @@ def pair_domain(
         )
         fill = fill._replace(points=np.ascontiguousarray(moved))
     _check(fill.points, fill.quads, fill.triangles)
-    report = PairingReport(added, len(t3), len(first), chains, len(left), counts, split, len(fill.triangles))
+    report = PairingReport(
+        added, len(t3), len(first), chains, len(left), reverted, counts, split, len(fill.triangles)
+    )
     return fill, report
 
 
