@@ -14,7 +14,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import meshwright as mw
@@ -303,6 +303,31 @@ def test_smoothing_keeps_boundary_and_never_lowers_the_minimum():
     assert after.min() >= before.min() and after.mean() > before.mean() + 0.02
     mixed = quadrangulate("circle", 0.2, all_quad=False, smooth=2)
     mixed.validate()
+
+
+@settings(max_examples=20)
+@given(
+    st.lists(st.floats(0.35, 1.0), min_size=5, max_size=12),
+    st.floats(-3.0, 3.0),
+    st.floats(0.03, 0.2),
+    st.integers(0, 2),
+)
+def test_quadtree_random_star_polygons(radii, log_scale, rel_size, passes):
+    # Star-shaped polygons at any scale; angles of the input >= 30 degrees, so every
+    # quad's corners should stay well away from 0 and 180 degrees.
+    n = len(radii)
+    t = 2.0 * np.pi * np.arange(n) / n
+    pts = 10.0**log_scale * np.column_stack([np.array(radii) * np.cos(t), np.array(radii) * np.sin(t)])
+    angles = []
+    for k in range(n):
+        u, v = pts[(k + 1) % n] - pts[k], pts[k - 1] - pts[k]
+        angles.append(math.degrees(math.atan2(abs(u[0] * v[1] - u[1] * v[0]), u @ v)))
+    assume(min(angles) >= 30.0)
+    mesh = quadrangulate(polygon(pts), rel_size * 10.0**log_scale, smooth=passes)
+    assert set(mesh.cells) == {"quad", "line"}
+    mesh.validate()
+    assert mesh.quality()["quad"]["scaled_jacobian"].min() > 0.2
+    assert mesh.area() == pytest.approx(abs(polygon(pts).area()), rel=1e-9)
 
 
 def test_quadtree_caps_are_named():
