@@ -49,7 +49,9 @@ the order the front made them, and the pairing then walks them in that order.
    each: the two nodes merge at their midpoint, the quad disappears), diagonal swapping
    (two quads sharing a side: the side moves to the hexagon diagonal with the better worst
    scaled Jacobian).  Every result is strictly convex by exact ``orient2d``.
-5. **Smoothing**: the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over
+5. **Smoothing** (:data:`ENHANCE_SMOOTH` passes, part of the enhancement whatever
+   ``quadrangulate``'s ``smooth``, which adds the shared smoother's sweeps afterwards):
+   the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over
    the four corner triangles of every quad, so a move is accepted only if every quad stays
    strictly convex; boundary nodes slide on their true curves (``smooth_boundary=True``)
    or stay fixed; curve joints, polygon corners and interior points never move.  The
@@ -96,7 +98,7 @@ from meshwright.tri.smoothing import smooth as smooth_points
 
 __all__ = [
     "ParityError", "PairingReport", "pair_domain", "pairing_fill", "make_loops_even", "pair_triangles", "enhance",
-    "PAIR_BOUNDS", "MAX_VISIT", "MAX_WALKS", "FLAT_ANGLE", "RESPACE", "ENHANCE_PASSES", "ACCEPT", "SWAP_GAIN",
+    "PAIR_BOUNDS", "MAX_VISIT", "MAX_WALKS", "FLAT_ANGLE", "RESPACE", "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
 ]
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
@@ -105,6 +107,7 @@ MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
 RESPACE = 6  # segments on each side of a parity split spaced evenly again
 ENHANCE_PASSES = 8  # cap on enhancement passes (each stops early when nothing changes)
+ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a split)
 ACCEPT = 0.4  # element elimination may lower the local worst scaled Jacobian, but not below this
 SWAP_GAIN = 0.02  # a diagonal swap must raise the pair's worst scaled Jacobian by more than this
 
@@ -515,7 +518,7 @@ def pair_domain(
     field=None,
     *,
     all_quad: bool = True,
-    smooth: int = 5,
+    smooth: int = ENHANCE_SMOOTH,
     smooth_boundary: bool = True,
     fixed_boundary: bool = False,
     seed=0,
@@ -623,9 +626,16 @@ def pair_domain(
 
 
 def pairing_fill(job):
-    """``QUAD_METHODS["pairing"].build``: :func:`pair_domain` on a checked :class:`QuadJob`."""
+    """``QUAD_METHODS["pairing"].build``: :func:`pair_domain` on a checked :class:`QuadJob`.
+
+    The method's own smoothing (:data:`ENHANCE_SMOOTH` passes, boundary nodes sliding on
+    their curves) is part of its shape enhancement and always runs, since the relaxed
+    pairs need it to open; ``job.smooth`` sweeps of the shared smoother follow in the
+    mesher (:func:`meshwright.quadrangulate`).
+    """
     return pair_domain(
-        job.domain, job.field, all_quad=job.all_quad, smooth=job.smooth, seed=job.seed, max_points=job.max_points
+        job.domain, job.field, all_quad=job.all_quad, smooth=ENHANCE_SMOOTH, seed=job.seed,
+        max_points=job.max_points,
     )[0]
 
 
