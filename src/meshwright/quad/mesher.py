@@ -40,7 +40,11 @@ line_curves     (k,) i4        index into ``domain.curves`` of the curve each li
 ==============  =============  ==========================================================
 
 A method that cannot finish raises a :class:`~meshwright.core.errors.MeshingError`
-naming the cap or the stuck front; it never returns a broken fill.
+naming the cap or the stuck front; it never returns a broken fill.  The mesher checks
+every finished cell by the exact ``orient2d`` before returning (triangles strictly
+counter-clockwise, quads simple and counter-clockwise:
+:func:`meshwright.core.validate_quad.simple_ccw_quads`) and raises a ``MeshingError``
+naming the method and the first bad cell otherwise.
 
 All-quad guarantee
 ------------------
@@ -66,7 +70,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from meshwright.core.errors import InputError
+from meshwright.core.errors import InputError, MeshingError
 from meshwright.core.mesh import Mesh
 from meshwright.core.validate_input import check_count, check_seed
 from meshwright.geometry.domain import Domain
@@ -188,6 +192,25 @@ def _check_domain(m: QuadMethod, dom: Domain) -> None:
         )
 
 
+def _check_cells(method: str, points: np.ndarray, quads: np.ndarray, triangles: np.ndarray) -> None:
+    """The door out: no inverted, flat or self-intersecting cell leaves :func:`quadrangulate`."""
+    from meshwright.core.predicates import orient2d_batch
+    from meshwright.core.validate_quad import simple_ccw_quads
+
+    bad = np.flatnonzero(~simple_ccw_quads(points, quads))
+    what, block = "quad", quads
+    if not len(bad) and len(triangles):
+        bad = np.flatnonzero(np.asarray(orient2d_batch(points, np.ascontiguousarray(triangles, np.int64))) <= 0)
+        what, block = "triangle", triangles
+    if len(bad):
+        c = int(bad[0])
+        where = ", ".join(f"({points[v, 0]:.17g}, {points[v, 1]:.17g})" for v in block[c])
+        raise MeshingError(
+            f"method {method!r} produced an inverted or self-intersecting {what} {c} at {where} "
+            f"({len(bad)} such cells); please report it with the domain and size"
+        )
+
+
 def quadrangulate(
     domain,
     size=None,
@@ -250,7 +273,7 @@ def quadrangulate(
     FormatError
         A domain file that cannot be read (the file named).
     MeshingError
-        A cap on points or steps was hit.
+        A cap on points or steps was hit, or a cell came out inverted (named).
     """
     if not isinstance(method, str) or method not in QUAD_METHODS:
         raise InputError(f"unknown quad method {method!r}; choose one of {', '.join(sorted(QUAD_METHODS))}")
@@ -287,6 +310,7 @@ def quadrangulate(
             # The domain's interior points are vertices of methods honouring them: they stay.
             fixed |= (points[:, None, :] == dom.points[None, :, :]).all(axis=2).any(axis=1)
         points = smooth_cells(points, fill.quads, fill.triangles, fixed, passes)
+    _check_cells(m.name, points, fill.quads, fill.triangles)
     cells = {"quad": fill.quads}
     if len(fill.triangles):
         cells["triangle"] = fill.triangles
