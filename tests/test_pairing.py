@@ -275,14 +275,45 @@ def test_quad_dominant_mesh_reports_its_triangles():
     mesh.validate()
 
 
-def test_uneven_finish_splits_every_element_and_keeps_boundary_on_curves():
+def test_left_over_triangles_are_finished_by_chords_only():
+    from meshwright.core.mesh import Mesh
+    from meshwright.quad import QuadFill
+    from meshwright.quad.pairing import chord_split
+
+    xy = np.array([[0, 0], [1, 0], [2, 0], [3, 0], [0, 1], [1, 1], [2, 1], [3, 1]], dtype=np.float64)
+    quads = np.array([[0, 1, 5, 4], [2, 3, 7, 6]], dtype=np.int32)
+    tris = np.array([[1, 2, 6], [1, 6, 5]], dtype=np.int32)
+    lines = np.array([[0, 1], [1, 2], [2, 3], [3, 7], [7, 6], [6, 5], [5, 4], [4, 0]], dtype=np.int32)
+    dom = polygon([(0, 0), (3, 0), (3, 1), (0, 1)])
+    curves = np.zeros(8, dtype=np.int32)  # the polygon is one closed polyline
+    fill = QuadFill(xy, quads, tris, lines, np.ones(8, dtype=np.int32), curves)
+    out = chord_split(fill, dom, 100)
+    # Quad A and B each crossed once (2 + 2), both triangles into three (3 + 3).
+    assert len(out.triangles) == 0 and len(out.quads) == 10
+    mesh = Mesh(out.points, {"quad": out.quads, "line": out.lines})
+    mesh.validate()
+    _check_all_quad(mesh)
+    # Split boundary sides: 1-2 and 6-5 (triangle sides), 3-7 and 4-0 (chord ends).
+    assert len(out.lines) == len(lines) + 4
+    assert mesh.area() == pytest.approx(3.0)
+    with pytest.raises(MeshingError, match="max_points = 12"):
+        chord_split(fill, dom, 12)
+
+
+def test_chords_keep_the_mesh_local_and_the_boundary_on_its_curves():
     dom, size, curves = CASES["square with hole"]
     fill, report = pair_domain(dom, as_size_field(size))
+    mixed, _ = pair_domain(dom, as_size_field(size), all_quad=False)
     if not report.split:
-        pytest.skip("this pairing left no triangle; the split is not exercised here")
+        pytest.skip("this pairing left no triangle; the chords are not exercised here")
     assert len(fill.triangles) == 0
-    quads = report.paired - sum(report.eliminated[:2]) - report.reverted
-    assert len(fill.quads) == 4 * quads + 3 * (report.left_over + 2 * report.reverted)
+    # Far fewer quads than one midpoint split of every element would give.
+    assert len(fill.quads) < 2 * (len(mixed.quads) + len(mixed.triangles))
+    from meshwright.core.mesh import Mesh
+
+    mesh = Mesh(fill.points, {"quad": fill.quads, "line": fill.lines})
+    mesh.validate()
+    _check_all_quad(mesh, curves)
 
 
 def test_enhancement_counts_and_result_stay_convex():
