@@ -586,9 +586,13 @@ def vertex_stars(tet, ntet, nv):
 
 
 @njit(inline="always")
-def _star_worst(pts, tet, first, slots, v, x, y, z, threshold):
-    """Smallest ratio and sliver count of v's star with v placed at (x, y, z); -inf if a
-    tet of the star would not be positive."""
+def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor):
+    """Smallest ratio and sliver count of v's star with v placed at (x, y, z).
+
+    Returns -inf as soon as a tet's float ratio is <= ``floor`` (the position cannot
+    win, so the exact tests are skipped) or a tet would not be positive (exact
+    ``orient3d``, run only once every float ratio has passed).
+    """
     ox, oy, oz = pts[v, 0], pts[v, 1], pts[v, 2]
     pts[v, 0] = x
     pts[v, 1] = y
@@ -596,14 +600,19 @@ def _star_worst(pts, tet, first, slots, v, x, y, z, threshold):
     worst = np.inf
     bad = 0
     for i in range(first[v], first[v + 1]):
-        t = slots[i]
-        if not _orient(pts, tet[4 * t], tet[4 * t + 1], tet[4 * t + 2], tet[4 * t + 3]) > 0.0:
+        r = _tet_ratio(pts, tet, slots[i])
+        if r <= floor:
             worst = -np.inf
             break
-        r = _tet_ratio(pts, tet, t)
         worst = min(worst, r)
         if r < threshold:
             bad += 1
+    if worst > -np.inf:
+        for i in range(first[v], first[v + 1]):
+            t = slots[i]
+            if not _orient(pts, tet[4 * t], tet[4 * t + 1], tet[4 * t + 2], tet[4 * t + 3]) > 0.0:
+                worst = -np.inf
+                break
     pts[v, 0] = ox
     pts[v, 1] = oy
     pts[v, 2] = oz
@@ -658,7 +667,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
             if not movable[v]:
                 continue
             px, py, pz = pts[v, 0], pts[v, 1], pts[v, 2]
-            q0, bad0 = _star_worst(pts, tet, first, slots, v, px, py, pz, threshold)
+            q0, bad0 = _star_worst(pts, tet, first, slots, v, px, py, pz, threshold, -np.inf)
             a = tet[4 * t + TET_FACES[k, 0]]
             b = tet[4 * t + TET_FACES[k, 1]]
             c = tet[4 * t + TET_FACES[k, 2]]
@@ -716,7 +725,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
             qv = q0
             xv, yv, zv = px, py, pz
             for i in range(nc):
-                q, bad = _star_worst(pts, tet, first, slots, v, cands[i, 0], cands[i, 1], cands[i, 2], threshold)
+                q, bad = _star_worst(pts, tet, first, slots, v, cands[i, 0], cands[i, 1], cands[i, 2], threshold, qv)
                 if q > qv and bad <= bad0:
                     qv = q
                     xv, yv, zv = cands[i, 0], cands[i, 1], cands[i, 2]
@@ -732,7 +741,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
                         sign = 1.0 if dxn == _DIRS.shape[0] else -1.0
                         ax, ay, az = sign * nx, sign * ny, sign * nz
                     cx, cy, cz = xv + step * ax, yv + step * ay, zv + step * az
-                    q, bad = _star_worst(pts, tet, first, slots, v, cx, cy, cz, threshold)
+                    q, bad = _star_worst(pts, tet, first, slots, v, cx, cy, cz, threshold, qv)
                     if q > qv and bad <= bad0:
                         qv = q
                         xv, yv, zv = cx, cy, cz
@@ -745,8 +754,10 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
                 best_x, best_y, best_z = xv, yv, zv
         if best_v < 0:
             continue
-        _, before = _star_worst(pts, tet, first, slots, best_v, pts[best_v, 0], pts[best_v, 1], pts[best_v, 2], threshold)
-        _, after = _star_worst(pts, tet, first, slots, best_v, best_x, best_y, best_z, threshold)
+        _, before = _star_worst(
+            pts, tet, first, slots, best_v, pts[best_v, 0], pts[best_v, 1], pts[best_v, 2], threshold, -np.inf
+        )
+        _, after = _star_worst(pts, tet, first, slots, best_v, best_x, best_y, best_z, threshold, -np.inf)
         pts[best_v, 0] = best_x
         pts[best_v, 1] = best_y
         pts[best_v, 2] = best_z
