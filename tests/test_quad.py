@@ -23,7 +23,7 @@ from meshwright.core.errors import InputError, MeshingError, SizeError, Validati
 from meshwright.core.quality import quad_quality
 from meshwright.geometry import builtin, circle, polygon
 from meshwright.quad import QUAD_METHODS, QuadFill, quadrangulate
-from meshwright.quad.quadtree import build_tree
+from meshwright.quad.quadtree import _near, build_tree
 from meshwright.quad.subdivide import split_all
 
 
@@ -241,6 +241,24 @@ def test_quadtree_is_two_to_one_balanced():
         touch_y = ((y1 == y0[i]) | (y0 == y1[i])) & (np.minimum(x1, x1[i]) > np.maximum(x0, x0[i]))
         ratio = size[touch_x | touch_y] / size[i]
         assert np.all((ratio >= 0.5) & (ratio <= 2.0)), i
+
+
+def test_near_matches_brute_force_distances():
+    rng = np.random.default_rng(5)
+    a = rng.uniform(-1, 1, (300, 2))
+    b = a + rng.normal(0, 0.05, (300, 2))
+    b[:5] = a[:5]  # zero-length segments
+    q = rng.uniform(-1.5, 1.5, (3000, 2))
+    r = 10.0 ** rng.uniform(-3, 0.5, 3000)
+    got = _near(q[:, 0].copy(), q[:, 1].copy(), r, a, b)
+    ab = b - a
+    ll = np.maximum((ab * ab).sum(axis=1), 1e-300)
+    t = np.clip(((q[:, None, :] - a[None]) * ab[None]).sum(axis=2) / ll[None], 0.0, 1.0)
+    gap = a[None] + t[..., None] * ab[None] - q[:, None, :]
+    dist = np.sqrt((gap * gap).sum(axis=2)).min(axis=1)
+    decided = np.abs(dist - r) > 1e-12 * r  # ties are either way
+    np.testing.assert_array_equal(got[decided], (dist < r)[decided])
+    assert 0 < got.sum() < len(q)
 
 
 def _on_curves(dom, xy):

@@ -141,31 +141,85 @@ def balance(lev, ci, cj, child, n_nodes):
     return n_nodes
 
 
+@njit(inline="always")
+def _seg_within(px, py, r, seg_a, seg_b, s):
+    """Whether segment ``s`` passes within ``r`` of (px, py)."""
+    ax = seg_a[s, 0]
+    ay = seg_a[s, 1]
+    dx = seg_b[s, 0] - ax
+    dy = seg_b[s, 1] - ay
+    qx = px - ax
+    qy = py - ay
+    ll = dx * dx + dy * dy
+    f = 0.0 if ll == 0.0 else min(max((qx * dx + qy * dy) / ll, 0.0), 1.0)
+    ex = qx - f * dx
+    ey = qy - f * dy
+    return ex * ex + ey * ey < r * r
+
+
 @njit(cache=True)
 def _near(cx, cy, radius, seg_a, seg_b):
-    """(k,) bool: whether some segment passes within ``radius[i]`` of (cx[i], cy[i])."""
+    """(k,) bool: whether some segment passes within ``radius[i]`` of (cx[i], cy[i]).
+
+    Segments are bucketed in a uniform grid of about one segment per cell (CSR: each
+    segment listed in every cell its box meets); a query scans the cells its box meets,
+    or every segment when that would be more cells than segments (a large cell far from
+    the boundary).
+    """
     k = cx.shape[0]
+    m = seg_a.shape[0]
     out = np.zeros(k, dtype=np.bool_)
-    for i in range(k):
-        r2 = radius[i] * radius[i]
-        for s in range(seg_a.shape[0]):
-            ax = seg_a[s, 0]
-            ay = seg_a[s, 1]
-            dx = seg_b[s, 0] - ax
-            dy = seg_b[s, 1] - ay
-            qx = cx[i] - ax
-            qy = cy[i] - ay
-            # Cheap reject on the segment's box grown by the radius.
-            if min(ax, ax + dx) - radius[i] > cx[i] or max(ax, ax + dx) + radius[i] < cx[i]:
-                continue
-            if min(ay, ay + dy) - radius[i] > cy[i] or max(ay, ay + dy) + radius[i] < cy[i]:
-                continue
-            ll = dx * dx + dy * dy
-            f = 0.0 if ll == 0.0 else min(max((qx * dx + qy * dy) / ll, 0.0), 1.0)
-            ex = qx - f * dx
-            ey = qy - f * dy
-            if ex * ex + ey * ey < r2:
-                out[i] = True
+    if m == 0:
+        return out
+    x0 = min(seg_a[:, 0].min(), seg_b[:, 0].min())
+    y0 = min(seg_a[:, 1].min(), seg_b[:, 1].min())
+    x1 = max(seg_a[:, 0].max(), seg_b[:, 0].max())
+    y1 = max(seg_a[:, 1].max(), seg_b[:, 1].max())
+    g = max(x1 - x0, y1 - y0, 1e-300) / max(1.0, np.sqrt(m))
+    nx = int((x1 - x0) / g) + 1
+    ny = int((y1 - y0) / g) + 1
+    count = np.zeros(nx * ny + 1, dtype=np.int64)
+    box = np.empty((m, 4), dtype=np.int64)
+    for s in range(m):
+        box[s, 0] = int((min(seg_a[s, 0], seg_b[s, 0]) - x0) / g)
+        box[s, 1] = min(int((max(seg_a[s, 0], seg_b[s, 0]) - x0) / g), nx - 1)
+        box[s, 2] = int((min(seg_a[s, 1], seg_b[s, 1]) - y0) / g)
+        box[s, 3] = min(int((max(seg_a[s, 1], seg_b[s, 1]) - y0) / g), ny - 1)
+        for jj in range(box[s, 2], box[s, 3] + 1):
+            for ii in range(box[s, 0], box[s, 1] + 1):
+                count[jj * nx + ii + 1] += 1
+    start = np.cumsum(count)
+    items = np.empty(start[-1], dtype=np.int64)
+    fill = start[:-1].copy()
+    for s in range(m):
+        for jj in range(box[s, 2], box[s, 3] + 1):
+            for ii in range(box[s, 0], box[s, 1] + 1):
+                items[fill[jj * nx + ii]] = s
+                fill[jj * nx + ii] += 1
+    for q in range(k):
+        r = radius[q]
+        i0 = max(int(np.floor((cx[q] - r - x0) / g)), 0)
+        i1 = min(int(np.floor((cx[q] + r - x0) / g)), nx - 1)
+        j0 = max(int(np.floor((cy[q] - r - y0) / g)), 0)
+        j1 = min(int(np.floor((cy[q] + r - y0) / g)), ny - 1)
+        if i0 > i1 or j0 > j1:
+            continue
+        if (i1 - i0 + 1) * (j1 - j0 + 1) > m:
+            for s in range(m):
+                if _seg_within(cx[q], cy[q], r, seg_a, seg_b, s):
+                    out[q] = True
+                    break
+            continue
+        for jj in range(j0, j1 + 1):
+            for ii in range(i0, i1 + 1):
+                c = jj * nx + ii
+                for t in range(start[c], start[c + 1]):
+                    if _seg_within(cx[q], cy[q], r, seg_a, seg_b, items[t]):
+                        out[q] = True
+                        break
+                if out[q]:
+                    break
+            if out[q]:
                 break
     return out
 
