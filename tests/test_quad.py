@@ -59,8 +59,6 @@ def test_door_rejects_what_the_quadtree_cannot_honour():
     square = [(0, 0), (1, 0), (1, 1), (0, 1)]
     with pytest.raises(InputError, match="needs a size"):
         quadrangulate(polygon(square))
-    with pytest.raises(InputError, match=r"interior points.*\(0\.5, 0\.25\)"):
-        quadrangulate(polygon(square, points=[(0.5, 0.25)]), 0.2)
     with pytest.raises(InputError, match="region seeds"):
         quadrangulate(polygon(square, regions=[(0.5, 0.5, 3, None)]), 0.2)
     with pytest.raises(InputError, match="Domain"):
@@ -71,7 +69,7 @@ def test_door_rejects_what_the_quadtree_cannot_honour():
 
 def test_registry_declares_capabilities():
     m = QUAD_METHODS["quadtree"]
-    assert m.needs_size and m.smooths and not m.reports_progress and m.segments
+    assert m.needs_size and m.smooths and not m.reports_progress and m.segments and m.points and not m.regions
     assert mw.QUAD_METHODS is QUAD_METHODS and mw.quadrangulate is quadrangulate
 
 
@@ -292,11 +290,12 @@ def test_quadtree_builtin_domains_all_quad_valid_and_on_the_curves(name, size):
     assert mesh.area() == pytest.approx(abs(dom.area()), rel=1e-2)
 
 
-def test_quadtree_mixed_mode_and_interior_segments():
+def test_quadtree_mixed_mode_interior_segments_and_points():
     dom = polygon(
         [(0, 0), (2, 0), (2, 1), (0, 1)],
         holes=[[(0.3, 0.3), (0.6, 0.3), (0.6, 0.6), (0.3, 0.6)]],
         segments=[[(1.0, 0.2), (1.7, 0.8)]],
+        points=[(1.5, 0.2), (0.2, 0.8)],
     )
     mixed = quadrangulate(dom, 0.1, all_quad=False)
     assert len(mixed.triangles) > 0 and len(mixed.quads) > 0
@@ -305,6 +304,8 @@ def test_quadtree_mixed_mode_and_interior_segments():
     assert "triangle" not in full.cells
     full.validate()
     assert full.area() == pytest.approx(1.91, rel=1e-12)
+    for p in ([1.5, 0.2], [0.2, 0.8]):
+        assert np.any(np.all(full.points == p, axis=1))
     mid = full.points[full.lines].mean(axis=1)
     on_segment = np.abs((mid[:, 0] - 1.0) * 0.6 - (mid[:, 1] - 0.2) * 0.7) < 1e-12
     # Both sides of the segment are quads: its edges are interior, two quads each.

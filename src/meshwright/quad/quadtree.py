@@ -18,7 +18,7 @@ Invariants: the tree is 2:1 balanced across sides (a leaf's side neighbour is at
 level finer), so a side has at most one hanging node; the core's outline has no pinched
 vertex (cells touching the rest of the core only by a corner are removed); every kept
 cell lies inside the domain at a distance of at least ``CLEARANCE`` times its size from
-every boundary and interior segment.
+every boundary and interior segment and interior point (which become vertices of the gap).
 
 Array layout of the tree (node 0 is the root; the four sons of a node are consecutive)::
 
@@ -473,7 +473,9 @@ def _gap_domain(dom: Domain, core_xy, ends, marker_gap: int) -> Domain:
             # the gap inside a ring-shaped core is an island of the gap domain.
             a, b = core_xy[ends[edge_order[offsets[k]]]]
             seeds.append((*(0.5 * (a + b) + 0.1 * np.array([b[1] - a[1], a[0] - b[0]])), 0, None))
-    return Domain(list(dom.loops[0]), holes, segments=[list(c) for c in dom.constraints], regions=seeds)
+    return Domain(
+        list(dom.loops[0]), holes, segments=[list(c) for c in dom.constraints], points=dom.points, regions=seeds
+    )
 
 
 def _fans(pid, owner, extra_id, centres, xy):
@@ -539,8 +541,10 @@ def quadtree_fill(job):
     dom, field = job.domain, job.field
     factor = 2.0 if job.all_quad else 1.0
     disc = dom.discretize(field)
-    seg_a = np.ascontiguousarray(disc.points[disc.segments[:, 0]])
-    seg_b = np.ascontiguousarray(disc.points[disc.segments[:, 1]])
+    # Interior points are zero-length segments: the core keeps clear of them and the gap
+    # triangulation makes them vertices.
+    seg_a = np.ascontiguousarray(np.vstack([disc.points[disc.segments[:, 0]], dom.points]))
+    seg_b = np.ascontiguousarray(np.vstack([disc.points[disc.segments[:, 1]], dom.points]))
     x0, y0, x1, y1 = dom.bbox
     extent = max(x1 - x0, y1 - y0)
     side = 2.0 ** math.ceil(math.log2(extent * (1.0 + 1.0 / 64.0)))
