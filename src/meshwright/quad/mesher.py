@@ -6,8 +6,9 @@ method:
 
 * ``quadtree``: Yerry and Shephard's modified quadtree (1984, 18.5.3),
   :mod:`meshwright.quad.quadtree`;
-* ``pairing`` (Zhu et al. 1991, 18.5.1, :mod:`meshwright.quad.pairing`) registers here
-  when it lands; paving (Blacker and Stephenson 1991, 18.5.2) is not built yet.
+* ``pairing``: advancing-front triangles paired into quads (Zhu et al. 1991, 18.5.1),
+  :mod:`meshwright.quad.pairing`;
+* paving (Blacker and Stephenson 1991, 18.5.2) is not built yet.
 
 Pipeline::
 
