@@ -59,8 +59,8 @@ def test_door_rejects_what_the_quadtree_cannot_honour():
     square = [(0, 0), (1, 0), (1, 1), (0, 1)]
     with pytest.raises(InputError, match="needs a size"):
         quadrangulate(polygon(square))
-    with pytest.raises(InputError, match="region seeds"):
-        quadrangulate(polygon(square, regions=[(0.5, 0.5, 3, None)]), 0.2)
+    with pytest.raises(InputError, match=r"region 0 at \(0\.5, 0\.5\) has max_area 0\.01"):
+        quadrangulate(polygon(square, regions=[(0.5, 0.5, 3, 0.01)]), 0.2)
     with pytest.raises(InputError, match="Domain"):
         quadrangulate(object(), 0.2)
     with pytest.raises(InputError, match="nope.json"):
@@ -69,7 +69,7 @@ def test_door_rejects_what_the_quadtree_cannot_honour():
 
 def test_registry_declares_capabilities():
     m = QUAD_METHODS["quadtree"]
-    assert m.needs_size and m.smooths and not m.reports_progress and m.segments and m.points and not m.regions
+    assert m.needs_size and m.smooths and not m.reports_progress and m.segments and m.points and m.regions
     assert mw.QUAD_METHODS is QUAD_METHODS and mw.quadrangulate is quadrangulate
 
 
@@ -351,6 +351,34 @@ def test_quadtree_random_star_polygons(radii, log_scale, rel_size, passes):
     mesh.validate()
     assert mesh.quality()["quad"]["scaled_jacobian"].min() > 0.2
     assert mesh.area() == pytest.approx(abs(polygon(pts).area()), rel=1e-9)
+
+
+@pytest.mark.parametrize("all_quad", [True, False])
+def test_region_markers_flood_from_seeds_and_stop_at_segments(all_quad):
+    dom = polygon(
+        [(0, 0), (0.5, 0), (1, 0), (1, 1), (0.5, 1), (0, 1)],
+        segments=[[(0.5, 0), (0.5, 1)]],
+        regions=[(0.25, 0.5, 3, None), (0.75, 0.5, 5, None)],
+    )
+    mesh = quadrangulate(dom, 0.1, all_quad=all_quad)
+    mesh.validate()
+    for kind in mesh.cells.keys() - {"line"}:
+        centre = mesh.points[mesh.cells[kind]].mean(axis=1)
+        np.testing.assert_array_equal(mesh.cell_data["marker"][kind], np.where(centre[:, 0] < 0.5, 3, 5))
+
+
+def test_region_marker_of_an_island():
+    # Square with a square hole holding a square island (seeded, marker 7).
+    island = [(0.4, 0.4), (0.6, 0.4), (0.6, 0.6), (0.4, 0.6)]
+    hole = [(0.2, 0.2), (0.8, 0.2), (0.8, 0.8), (0.2, 0.8)]
+    dom = polygon([(0, 0), (1, 0), (1, 1), (0, 1)], holes=[hole, island], regions=[(0.5, 0.5, 7, None)])
+    for h in (0.05, 0.01):
+        mesh = quadrangulate(dom, h)
+        mesh.validate()
+        mk = mesh.cell_data["marker"]["quad"]
+        inside = np.all((mesh.points[mesh.quads] >= 0.4) & (mesh.points[mesh.quads] <= 0.6), axis=(1, 2))
+        np.testing.assert_array_equal(mk, np.where(inside, 7, 0))
+        assert mesh.area() == pytest.approx(0.68, rel=1e-12)
 
 
 def test_quadtree_caps_are_named():

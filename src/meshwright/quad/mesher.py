@@ -126,7 +126,10 @@ class QuadMethod(NamedTuple):
     points : bool
         The method honours the domain's interior points.
     regions : bool
-        The method honours the domain's region seeds (markers, area bounds).
+        The method honours the domain's region seeds: the mesher gives every cell the
+        marker of its region (:func:`meshwright.quad.regions.region_markers`, a flood
+        fill stopped by the line cells, so the method must honour ``segments``).  Area
+        bounds of regions are refused for every method.
     """
 
     name: str
@@ -158,7 +161,7 @@ QUAD_METHODS: dict[str, QuadMethod] = {
         QuadMethod(
             "quadtree", "modified quadtree with a boundary layer of split triangles (Yerry-Shephard, 18.5.3)",
             _quadtree, needs_size=True, smooths=True, reports_progress=False, segments=True, points=True,
-            regions=False,
+            regions=True,
         ),
         QuadMethod(
             "pairing", "advancing-front triangles paired into quads, then shape enhancement (Zhu et al., 18.5.1)",
@@ -191,6 +194,12 @@ def _check_domain(m: QuadMethod, dom: Domain) -> None:
             f"method {m.name!r} does not honour region seeds; the domain has {len(dom.regions)} "
             f"(the first at ({r[0]:.17g}, {r[1]:.17g}), marker {r[2]})"
         )
+    for i, r in enumerate(dom.regions):
+        if len(r) > 3 and r[3] is not None:
+            raise InputError(
+                f"region {i} at ({r[0]:.17g}, {r[1]:.17g}) has max_area {r[3]!r}: quadrangulate honours "
+                "region markers, not area bounds; give a size field instead"
+            )
 
 
 def _check_cells(method: str, points: np.ndarray, quads: np.ndarray, triangles: np.ndarray) -> None:
@@ -260,7 +269,9 @@ def quadrangulate(
     Mesh
         ``"quad"`` cells (counter-clockwise), ``"triangle"`` cells only with
         ``all_quad=False``, ``"line"`` cells on the boundary and interior segments with
-        their segment markers in ``cell_data["marker"]["line"]``.
+        their segment markers in ``cell_data["marker"]["line"]``; with region seeds in
+        the domain, region markers in ``cell_data["marker"]["quad"]`` (and
+        ``["triangle"]``), 0 where no seed reaches.
 
     Raises
     ------
@@ -316,4 +327,11 @@ def quadrangulate(
     if len(fill.triangles):
         cells["triangle"] = fill.triangles
     cells["line"] = fill.lines
-    return Mesh(points, cells, cell_data={"marker": {"line": fill.line_markers}})
+    markers = {"line": fill.line_markers}
+    if dom.regions:
+        from meshwright.quad.regions import region_markers
+
+        markers["quad"], tri_markers = region_markers(points, fill.quads, fill.triangles, fill.lines, dom.regions)
+        if len(fill.triangles):
+            markers["triangle"] = tri_markers
+    return Mesh(points, cells, cell_data={"marker": markers})

@@ -459,11 +459,13 @@ def _outline_rows(qx, qy, oa, ob):
     return out
 
 
-def _gap_domain(dom: Domain, core_xy, ends, marker_gap: int) -> Domain:
+def _gap_domain(dom: Domain, core_xy, ends, marker_gap: int, gap_seeds) -> Domain:
     """The domain between the core's outline (loops of ``core_xy[ends]`` edges, marked
-    ``marker_gap``) and the domain's own loops and segments."""
+    ``marker_gap``) and the domain's own loops, segments and points; ``gap_seeds`` (s, 2)
+    are the domain's region seeds outside the core (an island without core cells needs
+    its own)."""
     holes = [list(lp) for lp in dom.loops[1:]]
-    seeds = []
+    seeds = [(float(x), float(y), 0, None) for x, y in gap_seeds]
     if len(ends):
         verts, edge_order, offsets, _ = trace_chains(len(core_xy), ends)
         for k in range(len(offsets) - 1):
@@ -569,7 +571,11 @@ def quadtree_fill(job):
     ends = np.searchsorted(keys, outline[:, :2])
 
     marker_gap = int(disc.segment_markers.max(initial=0)) + 1
-    gap_dom = _gap_domain(dom, core_xy, ends, marker_gap)
+    seeds = np.array([r[:2] for r in dom.regions], dtype=np.float64).reshape(-1, 2)
+    si = np.floor((seeds[:, 0] - root[0]) / unit).astype(np.int64)
+    sj = np.floor((seeds[:, 1] - root[1]) / unit).astype(np.int64)
+    in_core = np.array([keep[max(_find(lev, ci, cj, child, top, a, b), 0)] for a, b in zip(si, sj)], dtype=bool)
+    gap_dom = _gap_domain(dom, core_xy, ends, marker_gap, seeds[~in_core])
     hfield = as_size_field(lambda xy: factor * field(xy))
     gap, boundary, line_curves = _gap_mesh(dom, gap_dom, hfield, marker_gap, job)
 
