@@ -102,13 +102,16 @@ from meshwright.tri.front import advancing_front
 from meshwright.tri.smoothing import smooth as smooth_points
 
 __all__ = [
-    "ParityError", "PairingReport", "pair_domain", "pairing_fill", "chord_split", "make_loops_even", "pair_triangles", "enhance",
-    "PAIR_BOUNDS", "MAX_VISIT", "MAX_WALKS", "FLAT_ANGLE", "RESPACE", "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
+    "ParityError", "PairingReport", "pair_domain", "pairing_fill", "chord_split", "make_loops_even",
+    "pair_triangles", "enhance", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS", "FLAT_ANGLE", "RESPACE",
+    "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
 ]
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
-MAX_VISIT = 4096  # triangles one alternating-chain search may enter
+MAX_VISIT = 4096  # triangles one alternating-chain search may enter (last round)
+EARLY_VISIT = 64  # ... in the rounds before the last
 MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
+STALE_WALKS = 8  # ... stopped after this many rounds without fewer unpaired triangles
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
 RESPACE = 6  # segments on each side of a parity split spaced evenly again
 ENHANCE_PASSES = 8  # cap on enhancement passes (each stops early when nothing changes)
@@ -259,8 +262,10 @@ def _neighbours(tris: np.ndarray, bkey: np.ndarray, n: int) -> np.ndarray:
 
 def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> int:
     """Move every unpaired triangle t one pair further: flip the diagonal between t and a
-    paired neighbour s (their union an allowed quad, :func:`~meshwright.quad._pairing_kernel.pair_score`), pair the two
-    new triangles and free s's old partner.  Returns the number of flips."""
+    paired neighbour s (their union an allowed quad,
+    :func:`~meshwright.quad._pairing_kernel.pair_score`), pair the two new triangles and
+    free s's old partner; ``tris`` and ``nbr`` are updated in place.  Returns the number
+    of flips."""
     flips = 0
     touched = np.zeros(len(tris), dtype=bool)
     for t in np.flatnonzero(mate < 0).tolist():
@@ -275,8 +280,18 @@ def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> int:
             a, b, c = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
             d = tris[s][nbr[s] == t][0]
             old = int(mate[s])
+            jb, jc = int(np.flatnonzero(tris[s] == b)[0]), int(np.flatnonzero(tris[s] == c)[0])
+            n_ca, n_ab = int(nbr[t, (k + 1) % 3]), int(nbr[t, (k + 2) % 3])
+            n_bd, n_dc = int(nbr[s, jc]), int(nbr[s, jb])
             tris[t] = (a, b, d)
             tris[s] = (a, d, c)
+            # Only the two triangles and the back-pointers of two outer neighbours change.
+            nbr[t] = (n_bd, s, n_ab)
+            nbr[s] = (n_dc, n_ca, t)
+            if n_bd >= 0:
+                nbr[n_bd][nbr[n_bd] == s] = t
+            if n_ca >= 0:
+                nbr[n_ca][nbr[n_ca] == t] = s
             mate[old] = -1
             mate[t], mate[s] = s, t
             touched[[t, s, old]] = True
@@ -331,7 +346,8 @@ def pair_triangles(
         Triangles one alternating-chain search may enter.
     walks : int
         Rounds of moving the unpaired triangles by a diagonal flip
-        (:func:`_walk_left_overs`), each followed by a chain round at the last bound.
+        (:func:`_walk_left_overs`), each followed by a chain round at the last bound;
+        :data:`STALE_WALKS` rounds without progress end them.
     seed : int
         Randomness of which side a walk takes.
 
@@ -361,21 +377,30 @@ def pair_triangles(
         nbr = _neighbours(tris, bkey, n)
     mate = np.full(len(tris), -1, dtype=np.int32)
     chains = 0
-    for q in bounds:
+    for i, q in enumerate(bounds):
         pk.greedy_pairs(xy, tris.ravel(), nbr.ravel(), mate, float(q))
-        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(q), int(max_visit)))
+        # Early rounds only mend locally: a triangle with no partner at a high bound would
+        # search its whole component in vain; the last round searches far.
+        visit = int(max_visit) if i == len(bounds) - 1 else min(int(max_visit), EARLY_VISIT)
+        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(q), visit))
     rng = np.random.default_rng(seed)
+    best, stale = int((mate < 0).sum()), 0
     for _ in range(walks):
-        if not (mate < 0).any() or _walk_left_overs(xy, tris, nbr, mate, rng, max(float(bounds[-1]), 0.0)) == 0:
+        if best == 0 or stale >= STALE_WALKS:
             break
-        nbr = _neighbours(tris, bkey, n)
+        if _walk_left_overs(xy, tris, nbr, mate, rng, max(float(bounds[-1]), 0.0)) == 0:
+            break
         chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
+        left = int((mate < 0).sum())
+        best, stale = (left, 0) if left < best else (best, stale + 1)
     first = np.flatnonzero((mate >= 0) & (mate > np.arange(len(tris))))
-    quads = np.empty((len(first), 4), dtype=np.int32)
-    flat_t, flat_n = tris.ravel(), nbr.ravel()
-    for i, t in enumerate(first.tolist()):
-        k = int(np.flatnonzero(nbr[t] == mate[t])[0])
-        quads[i] = pk.pair_quad(flat_t, flat_n, t, k)
+    # Quad (a, b, d, c): t = (a, b, c) with a opposite the shared side, d the partner's third vertex.
+    k = np.argmax(nbr[first] == mate[first][:, None], axis=1)
+    t = tris[first].astype(np.int64)
+    rows = np.arange(len(first))
+    a, b, c = t[rows, k], t[rows, (k + 1) % 3], t[rows, (k + 2) % 3]
+    d = tris[mate[first]].astype(np.int64).sum(axis=1) - b - c
+    quads = np.column_stack([a, b, d, c]).astype(np.int32)
     return quads, first, np.flatnonzero(mate < 0), tris, chains
 
 
@@ -589,7 +614,9 @@ def chord_split(fill, domain: Domain, max_points: int):
     on_curve = fill.line_curves[lsplit] >= 0
     if on_curve.any():
         ends_l = lines[lsplit][on_curve]
-        mid[lmid[on_curve]] = curve_midpoints(domain, fill.line_curves[lsplit][on_curve], xy[ends_l[:, 0]], xy[ends_l[:, 1]])
+        mid[lmid[on_curve]] = curve_midpoints(
+            domain, fill.line_curves[lsplit][on_curve], xy[ends_l[:, 0]], xy[ends_l[:, 1]]
+        )
     node = np.full(len(key), -1, dtype=np.int64)
     node[split] = n + np.searchsorted(uniq, key[split])
     hq = node[: 4 * m].reshape(m, 4)
@@ -599,13 +626,19 @@ def chord_split(fill, domain: Domain, max_points: int):
     cq = n + len(uniq) + np.arange(len(both))
     ct = n + len(uniq) + len(both) + np.arange(len(tris))
     out = [quads[crossed == 0]]
-    for bit, (i, j) in ((1, (0, 2)), (2, (1, 3))):
+    for bit in (1, 2):
         sel = np.flatnonzero(crossed == bit)
         v, h = quads[sel], hq[sel]
         if bit == 1:  # (v0, m0, m2, v3) and (m0, v1, v2, m2)
-            out += [np.column_stack([v[:, 0], h[:, 0], h[:, 2], v[:, 3]]), np.column_stack([h[:, 0], v[:, 1], v[:, 2], h[:, 2]])]
+            out += [
+                np.column_stack([v[:, 0], h[:, 0], h[:, 2], v[:, 3]]),
+                np.column_stack([h[:, 0], v[:, 1], v[:, 2], h[:, 2]]),
+            ]
         else:  # (v0, v1, m1, m3) and (m3, m1, v2, v3)
-            out += [np.column_stack([v[:, 0], v[:, 1], h[:, 1], h[:, 3]]), np.column_stack([h[:, 3], h[:, 1], v[:, 2], v[:, 3]])]
+            out += [
+                np.column_stack([v[:, 0], v[:, 1], h[:, 1], h[:, 3]]),
+                np.column_stack([h[:, 3], h[:, 1], v[:, 2], v[:, 3]]),
+            ]
     for cells, h, c in ((quads[both], hq[both], cq), (tris, ht, ct)):
         p = cells.shape[1]
         for k in range(p):
