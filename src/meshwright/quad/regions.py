@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import GeometryError
+from meshwright.core.predicates import orient2d_batch
 
 __all__ = ["region_markers"]
 
@@ -45,13 +46,15 @@ def _components(n_cells, pairs):
 
 
 def _contains(points: np.ndarray, tri: np.ndarray, xy: np.ndarray) -> np.ndarray:
-    """(t,) bool: triangles (t, 3) containing ``xy``, their closed edges included."""
-    a, b, c = points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]
-
-    def side(p, q):
-        return (q[:, 0] - p[:, 0]) * (xy[1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (xy[0] - p[:, 0])
-
-    return (side(a, b) >= 0) & (side(b, c) >= 0) & (side(c, a) >= 0)
+    """(t,) bool: triangles (t, 3) containing ``xy``, their closed edges included (exact
+    ``orient2d`` of the point against each edge)."""
+    ext = np.ascontiguousarray(np.vstack([points, xy[None, :]]))
+    q = np.full(len(tri), len(points), dtype=np.int64)
+    inside = np.ones(len(tri), dtype=bool)
+    for k in range(3):
+        edge = np.ascontiguousarray(np.column_stack([tri[:, k], tri[:, (k + 1) % 3], q]))
+        inside &= np.asarray(orient2d_batch(ext, edge)) >= 0
+    return inside
 
 
 def region_markers(points, quads, triangles, lines, regions) -> tuple[np.ndarray, np.ndarray]:
