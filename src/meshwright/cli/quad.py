@@ -35,7 +35,7 @@ def add_arguments(parser) -> None:
     parser.add_argument(
         "--mixed",
         action="store_true",
-        help="keep the method's leftover triangles (quad-dominant) instead of the all-quad midpoint split",
+        help="keep the method's leftover triangles (quad-dominant) instead of finishing all-quad",
     )
     parser.add_argument(
         "--smooth",
