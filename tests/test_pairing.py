@@ -12,6 +12,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import meshwright as mw
 from meshwright.core.errors import InputError, MeshingError
@@ -185,6 +187,48 @@ def test_augmenting_path_repairs_a_stranding_pairing():
     gained = pk.augment(xy, tris.ravel(), nbr.ravel(), mate, 0.0, 100)
     assert gained == 1
     assert mate.tolist() == [1, 0, 3, 2]
+
+
+def _max_matching_brute_force(nt, adj):
+    """Size of a maximum matching by exhaustive search over vertex subsets (small graphs)."""
+    from functools import lru_cache
+
+    @lru_cache(maxsize=None)
+    def best(mask):
+        for v in range(nt):
+            if not mask >> v & 1:
+                r = best(mask | 1 << v)
+                for w in adj[v]:
+                    if not mask >> w & 1:
+                        r = max(r, 1 + best(mask | 1 << v | 1 << w))
+                return r
+        return 0
+
+    return best(0)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(6, 11))
+def test_augmenting_paths_reach_a_maximum_pairing(seed, npts):
+    from meshwright.core.mesh import build_neighbors
+
+    rng = np.random.default_rng(seed)
+    xy = rng.random((npts, 2))
+    tris = mw.delaunay(xy).triangles.astype(np.int32)
+    nbr = build_neighbors(tris).astype(np.int32)
+    nt = len(tris)
+    flat_t, flat_n = tris.ravel(), nbr.ravel()
+    adj = [
+        {int(nbr[t, k]) for k in range(3) if nbr[t, k] >= 0 and pk.pair_score(xy, flat_t, flat_n, t, k, -1.0) >= 0}
+        for t in range(nt)
+    ]
+    assert all(t in adj[s] for t in range(nt) for s in adj[t])  # an allowed pair is allowed both ways
+    mate = np.full(nt, -1, dtype=np.int32)
+    pk.augment(xy, tris.ravel(), nbr.ravel(), mate, -1.0, 10**6)
+    for t in range(nt):
+        if mate[t] >= 0:
+            assert mate[mate[t]] == t and int(mate[t]) in adj[t]
+    assert int((mate >= 0).sum()) // 2 == _max_matching_brute_force(nt, adj)
 
 
 # ------------------------------------------------------------------ enhancement

@@ -103,8 +103,8 @@ from meshwright.tri.smoothing import smooth as smooth_points
 
 __all__ = [
     "ParityError", "PairingReport", "pair_domain", "pairing_fill", "chord_split", "make_loops_even",
-    "pair_triangles", "enhance", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS", "FLAT_ANGLE", "RESPACE",
-    "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
+    "pair_triangles", "enhance", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS",
+    "FLAT_ANGLE", "RESPACE", "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
 ]
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
