@@ -243,6 +243,30 @@ def test_node_elimination_merges_the_two_quads_of_a_doublet():
     assert sorted(out[0].tolist()) == [0, 1, 2, 3] and _strictly_convex(xy, out[0])
 
 
+def test_element_elimination_collapses_a_diamond_between_two_valence_three_nodes():
+    #          N --- D --- N'
+    #          |   / | \   |      A and C interior, each in three quads; the diamond
+    #          W - A   C - E      ABCD disappears and A, C merge at (0, 0).
+    #          |   \ | /   |
+    #          S --- B --- S'
+    xy = np.array(
+        [[-0.5, 0], [0, -1], [0.5, 0], [0, 1], [-1.5, 0], [-1, -1], [-1, 1], [1.5, 0], [1, -1], [1, 1]],
+        dtype=np.float64,
+    )
+    A, B, C, D, W, S, N, E, S2, N2 = range(10)
+    quads = np.array(
+        [[A, B, C, D], [A, W, S, B], [A, D, N, W], [C, B, S2, E], [C, E, N2, D]], dtype=np.int32
+    )
+    boundary = np.ones(10, dtype=bool)
+    boundary[[A, C]] = False
+    out_xy, out, kept, counts = enhance(xy, quads, boundary)
+    assert counts[1] == 1 and len(out) == 4 and 0 not in kept
+    assert np.array_equal(out_xy[A], [0.0, 0.0])
+    assert C not in out
+    assert all(_strictly_convex(out_xy, q) for q in out)
+    assert all((out == A).any(axis=1))
+
+
 def test_diagonal_swap_takes_the_better_diagonal_of_the_hexagon():
     ang = np.radians([0, 40, 100, 180, 220, 280])
     xy = np.column_stack([np.cos(ang), 0.6 * np.sin(ang)])

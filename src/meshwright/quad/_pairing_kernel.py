@@ -16,14 +16,15 @@ nbr    : flat int32, ``nbr[3*t + k]`` the triangle across the side opposite vert
          so no pair is ever formed across a boundary or an interior segment.
 mate   : (nt,) int32, the triangle t is paired with, -1 while unpaired.
 quad   : (m, 4) int32 counter-clockwise quadrilaterals; ``alive`` (m,) int8.
-bnd    : (n,) int8, 1 for a node on the boundary or on an interior segment (never moved
-         or removed by the enhancement).
+bnd    : (n,) int8, 1 for a node on the boundary, on an interior segment or given as an
+         interior point (never moved or removed by the enhancement).
 csr    : node -> incident quads, ``(off (n+1,) int64, idx int32)``, rebuilt by the caller
          before every enhancement pass.
 
 Invariants: every topological decision (is the pair's quadrilateral strictly convex, is a
 quadrilateral after an operation strictly convex) is an exact ``orient2d``; the scaled
-Jacobian only ranks valid choices.  An operation touches only quads not touched before in
+Jacobian and the 150-degree rule at boundary nodes are quality rules in floating point,
+applied only among valid choices.  An operation touches only quads not touched before in
 the same pass, so the node -> quad table stays true for every quad an operation reads.
 """
 
@@ -343,6 +344,15 @@ def _local_min(xy, quad, alive, off, idx, v, skip, sub_from, sub_to):
 
 
 @njit(cache=True)
+def _live_count(alive, off, idx, v):
+    count = 0
+    for s in range(off[v], off[v + 1]):
+        if alive[idx[s]] != 0:
+            count += 1
+    return count
+
+
+@njit(cache=True)
 def _star_free(off, idx, lock, v):
     for s in range(off[v], off[v + 1]):
         if lock[idx[s]] != 0:
@@ -416,7 +426,7 @@ def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept)
                 continue
             b = quad[q, r + 1]
             d = quad[q, (r + 3) % 4]
-            if off[b + 1] - off[b] < 3 or off[d + 1] - off[d] < 3:
+            if _live_count(alive, off, idx, b) < 3 or _live_count(alive, off, idx, d) < 3:
                 continue
             if not (_star_free(off, idx, lock, a) and _star_free(off, idx, lock, c)):
                 continue
