@@ -127,7 +127,7 @@ def _strip():
 
 def test_pairs_are_counter_clockwise_strictly_convex_and_cover_the_triangles():
     xy, tris = _strip()
-    quads, first, left, _, _ = pair_triangles(xy, tris)
+    quads, first, left, _, _, _ = pair_triangles(xy, tris)
     assert len(left) == 0 and len(quads) == 2
     assert all(_strictly_convex(xy, q) for q in quads)
     covered = sorted(sorted(set(q.tolist())) for q in quads)
@@ -140,11 +140,11 @@ def test_a_non_convex_pair_only_in_the_relaxed_round():
     # A dart: the two triangles' union has a reflex corner at vertex 2.
     xy = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2]], dtype=np.float64)
     tris = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.int32)
-    quads, _, left, _, _ = pair_triangles(xy, tris, bounds=(0.5, 0.0), walks=0)
+    quads, _, left, _, _, _ = pair_triangles(xy, tris, bounds=(0.5, 0.0), walks=0)
     assert len(quads) == 0 and sorted(left.tolist()) == [0, 1]
     # The relaxed round admits reflex corners, but not between two boundary sides (here
     # vertex 2 lies on the boundary of this two-triangle mesh).
-    quads, _, left, _, _ = pair_triangles(xy, tris, bounds=(0.0, -1.0), walks=0)
+    quads, _, left, _, _, _ = pair_triangles(xy, tris, bounds=(0.0, -1.0), walks=0)
     assert len(quads) == 0
     # Surrounded by triangles, the same dart pairs in the relaxed round only.
     ring = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2], [1, -1], [3, 1], [-1, 1]], dtype=np.float64)
@@ -156,7 +156,7 @@ def test_a_non_convex_pair_only_in_the_relaxed_round():
     assert nbr[0, 1] == 1  # triangle 0 meets the dart's other half across side 0-2
     assert pk.pair_score(ring, tris.ravel(), nbr.ravel(), 0, 1, 0.0) == -1.0
     assert pk.pair_score(ring, tris.ravel(), nbr.ravel(), 0, 1, -1.0) == 0.0
-    quads, _, left, _, _ = pair_triangles(ring, tris, blocked, walks=0)
+    quads, _, left, _, _, _ = pair_triangles(ring, tris, blocked, walks=0)
     assert len(left) == 0 and all(_strictly_convex(ring, q) for q in quads)
 
 
@@ -171,9 +171,30 @@ def test_a_quad_smoothing_cannot_open_is_cut_back_into_triangles():
     assert sorted(set(t.ravel().tolist())) == [0, 1, 2, 3]
 
 
+@pytest.mark.parametrize("d, split", [((0.0, 1.0), False), ((3.0, 0.05), True)])
+def test_a_flat_ear_of_the_front_is_opened(d, split):
+    from meshwright.quad.pairing import _open_ears
+
+    # Ear t = (a, b, c) on two boundary sides, 174 degrees at a; s = (c, b, d) beyond b-c
+    # (its other sides lead to triangles 2 and 3, not read).  With d above, the union is
+    # convex and b-c flips to a-d; with d far right it is not, and b-c is split.
+    xy = np.array([[0, -0.05], [1, 0], [-1, 0], d], dtype=np.float64)
+    tris = np.array([[0, 1, 2], [2, 1, 3], [0, 0, 0], [0, 0, 0]], dtype=np.int32)
+    nbr = np.array([[1, -1, -1], [2, 3, 0], [-1, -1, -1], [-1, -1, -1]], dtype=np.int32)
+    out_xy, out_t, changed = _open_ears(xy, tris, nbr)
+    assert changed == 1
+    assert len(out_xy) == 4 + split and len(out_t) == 4 + 2 * split
+    live = [0, 1] + ([4, 5] if split else [])
+    assert all(_cross(out_xy[a], out_xy[b], out_xy[c]) > 0 for a, b, c in out_t[live])
+    # Node 0 is no longer the corner of a single triangle.
+    assert sum(0 in t for t in out_t[live].tolist()) == 2
+    area = sum(float(_cross(out_xy[a], out_xy[b], out_xy[c])) for a, b, c in out_t[live])
+    assert area == pytest.approx(float(_cross(xy[0], xy[1], xy[2]) + _cross(xy[2], xy[1], xy[3])))
+
+
 def test_blocked_sides_are_never_crossed():
     xy, tris = _strip()
-    quads, _, left, _, _ = pair_triangles(xy, tris, blocked=np.array([[1, 3], [1, 4], [2, 4]]), walks=0)
+    quads, _, left, _, _, _ = pair_triangles(xy, tris, blocked=np.array([[1, 3], [1, 4], [2, 4]]), walks=0)
     assert len(quads) == 0 and len(left) == 4
 
 

@@ -300,14 +300,25 @@ def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> int:
     return flips
 
 
-def _open_ears(xy, tris, nbr) -> int:
-    """Flip the third side of every triangle with two boundary sides and a corner between
-    them wider than ``FLAT_ANGLE`` (a sliver the front closed along the boundary): no
-    pair could take it, since the boundary node would be left in one quad at a nearly
-    straight angle.  The flip is made only when the union is strictly convex (exact
-    ``orient2d``).  Returns the number of flips."""
+def _open_ears(xy, tris, nbr):
+    """Open every triangle with two boundary sides and a corner between them wider than
+    ``FLAT_ANGLE`` (a sliver the front closed along the boundary): no pair could take it,
+    and any quad on it would keep that corner.  Its third side is flipped when the union
+    with the neighbour is strictly convex, else split at its midpoint (both triangles in
+    two, the ear vertex then joined to the interior); every new triangle is checked
+    counter-clockwise by exact ``orient2d``.
+
+    Returns
+    -------
+    xy : (n', 2) float64
+        ``xy`` with the midpoints appended.
+    tris : (t', 3) int32
+        Changed in place; split triangles' second halves appended.
+    changed : int
+    """
     ears = np.flatnonzero((nbr < 0).sum(axis=1) == 2)
-    flips = 0
+    new_xy, new_tris = [], []
+    changed = 0
     for t in ears.tolist():
         if (nbr[t] == -2).any():
             continue
@@ -318,14 +329,27 @@ def _open_ears(xy, tris, nbr) -> int:
         if (nbr[s] < 0).sum() >= 2 or np.degrees(np.arctan2(u[0] * w[1] - u[1] * w[0], u @ w)) < FLAT_ANGLE:
             continue
         d = int(tris[s][nbr[s] == t][0])
-        if (orient2d_batch(xy, np.array([[a, b, d], [d, c, a]])) <= 0.0).any():
-            continue
-        tris[t] = (a, b, d)
-        tris[s] = (a, d, c)
+        if (orient2d_batch(xy, np.array([[a, b, d], [d, c, a]])) > 0.0).all():
+            tris[t] = (a, b, d)
+            tris[s] = (a, d, c)
+        else:
+            m = len(xy) + len(new_xy)
+            trial = np.vstack([xy[[a, b, c, d]], 0.5 * (xy[b] + xy[c])])
+            # Local indices: a 0, b 1, c 2, d 3, m 4.
+            parts = np.array([[0, 1, 4], [0, 4, 2], [2, 4, 3], [4, 1, 3]])
+            if (orient2d_batch(trial, parts) <= 0.0).any():
+                continue
+            new_xy.append(trial[4])
+            tris[t] = (a, b, m)
+            tris[s] = (c, m, d)
+            new_tris += [(a, m, c), (m, b, d)]
         # Keep the table true for the next ears: both triangles' sides changed.
         nbr[t] = nbr[s] = -2
-        flips += 1
-    return flips
+        changed += 1
+    if new_xy:
+        xy = np.ascontiguousarray(np.vstack([xy, np.asarray(new_xy)]))
+        tris = np.ascontiguousarray(np.vstack([tris, np.asarray(new_tris, dtype=np.int32)]))
+    return xy, tris, changed
 
 
 def pair_triangles(
@@ -361,9 +385,11 @@ def pair_triangles(
     left : (l,) int64
         Triangles left unpaired.
     triangles : (t, 3) int32
-        The triangles after the walks' flips (``left`` indexes them).
+        The triangles after the ear openings and the walks' flips (``left`` indexes them).
     chains : int
         Pairs gained along alternating chains.
+    points : (n', 2) float64
+        ``points`` with the nodes that opened flat ears appended (:func:`_open_ears`).
     """
     xy = np.ascontiguousarray(points, dtype=np.float64)
     tris = np.array(triangles, dtype=np.int32, order="C")
@@ -373,7 +399,8 @@ def pair_triangles(
         key = np.sort(np.asarray(blocked, dtype=np.int64), axis=1)
         bkey = np.unique(key[:, 0] * n + key[:, 1])
     nbr = _neighbours(tris, bkey, n)
-    if _open_ears(xy, tris, nbr):
+    xy, tris, changed = _open_ears(xy, tris, nbr)
+    if changed:
         nbr = _neighbours(tris, bkey, n)
     mate = np.full(len(tris), -1, dtype=np.int32)
     chains = 0
@@ -401,7 +428,7 @@ def pair_triangles(
     a, b, c = t[rows, k], t[rows, (k + 1) % 3], t[rows, (k + 2) % 3]
     d = tris[mate[first]].astype(np.int64).sum(axis=1) - b - c
     quads = np.column_stack([a, b, d, c]).astype(np.int32)
-    return quads, first, np.flatnonzero(mate < 0), tris, chains
+    return quads, first, np.flatnonzero(mate < 0), tris, chains, xy
 
 
 def _node_quads(quads: np.ndarray, alive: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -743,7 +770,7 @@ def pair_domain(
     n_free = len(domain.points)
     fixed_pts = newid[ct.index_map[len(disc.points) - n_free :]] if n_free else np.zeros(0, dtype=np.int64)
 
-    quads, first, left, t3, chains = pair_triangles(xy, base.cells["triangle"], lines, seed=seed)
+    quads, first, left, t3, chains, xy = pair_triangles(xy, base.cells["triangle"], lines, seed=seed)
     lt = t3[left]
     bnd = np.zeros(len(xy), dtype=bool)
     bnd[lines.ravel()] = True
