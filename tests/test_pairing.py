@@ -367,7 +367,7 @@ def test_quad_dominant_mesh_reports_its_triangles():
 def test_left_over_triangles_are_finished_by_chords_only():
     from meshwright.core.mesh import Mesh
     from meshwright.quad import QuadFill
-    from meshwright.quad.pairing import chord_split
+    from meshwright.quad.chords import chord_split
 
     xy = np.array([[0, 0], [1, 0], [2, 0], [3, 0], [0, 1], [1, 1], [2, 1], [3, 1]], dtype=np.float64)
     quads = np.array([[0, 1, 5, 4], [2, 3, 7, 6]], dtype=np.int32)

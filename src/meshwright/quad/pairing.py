@@ -60,7 +60,7 @@ the order the front made them, and the pairing then walks them in that order.
 6. **All-quad route**: triangles that are still unpaired (a face of the domain cut off
    by interior segments with an odd count, a boundary fan the pairing cannot take, a
    quad cut back in step 5) are finished, when ``all_quad=True``, by chord refinement
-   (:func:`chord_split`): each side of a left-over triangle starts a chord through the
+   (:func:`meshwright.quad.chords.chord_split`): each side of a left-over triangle starts a chord through the
    quads beyond it to the boundary or to another triangle; crossed sides get their
    midpoints (on the true curves for boundary sides), each crossed quad splits in two (in
    four where chords cross), each triangle into three quads; the result conforms, and is
@@ -96,13 +96,14 @@ from meshwright.core.validate_input import check_count
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _pairing_kernel as pk
+from meshwright.quad.chords import chord_split
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
 from meshwright.tri.smoothing import smooth as smooth_points
 
 __all__ = [
-    "ParityError", "PairingReport", "pair_domain", "pairing_fill", "chord_split", "make_loops_even",
+    "ParityError", "PairingReport", "pair_domain", "pairing_fill", "make_loops_even",
     "pair_triangles", "enhance", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS",
     "FLAT_ANGLE", "RESPACE", "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
 ]
@@ -145,7 +146,8 @@ class PairingReport(NamedTuple):
     eliminated : tuple of int
         Node eliminations, element eliminations and diagonal swaps.
     split : bool
-        Whether the all-quad route refined along chords (:func:`chord_split`).
+        Whether the all-quad route refined along chords
+        (:func:`meshwright.quad.chords.chord_split`).
     triangles_left : int
         Triangles in the returned mesh (0 when ``all_quad``).
     """
@@ -568,124 +570,6 @@ def _compact(xy, blocks):
         used[np.asarray(b).ravel()] = True
     newid = (np.cumsum(used) - 1).astype(np.int32)
     return xy[used], [newid[np.asarray(b)].astype(np.int32) for b in blocks], np.where(used, newid, -1)
-
-
-def chord_split(fill, domain: Domain, max_points: int):
-    """Finish a mixed fill with quads only, refining along chords from the left-over triangles.
-
-    Every side of a left-over triangle starts a chord: it crosses the quad beyond that side
-    to the opposite side, and the next quad, until it meets the boundary (or an interior
-    segment's end of the mesh) or another triangle.  Every side a chord crosses gets its
-    midpoint (on the true curve for a line), a quad crossed once becomes two, a quad
-    crossed both ways four (around its vertex mean), a triangle three (around its
-    centroid).  Every split side is split in both its elements, so the result conforms;
-    only the quads on the chords change, unlike the global midpoint split.
-
-    Parameters
-    ----------
-    fill : QuadFill
-    domain : Domain
-    max_points : int
-
-    Returns
-    -------
-    QuadFill
-        No triangles.
-
-    Raises
-    ------
-    MeshingError
-        The refinement would exceed ``max_points``.
-    """
-    from meshwright.quad.subdivide import curve_midpoints
-
-    xy = fill.points
-    n = len(xy)
-    quads = fill.quads.astype(np.int64)
-    tris = fill.triangles.astype(np.int64)
-    m = len(quads)
-    starts = np.concatenate([quads.ravel(), tris.ravel()])
-    ends = np.concatenate([np.roll(quads, -1, axis=1).ravel(), np.roll(tris, -1, axis=1).ravel()])
-    key = np.minimum(starts, ends) * n + np.maximum(starts, ends)
-    order = np.argsort(key, kind="stable")
-    other = np.full(len(key), -1, dtype=np.int64)
-    same = key[order[1:]] == key[order[:-1]]
-    a, b = order[:-1][same], order[1:][same]
-    other[a], other[b] = b, a
-    crossed = np.zeros(m, dtype=np.int8)  # bit 0: sides 0 and 2 split, bit 1: sides 1 and 3
-    split = np.zeros(len(key), dtype=bool)
-    for h in range(4 * m, len(key)):
-        split[h] = True
-        o = other[h]
-        while 0 <= o < 4 * m:
-            q, k = divmod(int(o), 4)
-            bit = 1 << (k % 2)
-            if crossed[q] & bit:
-                break  # the same chord, walked from its other end
-            crossed[q] |= bit
-            split[o] = True
-            out = 4 * q + (k + 2) % 4
-            split[out] = True
-            o = other[out]
-        if o >= 0:
-            split[o] = True
-    uniq = np.unique(key[split])
-    total = n + len(uniq) + int((crossed == 3).sum()) + len(tris)
-    if total > max_points:
-        raise MeshingError(f"the chord refinement needs {total} vertices, above max_points = {max_points}")
-    mid = 0.5 * (xy[uniq // n] + xy[uniq % n])
-    lines = fill.lines.astype(np.int64)
-    lkey = np.minimum(lines[:, 0], lines[:, 1]) * n + np.maximum(lines[:, 0], lines[:, 1])
-    lsplit = np.isin(lkey, uniq)
-    lmid = np.searchsorted(uniq, lkey[lsplit])
-    on_curve = fill.line_curves[lsplit] >= 0
-    if on_curve.any():
-        ends_l = lines[lsplit][on_curve]
-        mid[lmid[on_curve]] = curve_midpoints(
-            domain, fill.line_curves[lsplit][on_curve], xy[ends_l[:, 0]], xy[ends_l[:, 1]]
-        )
-    node = np.full(len(key), -1, dtype=np.int64)
-    node[split] = n + np.searchsorted(uniq, key[split])
-    hq = node[: 4 * m].reshape(m, 4)
-    ht = node[4 * m :].reshape(-1, 3)
-    both = np.flatnonzero(crossed == 3)
-    centres = np.concatenate([xy[quads[both]].mean(axis=1), xy[tris].mean(axis=1)])
-    cq = n + len(uniq) + np.arange(len(both))
-    ct = n + len(uniq) + len(both) + np.arange(len(tris))
-    out = [quads[crossed == 0]]
-    for bit in (1, 2):
-        sel = np.flatnonzero(crossed == bit)
-        v, h = quads[sel], hq[sel]
-        if bit == 1:  # (v0, m0, m2, v3) and (m0, v1, v2, m2)
-            out += [
-                np.column_stack([v[:, 0], h[:, 0], h[:, 2], v[:, 3]]),
-                np.column_stack([h[:, 0], v[:, 1], v[:, 2], h[:, 2]]),
-            ]
-        else:  # (v0, v1, m1, m3) and (m3, m1, v2, v3)
-            out += [
-                np.column_stack([v[:, 0], v[:, 1], h[:, 1], h[:, 3]]),
-                np.column_stack([h[:, 3], h[:, 1], v[:, 2], v[:, 3]]),
-            ]
-    for cells, h, c in ((quads[both], hq[both], cq), (tris, ht, ct)):
-        p = cells.shape[1]
-        for k in range(p):
-            out.append(np.column_stack([cells[:, k], h[:, k], c, h[:, (k - 1) % p]]))
-    new_lines = []
-    for r, (u, w) in enumerate(lines.tolist()):
-        if lsplit[r]:
-            mm = n + int(np.searchsorted(uniq, lkey[r]))
-            new_lines += [(u, mm), (mm, w)]
-        else:
-            new_lines.append((u, w))
-    reps = np.where(lsplit, 2, 1)
-    return fill._replace(
-        points=np.ascontiguousarray(np.concatenate([xy, mid, centres])),
-        quads=np.ascontiguousarray(np.concatenate(out)).astype(np.int32),
-        triangles=np.zeros((0, 3), dtype=np.int32),
-        lines=np.asarray(new_lines, dtype=np.int32).reshape(-1, 2),
-        line_markers=np.repeat(fill.line_markers, reps).astype(np.int32),
-        line_curves=np.repeat(fill.line_curves, reps).astype(np.int32),
-    )
 
 
 def pair_domain(
