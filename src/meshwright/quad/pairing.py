@@ -23,7 +23,8 @@ the order the front made them, and the pairing then walks them in that order.
    triangle count of the domain even (``t = 2 n_inside + n_boundary - 2 + 2 holes``), the
    necessary condition for pairing every triangle.  Before pairing, an ear of the front
    (a triangle on two boundary sides) wider than :data:`FLAT_ANGLE` has its third side
-   flipped, since no pair could take it.
+   flipped, or split at its midpoint when the flip is not convex, since no pair could
+   take it.
 2. **Pairing in front order** (:func:`~meshwright.quad._pairing_kernel.greedy_pairs`): the
    first unpaired triangle ABC (the chapter's step 2) is combined with the neighbour across
    one of its sides (steps 5-6, 8) that has no other partner left, else with the one
@@ -40,9 +41,9 @@ the order the front made them, and the pairing then walks them in that order.
    :data:`MAX_VISIT` triangles per search, Edmonds' blossoms shrunk).  Triangles still
    unpaired then *walk*: the diagonal between one and a paired neighbour is flipped, the
    two new triangles paired, the neighbour's old partner freed, and the search repeated
-   (:data:`MAX_WALKS` rounds).  This is the global counterpart of the
-   chapter's sub-front parity rule (steps 3, 5(c) and 6), which keeps every sub-front even
-   so that no triangle is stranded.
+   (at most :data:`MAX_WALKS` rounds, :data:`STALE_WALKS` without progress).  This is the
+   global counterpart of the chapter's sub-front parity rule (steps 3, 5(c) and 6), which
+   keeps every sub-front even so that no triangle is stranded.
 4. **Shape enhancement** (:func:`~meshwright.quad._pairing_kernel.enhance_pass`, up to
    :data:`ENHANCE_PASSES` passes): node elimination (an interior node in two quads: they
    become one), element elimination (a quad between two interior nodes of three quads
@@ -51,17 +52,17 @@ the order the front made them, and the pairing then walks them in that order.
    scaled Jacobian).  Every result is strictly convex by exact ``orient2d``.
 5. **Smoothing** (:data:`ENHANCE_SMOOTH` passes, part of the enhancement whatever
    ``quadrangulate``'s ``smooth``, which adds the shared smoother's sweeps afterwards):
-   the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over
-   the four corner triangles of every quad, so a move is accepted only if every quad stays
-   strictly convex; boundary nodes slide on their true curves (``smooth_boundary=True``)
+   the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over the four corner
+   triangles of every quad, so a move is accepted only if every quad stays strictly
+   convex; boundary nodes slide on their true curves (``smooth_boundary=True``)
    or stay fixed; curve joints, polygon corners and interior points never move.  The
    nodes of a non-convex quad move only to make it convex; a quad still non-convex after
    smoothing is cut back into two triangles (``PairingReport.reverted``).
 6. **All-quad route**: triangles that are still unpaired (a face of the domain cut off
    by interior segments with an odd count, a boundary fan the pairing cannot take, a
    quad cut back in step 5) are finished, when ``all_quad=True``, by chord refinement
-   (:func:`meshwright.quad.chords.chord_split`): each side of a left-over triangle starts a chord through the
-   quads beyond it to the boundary or to another triangle; crossed sides get their
+   (:func:`meshwright.quad.chords.chord_split`): each side of a left-over triangle starts
+   a chord through the quads beyond it to the boundary or to another triangle; crossed sides get their
    midpoints (on the true curves for boundary sides), each crossed quad splits in two (in
    four where chords cross), each triangle into three quads; the result conforms, and is
    smoothed again.  Unlike one midpoint split of every element
@@ -74,7 +75,7 @@ front beside the first (the front makes triangles only; pairing follows their cr
 order), so the chapter's per-sub-front parity bookkeeping (steps 3, 5(a)-(c), 6) is
 replaced by the even loops of step 1 plus the alternating chains of step 3, and the
 placement of the front's nodes ignores the pairing (so a boundary fan of triangles can
-leave an unpairable one, and then the whole mesh is split).  The chapter does not define
+leave an unpairable one, and then chords refine the mesh through it).  The chapter does not define
 its four enhancement operations; "side elimination" is read here as the removal of the
 side between two unpaired triangles (step 3) and the others as in Zhu et al.'s names.
 
