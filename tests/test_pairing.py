@@ -433,6 +433,31 @@ def test_bad_arguments_are_refused_at_the_door():
         quadrangulate(square, 0.1, method="pairing")
 
 
+def test_lower_level_doors_name_the_culprit():
+    from meshwright.quad import QuadFill
+    from meshwright.quad.chords import chord_split
+
+    xy, tris = _strip()
+    with pytest.raises(InputError, match="triangle 0 .* not counter-clockwise"):
+        pair_triangles(xy, tris[:, ::-1])
+    with pytest.raises(InputError, match="triangles row 1"):
+        pair_triangles(xy, np.array([[1, 4, 3], [0, 1, 9]]))
+    with pytest.raises(InputError, match="bounds"):
+        pair_triangles(xy, tris, bounds=())
+    with pytest.raises(InputError, match="boundary"):
+        enhance(xy, np.array([[0, 1, 4, 3]]), np.zeros(3, dtype=bool))
+    with pytest.raises(InputError, match="domain"):
+        pair_domain("circle")
+    with pytest.raises(InputError, match="all_quad"):
+        pair_domain(circle(), 0.1, all_quad="yes")
+    with pytest.raises(InputError, match="fill"):
+        chord_split((xy, tris), circle(), 10)
+    empty = np.zeros((0, 2), dtype=np.int32)
+    fill = QuadFill(xy, np.zeros((0, 4), dtype=np.int32), tris, empty, np.zeros(0, np.int32), np.zeros(0, np.int32))
+    with pytest.raises(InputError, match="max_points"):
+        chord_split(fill, circle(), -1)
+
+
 def test_interior_segment_and_point_are_kept():
     dom = polygon([(0, 0), (2, 0), (2, 1), (0, 1)], segments=[[(0.5, 0.5), (1.5, 0.5)]], points=[(1.0, 0.8)])
     mesh = quadrangulate(dom, 0.1, method="pairing", smooth=3)

@@ -23,7 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from meshwright.core.errors import MeshingError
+from meshwright.core.errors import InputError, MeshingError
+from meshwright.core.validate_input import check_count
 from meshwright.geometry.domain import Domain
 
 __all__ = ["chord_split"]
@@ -53,11 +54,19 @@ def chord_split(fill, domain: Domain, max_points: int):
 
     Raises
     ------
+    InputError
+        ``fill`` not a QuadFill, ``domain`` not a Domain, ``max_points`` not a positive int.
     MeshingError
         The refinement would exceed ``max_points``.
     """
+    from meshwright.quad.mesher import QuadFill
     from meshwright.quad.subdivide import curve_midpoints
 
+    if not isinstance(fill, QuadFill):
+        raise InputError(f"fill must be a meshwright.quad.QuadFill, got {type(fill).__name__}")
+    if not isinstance(domain, Domain):
+        raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
+    max_points = check_count(max_points, "max_points", 1)
     xy = fill.points
     n = len(xy)
     quads = fill.quads.astype(np.int64)

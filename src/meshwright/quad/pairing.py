@@ -89,16 +89,17 @@ from typing import NamedTuple
 
 import numpy as np
 
-from meshwright.core.errors import GeometryError, MeshingError
+from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.mesh import build_neighbors
 from meshwright.core.predicates import orient2d_batch
-from meshwright.core.validate_input import check_count
+from meshwright.core.validate_input import as_points, check_count, check_seed
 from meshwright.geometry.curves import Line, Polyline
-from meshwright.geometry.domain import Domain
+from meshwright.geometry.domain import Discretization, Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.chords import chord_split
 from meshwright.sizing.background import BackgroundGrid
+from meshwright.sizing.field import as_size_field
 from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
 from meshwright.tri.smoothing import smooth as smooth_points
@@ -162,6 +163,27 @@ class PairingReport(NamedTuple):
     eliminated: tuple
     split: bool
     triangles_left: int
+
+
+def _cells(arr, what: str, width: int, n: int) -> np.ndarray:
+    """(k, width) int32 node indices in ``[0, n)``, or InputError naming the row."""
+    a = np.asarray(arr)
+    if a.size == 0:
+        return np.zeros((0, width), dtype=np.int32)
+    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
+        raise InputError(f"{what} must be an integer array of node indices, got dtype {a.dtype}")
+    if a.ndim != 2 or a.shape[1] != width:
+        raise InputError(f"{what} must have shape (k, {width}), got {a.shape}")
+    bad = np.flatnonzero(((a < 0) | (a >= n)).any(axis=1))
+    if len(bad):
+        raise InputError(f"{what} row {bad[0]} {a[bad[0]].tolist()} refers to a node outside [0, {n})")
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _flag(value, what: str) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{what} must be True or False, got {value!r}")
+    return bool(value)
 
 
 def _loop_name(li: int) -> str:
@@ -233,7 +255,19 @@ def make_loops_even(domain: Domain, disc, fixed_boundary: bool = False):
         With every loop even (``disc`` itself when nothing changed).
     tuple of int
         The loops that received a node.
+
+    Raises
+    ------
+    InputError
+        ``domain`` / ``disc`` of the wrong type, ``fixed_boundary`` not a bool.
+    ParityError
+        An odd loop with ``fixed_boundary=True`` (the loop and its first node named).
     """
+    if not isinstance(domain, Domain):
+        raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
+    if not isinstance(disc, Discretization):
+        raise InputError(f"disc must be the Discretization of domain.discretize(), got {type(disc).__name__}")
+    fixed_boundary = _flag(fixed_boundary, "fixed_boundary")
     added = []
     for li in range(len(domain.loops)):
         rows = np.flatnonzero(domain.curve_loop[disc.segment_curve] == li)
@@ -393,13 +427,33 @@ def pair_triangles(
         Pairs gained along alternating chains.
     points : (n', 2) float64
         ``points`` with the nodes that opened flat ears appended (:func:`_open_ears`).
+
+    Raises
+    ------
+    InputError
+        Points not (n, 2) finite, a triangle or blocked edge out of range (its row named)
+        or a triangle not counter-clockwise, ``bounds`` empty or not numbers,
+        ``max_visit`` / ``walks`` not counts.
     """
-    xy = np.ascontiguousarray(points, dtype=np.float64)
-    tris = np.array(triangles, dtype=np.int32, order="C")
+    xy = as_points(points, "points")
     n = len(xy)
+    tris = _cells(triangles, "triangles", 3, n).copy()
+    o = orient2d_batch(xy, tris)
+    if (o <= 0.0).any():
+        t = int(np.flatnonzero(o <= 0.0)[0])
+        raise InputError(f"triangle {t} {tris[t].tolist()} is not counter-clockwise (exact orient2d)")
+    blocked = _cells(np.zeros((0, 2), dtype=np.int32) if blocked is None else blocked, "blocked", 2, n)
+    try:
+        bounds = tuple(float(q) for q in bounds)
+    except (TypeError, ValueError):
+        raise InputError(f"bounds must be a sequence of numbers, got {bounds!r}") from None
+    if not bounds or not all(np.isfinite(bounds)):
+        raise InputError(f"bounds must be a non-empty sequence of finite numbers, got {bounds!r}")
+    max_visit = check_count(max_visit, "max_visit", 1)
+    walks = check_count(walks, "walks")
     bkey = np.zeros(0, dtype=np.int64)
-    if blocked is not None and len(blocked):
-        key = np.sort(np.asarray(blocked, dtype=np.int64), axis=1)
+    if len(blocked):
+        key = np.sort(blocked.astype(np.int64), axis=1)
         bkey = np.unique(key[:, 0] * n + key[:, 1])
     nbr = _neighbours(tris, bkey, n)
     xy, tris, changed = _open_ears(xy, tris, nbr)
@@ -469,14 +523,24 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
         Row of ``quads`` (input) each output quad continues.
     counts : tuple of int
         Node eliminations, element eliminations, diagonal swaps.
+
+    Raises
+    ------
+    InputError
+        Points not (n, 2) finite, a quad or triangle row out of range (named),
+        ``boundary`` not an (n,) bool array, ``passes`` not a count.
     """
-    xy = np.array(points, dtype=np.float64, order="C")
-    qd = np.array(quads, dtype=np.int32, order="C")
+    xy = as_points(points, "points", copy=True)
+    qd = _cells(quads, "quads", 4, len(xy)).copy()
+    b = np.asarray(boundary)
+    if b.shape != (len(xy),) or b.dtype != bool:
+        raise InputError(f"boundary must be a ({len(xy)},) bool array, got {b.dtype} of shape {b.shape}")
+    passes = check_count(passes, "passes")
     alive = np.ones(len(qd), dtype=np.int8)
-    bnd = np.asarray(boundary, dtype=np.int8)
+    bnd = b.astype(np.int8)
     tri_node = np.zeros(len(xy), dtype=np.int8)
-    if triangles is not None and len(triangles):
-        tri_node[np.asarray(triangles).ravel()] = 1
+    if triangles is not None:
+        tri_node[_cells(triangles, "triangles", 3, len(xy)).ravel()] = 1
     total = np.zeros(3, dtype=np.int64)
     for _ in range(passes):
         off, idx = _node_quads(qd, alive, len(xy))
@@ -614,6 +678,8 @@ def pair_domain(
 
     Raises
     ------
+    InputError
+        An argument of the wrong type or range (named).
     ParityError
         An odd loop with ``fixed_boundary=True`` (the loop named).
     MeshingError
@@ -622,8 +688,15 @@ def pair_domain(
     """
     from meshwright.quad.mesher import QuadFill
 
+    if not isinstance(domain, Domain):
+        raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
+    field = None if field is None else as_size_field(field)
+    all_quad = _flag(all_quad, "all_quad")
+    smooth_boundary = _flag(smooth_boundary, "smooth_boundary")
+    fixed_boundary = _flag(fixed_boundary, "fixed_boundary")
     passes = check_count(smooth, "smooth (passes)")
-    cap = np.iinfo(np.int32).max if max_points is None else int(max_points)
+    seed = check_seed(seed)
+    cap = np.iinfo(np.int32).max if max_points is None else check_count(max_points, "max_points", 4)
     disc, added = make_loops_even(domain, domain.discretize(field), fixed_boundary)
     curves = SegmentCurves.from_domain(domain, disc)
     ct = cdt_build(disc.points, disc.segments, seed=seed, curves=curves)
