@@ -7,7 +7,9 @@
   active sides (the counts are computed from the drawn front and printed in the panel);
 * NACA 0012 in a far field paired by ``meshwright.quad.pairing``: the quad-dominant pairing
   (left-over triangles red), and the all-quad mesh ``quadrangulate(..., method="pairing")``
-  returns (printed: quads, triangles left, min scaled Jacobian).
+  returns (printed: quads, triangles left, min scaled Jacobian);
+* a disk with a graded size, where a boundary fan leaves triangles (red): the chords from
+  them (``meshwright.quad.chords``) refine only the quads they cross (second figure).
 
 Run::
 
@@ -127,6 +129,30 @@ def main() -> None:
     )
     save(fig, out / "quad_pairing.png")
     full.write(str(out / "naca0012-pairing.vtu"))
+    _chords(out)
+
+
+def _chords(out):
+    dom = mw.geometry.circle()
+    size = mw.sizing.as_size_field(lambda p: 0.02 + 0.12 * np.hypot(p[:, 0] - 0.5, p[:, 1]))
+    mixed, report = pair_domain(dom, size, all_quad=False)
+    full, _ = pair_domain(dom, size)
+    fig, axes = panels(2)
+    for ax, fill, title in (
+        (axes[0], mixed, f"pairing: {len(mixed.quads)} quads, {len(mixed.triangles)} triangles left"),
+        (axes[1], full, f"chords through the left-overs: {len(full.quads)} quads"),
+    ):
+        cells = {"quad": fill.quads, "line": fill.lines}
+        if len(fill.triangles):
+            cells["triangle"] = fill.triangles
+        Mesh(fill.points, cells).plot(ax=ax)
+        for t in fill.triangles:
+            ax.fill(*fill.points[t].T, color="tab:red", alpha=0.8)
+        ax.set_title(title)
+    sj = quad_quality(full.points, full.quads)["scaled_jacobian"]
+    print(f"graded disk: {report.left_over} triangles left by pairing; chords -> {len(full.quads)} quads, "
+          f"min scaled Jacobian {sj.min():.3f}")
+    save(fig, out / "quad_pairing_chords.png")
 
 
 if __name__ == "__main__":
