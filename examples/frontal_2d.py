@@ -2,8 +2,9 @@
 
 Size 2e-4 chord at the walls, growing by 25 % per unit length up to 4 chords in a far field
 of radius 20 chords: a size ratio above 1e4 between the smallest and the largest element.
-Points are created by advancing-front rules a row at a time and inserted by constrained
-Delaunay insertion; five smoothing passes follow.  Run::
+Points are placed one at a time, worst front triangle first (Rebay's order): each on the
+perpendicular bisector of the triangle's front edge, inserted by constrained Delaunay
+insertion; five smoothing passes follow.  Run::
 
     python examples/frontal_2d.py [OUTPUT_DIR]
 """

@@ -204,7 +204,7 @@ def test_cli_stretch(tmp_path, capsys):
         (["--size", "0.1", "--stretch", "3", "--background", str(bg)], "mutually exclusive"),
         (["--size", "0.1", "--stretch", "0.5"], "--stretch must be"),
     ]:
-        assert main([*args, *extra]) == 1
+        assert main([*args, *extra]) == 2
         assert message in capsys.readouterr().err
 
 

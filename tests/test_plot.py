@@ -74,13 +74,19 @@ def test_plot_into_given_axes_and_triangulation(tmp_path):
     assert_png(tmp_path / "v.png")
 
 
-def test_plot_large_mesh_is_fast(tmp_path):
-    import time
+def test_plot_large_mesh_draws_one_collection_per_cell_type(tmp_path):
+    # What keeps large plots fast: the artists do not grow with the mesh (one PolyCollection
+    # of all triangles, one LineCollection of all line cells), as for a small mesh.
+    from matplotlib.collections import LineCollection, PolyCollection
 
     mesh = grid(100)  # 20 000 triangles
-    t0 = time.perf_counter()
-    plot_mesh(mesh, path=tmp_path / "big.png", dpi=60)
-    assert time.perf_counter() - t0 < 10.0
+    ax = plot_mesh(mesh, path=tmp_path / "big.png", dpi=60)
+    assert len(ax.get_children()) == len(plot_mesh(grid(3)).get_children())
+    polys = [c for c in ax.collections if isinstance(c, PolyCollection)]
+    lines = [c for c in ax.collections if isinstance(c, LineCollection)]
+    assert [len(c.get_paths()) for c in polys] == [len(mesh.cells["triangle"])]
+    assert sum(len(c.get_segments()) for c in lines) == len(mesh.cells["line"])
+    assert not ax.patches and not ax.lines
     assert_png(tmp_path / "big.png")
 
 
@@ -96,3 +102,27 @@ def test_plot_errors_name_the_option():
         plot_mesh(mesh, color_by=np.zeros(3))
     with pytest.raises(InputError, match=r"triangles must have shape"):
         plot_triangulation(mesh.points, np.zeros((2, 4), int))
+
+
+def test_plot_tetra_surface_quality_and_histogram(tmp_path):
+    from meshwright.plot.mesh_plot import plot_quality_histogram
+
+    pts = np.random.default_rng(0).random((60, 3))
+    spatial = pytest.importorskip("scipy.spatial")
+    tets = spatial.Delaunay(pts).simplices
+    p = pts[tets]
+    neg = np.linalg.det(p[:, 1:] - p[:, :1]) < 0
+    tets[neg, 0], tets[neg, 1] = tets[neg, 1], tets[neg, 0].copy()
+    mesh = Mesh(pts, {"tetra": tets})
+    ax = mesh.plot(path=tmp_path / "q.png", show_quality="min_dihedral", title="dihedrals")
+    assert ax.name == "3d" and len(ax.figure.axes) == 3  # surface, colour bar, histogram
+    assert_png(tmp_path / "q.png")
+    hist = plot_quality_histogram(mesh, "sliver_ratio", path=tmp_path / "h.png")
+    assert "sliver flag" in [t.get_text() for t in hist.get_legend().get_texts()][0]
+    assert_png(tmp_path / "h.png")
+    with pytest.raises(InputError, match="no quality measure 'min_angle'"):
+        mesh.plot(show_quality="min_angle")
+    with pytest.raises(InputError, match="color_by is for 2-D"):
+        mesh.plot(color_by="marker")
+    with pytest.raises(InputError, match="bins must be"):
+        plot_quality_histogram(mesh, bins=0)

@@ -83,3 +83,36 @@ def test_brio_small_inputs():
 def test_bits_validated():
     with pytest.raises(InputError, match="bits"):
         hilbert_order(np.zeros((3, 2)), bits=40)
+
+
+def test_hilbert_keys_3d_visit_every_cell_once_along_adjacent_cells():
+    # On a full 2**b cube grid the 3-D keys are a bijection onto range(8**b) and consecutive
+    # keys belong to face-adjacent cells.
+    b = 3
+    k = 1 << b
+    g = np.stack(np.meshgrid(*[np.arange(k, dtype=float)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    keys = hilbert_keys(g, b)
+    assert np.array_equal(np.sort(keys), np.arange(k**3))
+    path = g[np.argsort(keys)]
+    assert np.all(np.abs(np.diff(path, axis=0)).sum(axis=1) == 1.0)
+    assert tuple(path[0]) == (0.0, 0.0, 0.0)
+
+
+def test_brio_order_3d_is_a_local_permutation():
+    pts = np.random.default_rng(2).random((20000, 3))
+    order = brio_order(pts, np.random.default_rng(0))
+    assert _is_permutation(order, len(pts))
+    last = order[len(pts) // 2 :]  # the last round is Hilbert-sorted: short steps
+    assert _mean_step(pts, last) < 0.25 * _mean_step(pts, np.arange(len(pts)))
+    assert _is_permutation(hilbert_order(pts), len(pts))
+
+
+@pytest.mark.parametrize("bad", [np.zeros((3, 4)), np.zeros(5)])
+def test_spatial_sort_rejects_other_shapes(bad):
+    with pytest.raises(InputError, match="shape"):
+        brio_order(bad, np.random.default_rng(0))
+
+
+def test_3d_bits_limit():
+    with pytest.raises(InputError, match="bits"):
+        hilbert_order(np.zeros((3, 3)), bits=20)

@@ -225,9 +225,11 @@ def test_refine_square_hole_quality():
 @pytest.mark.parametrize("name", sorted(g.BUILTIN_DOMAINS))
 def test_builtin_domains(name, method):
     dom = g.builtin(name)
-    mesh = mw.triangulate(dom, method=method, min_angle=30)
+    # Every method but the front honours min_angle (the frontal ones by a last refinement pass).
+    angle = None if method == "front" else 30
+    mesh = mw.triangulate(dom, method=method, min_angle=angle)
     straight = name in ("rectangle", "l-shape")
-    check(mesh, dom, min_angle=30 if method == "delaunay" else None, straight=straight)
+    check(mesh, dom, min_angle=angle, straight=straight)
 
 
 @pytest.mark.parametrize("method", METHODS)
@@ -322,14 +324,18 @@ def star_polygons(draw):
     if gaps.min() < 0.05 or gaps.max() > 0.9 * math.pi:
         angles = np.linspace(0, 2 * math.pi, n, endpoint=False)
     radii = np.array(draw(st.lists(st.floats(0.3, 1.0), min_size=n, max_size=n)))
-    return np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
+    xy = np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
+    # Magnitudes such as sin(1e-196) lie below the predicates' exact range, which the door
+    # refuses (test_doors.py): flush them to zero, as test_delaunay's strategies do.
+    return np.where(np.abs(xy) < 1e-30, 0.0, xy)
 
 
 @settings(deadline=None)
 @given(star_polygons(), st.sampled_from(METHODS))
 def test_hypothesis_star_polygons(poly, method):
     dom = g.polygon(poly)
-    mesh = mw.triangulate(dom, size=0.15, method=method, min_angle=25)
+    angle = None if method == "front" else 25
+    mesh = mw.triangulate(dom, size=0.15, method=method, min_angle=angle)
     check(mesh, dom, straight=True)
 
 
@@ -364,7 +370,7 @@ def test_cli_mesh(tmp_path, capsys):
     assert "triangle" in mesh.cells
     text = capsys.readouterr().out
     assert "min_angle" in text
-    assert main(["mesh", str(tmp_path / "missing.poly"), "-o", str(out)]) == 1
+    assert main(["mesh", str(tmp_path / "missing.poly"), "-o", str(out)]) == 2
 
 
 # ---------------------------------------------------------------------------- frontal Delaunay
@@ -432,7 +438,7 @@ def test_interior_segment_between_loop_vertices_splits_regions():
     assert np.sum(np.abs(np.diff(mesh.points[lines[on]][:, :, 1], axis=1))) == pytest.approx(1.0, rel=1e-12)
 
 
-@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("method", [k for k, m in mw.MESH_METHODS.items() if m.reports_progress])
 def test_progress_bar_does_not_change_the_mesh(method):
     quiet = mw.triangulate("circle", 0.1, method=method)
     shown = mw.triangulate("circle", 0.1, method=method, progress=True)

@@ -6,6 +6,8 @@ their forming points, ridges on bisectors, cells convex, counter-clockwise and n
 own point, clipped areas summing to the clip region, and agreement with scipy/Qhull.
 """
 
+from fractions import Fraction
+
 import numpy as np
 import pytest
 from hypothesis import assume, given
@@ -350,6 +352,9 @@ def test_bad_points():
         voronoi(pts)
     with pytest.raises(InputError, match="shape"):
         voronoi(np.zeros((5, 3)))
+    for seed in (-1, 1.5, "0", True):
+        with pytest.raises(InputError, match="seed"):
+            voronoi(random_points(10, seed=0), seed=seed)
 
 
 @pytest.mark.parametrize(
@@ -391,6 +396,84 @@ def test_bad_triangulation_and_index():
         vor.cell(10)
     with pytest.raises(InputError, match="not unbounded"):
         vor.cell_rays(int(np.flatnonzero(vor.bounded)[0]))
+
+
+def _exact_circumcentre(a, b, c):
+    """The circumcentre by Cramer's rule on |x - a|^2 = |x - b|^2 = |x - c|^2, in rationals."""
+    (ax, ay), (bx, by), (cx, cy) = ((Fraction(float(x)), Fraction(float(y))) for x, y in (a, b, c))
+    # 2 (b - a) . x = |b|^2 - |a|^2, 2 (c - a) . x = |c|^2 - |a|^2
+    m11, m12, r1 = 2 * (bx - ax), 2 * (by - ay), bx * bx + by * by - ax * ax - ay * ay
+    m21, m22, r2 = 2 * (cx - ax), 2 * (cy - ay), cx * cx + cy * cy - ax * ax - ay * ay
+    det = m11 * m22 - m12 * m21
+    return (r1 * m22 - m12 * r2) / det, (m11 * r2 - r1 * m21) / det
+
+
+@pytest.mark.parametrize(
+    "pts",
+    [
+        # Float area exactly 0 (the products round to 1), exact area 2**-104.
+        [(0.0, 0.0), (1.0, 1.0 - 2.0**-52), (1.0 + 2.0**-52, 1.0)],
+        # The same far from the origin, and a float area with no correct digit.
+        [(1e6, 1e6), (1e6 + 1.0, 1e6 + 1.0 - 2.0**-33), (1e6 + 1.0 + 2.0**-33, 1e6 + 1.0)],
+        [(0.0, 0.0), (3.0, 1.0 + 2.0**-51), (6.0 + 2.0**-50, 2.0 + 3 * 2.0**-51)],
+    ],
+)
+def test_float_zero_area_triangle_gives_the_exact_circumcentre(pts):
+    pts = np.array(pts)
+    vor = voronoi(pts)
+    assert vor.forming_points.shape == (1, 3)
+    assert np.isfinite(vor.vertices).all()
+    ex, ey = _exact_circumcentre(*pts[vor.forming_points[0]])
+    # Correctly rounded: the exact centre rounded once.
+    assert tuple(vor.vertices[0]) == (float(ex), float(ey))
+
+
+def test_thin_hull_triangles_give_accurate_vertices():
+    # A slightly bent diagonal line above a cloud: its hull triangles are so flat that the
+    # float area has lost most digits (the plain formula is off by about 1 % here).
+    x = np.linspace(0.0, 1.0, 60)
+    line = np.column_stack([x, x + 1e-12 * x * x])
+    pts = np.vstack([line, random_points(40, seed=3) * [1.0, 0.5] + [0.5, 0.0]])
+    vor = voronoi(pts)
+    for t, (a, b, c) in enumerate(pts[vor.forming_points]):
+        ex, ey = (float(v) for v in _exact_circumcentre(a, b, c))
+        r = np.hypot(ex - a[0], ey - a[1])
+        assert np.hypot(vor.vertices[t, 0] - ex, vor.vertices[t, 1] - ey) <= 1e-12 * r
+
+
+@pytest.mark.parametrize("value, index", [(1e-290, 4), (3e60, 7), (-2.0**201, 2)])
+def test_coordinates_outside_the_exact_range(value, index):
+    pts = random_points(10, seed=5)
+    pts[index, 1] = value
+    with pytest.raises(InputError, match=f"point {index} .*range"):
+        voronoi(pts)
+
+    class Given:
+        points = pts
+        triangles = np.array([[0, 1, 2]])
+        neighbors = np.array([[-1, -1, -1]])
+
+    with pytest.raises(InputError, match=f"point {index} .*range"):
+        voronoi(Given())
+    # Zero is in range, and so are the range's ends.
+    pts[index] = (0.0, 2.0**-148)
+    pts[(index + 1) % 10] = (2.0**200, -(2.0**200))
+    assert np.isfinite(voronoi(pts).vertices).all()
+
+
+def test_supplied_triangles_must_be_counter_clockwise():
+    class Given:
+        points = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [2.0, 2.0], [0.5, 0.5]])
+        triangles = np.array([[0, 1, 2], [1, 3, 2]])
+        neighbors = np.array([[1, -1, -1], [-1, 0, -1]])
+
+    voronoi(Given())
+    Given.triangles = np.array([[0, 1, 2], [1, 2, 3]])
+    with pytest.raises(InputError, match=r"triangle 1 is not strictly counter-clockwise.*point.* 3 \(2, 2\)"):
+        voronoi(Given())
+    Given.triangles = np.array([[0, 1, 2], [1, 4, 2]])  # 4 lies on edge 1-2: zero area
+    with pytest.raises(InputError, match="triangle 1 is not strictly counter-clockwise"):
+        voronoi(Given())
 
 
 # --------------------------------------------------------------------------- plot

@@ -4,8 +4,10 @@ The public API is re-exported here; everything else is private kernels over flat
 
 >>> import meshwright as mw
 >>> tri = mw.delaunay(points)                 # Bowyer (default) or Watson, exact predicates
+>>> tet = mw.delaunay(points3d)               # (n, 3) points: a Tetrahedralization
 >>> vor = mw.voronoi(points, clip=(0, 0, 1, 1))
 >>> mesh = mw.triangulate(mw.geometry.naca("0012"), size=0.02, min_angle=30, smooth=5)
+>>> quads = mw.quadrangulate("three-element", method="quadtree")   # all-quad
 >>> mesh = tri.to_mesh(); mesh.validate(); mesh.write("out.vtu")
 """
 
@@ -25,7 +27,10 @@ from meshwright.core.mesh import Mesh
 from meshwright.core.quality import QualityReport
 from meshwright.geometry import Domain
 from meshwright.io import read, read_points
-from meshwright.tri import DELAUNAY_ALGORITHMS, MESH_METHODS, Triangulation, delaunay, triangulate
+from meshwright._api import delaunay
+from meshwright.tet import Tetrahedralization
+from meshwright.tri import DELAUNAY_ALGORITHMS, MESH_METHODS, Triangulation, triangulate
+from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.tri.smoothing import smooth
 from meshwright.tri.voronoi import Voronoi, voronoi
 
@@ -37,11 +42,14 @@ __all__ = [
     "QualityReport",
     "Domain",
     "Triangulation",
+    "Tetrahedralization",
     "Voronoi",
     "DELAUNAY_ALGORITHMS",
     "MESH_METHODS",
+    "QUAD_METHODS",
     "delaunay",
     "triangulate",
+    "quadrangulate",
     "voronoi",
     "smooth",
     "read",

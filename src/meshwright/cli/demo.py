@@ -77,7 +77,7 @@ def run(args) -> int:
         ("three-element", "frontal-delaunay", 0),
     ):
         with Timer() as t:
-            mesh = triangulate(builtin(name), method=method, smooth=smooth, min_angle=30)
+            mesh = triangulate(builtin(name), method=method, smooth=smooth)
         mesh.validate()
         stem = out / f"{name}-{method}"
         mesh.write(str(stem.with_suffix(".vtu")))

@@ -22,6 +22,8 @@ from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
 from meshwright.sizing import BackgroundGrid
 from meshwright.tri import MESH_METHODS, triangulate
+from meshwright.tri.mesher import DEFAULT_MAX_POINTS
+from meshwright.tri.weatherill import DEFAULT_ALPHA
 
 NAME = "mesh"
 HELP = "quality triangle mesh of a .poly file, a JSON geometry file or a built-in domain"
@@ -51,7 +53,16 @@ def add_arguments(parser) -> None:
         metavar="DEG",
         help="stretching direction in degrees from the x axis (default 0; only with --stretch)",
     )
-    parser.add_argument("--min-angle", type=float, default=30.0, metavar="A", help="minimum angle in degrees")
+    parser.add_argument(
+        "--min-angle",
+        type=float,
+        metavar="A",
+        help="minimum angle in degrees; default per method: "
+        + ", ".join(
+            f"{m.name} {m.default_min_angle:g} (up to {m.max_min_angle:g})" if m.max_min_angle else f"{m.name} none"
+            for m in MESH_METHODS.values()
+        ),
+    )
     parser.add_argument(
         "--method",
         choices=sorted(MESH_METHODS),
@@ -60,6 +71,18 @@ def add_arguments(parser) -> None:
     )
     parser.add_argument("--smooth", type=int, default=0, metavar="N", help="spring-analogy smoothing passes")
     parser.add_argument("--max-area", type=float, metavar="A", help="largest triangle area")
+    parser.add_argument(
+        "--max-points",
+        type=int,
+        metavar="N",
+        help=f"cap on the mesh's vertices (default {DEFAULT_MAX_POINTS}); a size needing more is refused at once",
+    )
+    parser.add_argument(
+        "--alpha",
+        type=float,
+        metavar="ALPHA",
+        help=f"Weatherill's density coefficient (--method weatherill only; default {DEFAULT_ALPHA}): smaller is denser",
+    )
     parser.add_argument(
         "--conforming", action="store_true", help="split segments until every triangle is Delaunay (Triangle's -D)"
     )
@@ -83,11 +106,12 @@ def load_input(spec: str):
             f"{spec}: no such file, and not a built-in domain ({', '.join(sorted(BUILTIN_DOMAINS))})"
         )
     suffix = path.suffix.lower()
-    if suffix == ".poly":
-        return read_poly(path)
-    if suffix == ".json":
-        return load_domain(path)
-    raise FormatError(f"{spec}: unknown input kind {suffix!r}; expected .poly or .json")
+    if suffix not in (".poly", ".json"):
+        raise FormatError(f"{spec}: unknown input kind {suffix!r}; expected .poly or .json")
+    try:
+        return read_poly(path) if suffix == ".poly" else load_domain(path)
+    except UnicodeDecodeError as exc:
+        raise FormatError(f"{spec}: not UTF-8 text (byte {exc.start}: {exc.reason})") from exc
 
 
 def stretched_background(domain, size, stretch, direction):
@@ -131,7 +155,12 @@ def _size_option(args, domain):
     if args.stretch is None:
         if args.direction is not None:
             raise InputError(f"--direction {args.direction:g} needs --stretch S")
-        return BackgroundGrid.read(args.background) if args.background else args.size
+        if not args.background:
+            return args.size
+        try:
+            return BackgroundGrid.read(args.background)
+        except UnicodeDecodeError as exc:
+            raise FormatError(f"{args.background}: not UTF-8 text (byte {exc.start}: {exc.reason})") from exc
     if args.background:
         raise InputError(
             f"--background {args.background} and --stretch {args.stretch:g} are mutually exclusive: "
@@ -153,8 +182,11 @@ def run(args) -> int:
             max_area=args.max_area,
             seed=args.seed,
             conforming=args.conforming,
-            # A bar only helps a person watching a terminal; logs stay clean.
-            progress=sys.stderr.isatty(),
+            max_points=args.max_points,
+            alpha=args.alpha,
+            # A bar only helps a person watching a terminal; logs stay clean.  Methods that
+            # report no progress would refuse progress=True.
+            progress=sys.stderr.isatty() and MESH_METHODS[args.method].reports_progress,
         )
     print(f"{args.method}: {len(mesh.cells['triangle'])} triangles in {t.elapsed:.3f} s")
     emit_mesh(mesh, args, "mesh")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from meshwright.cli._common import Timer, ensure_parent
-from meshwright.core.errors import InputError
+from meshwright.core.errors import FormatError, InputError
 from meshwright.io import read_points
 from meshwright.tri.voronoi import voronoi
 
@@ -44,10 +44,12 @@ def ridge_mesh(vor):
 
 
 def run(args) -> int:
-    points = read_points(args.input)[:, :2]
+    points = read_points(args.input)
+    if points.shape[1] != 2:
+        raise FormatError(f"{args.input}: {points.shape[1]} coordinates per point; the Voronoi diagram is 2-D (x y)")
     clip = tuple(args.clip) if args.clip else None
-    if clip is not None and not (clip[0] < clip[2] and clip[1] < clip[3]):
-        raise InputError(f"--clip box {clip} must have XMIN < XMAX and YMIN < YMAX")
+    if clip is not None and not (np.isfinite(clip).all() and clip[0] < clip[2] and clip[1] < clip[3]):
+        raise InputError(f"--clip box {clip} must be finite with XMIN < XMAX and YMIN < YMAX")
     with Timer() as t:
         vor = voronoi(points, clip=clip)
     n_bounded = int(np.count_nonzero(vor.bounded))

@@ -27,7 +27,24 @@ __all__ = [
     "MeshingError",
     "ValidationError",
     "FormatError",
+    "fmt_point",
 ]
+
+
+def fmt_point(p) -> str:
+    """Coordinates for error messages: ``(x, y)`` or ``(x, y, z)`` with round-trip precision.
+
+    Parameters
+    ----------
+    p : (d,) array_like of float
+        One point of any dimension.
+
+    Returns
+    -------
+    str
+        ``"(" + ", ".join(...) + ")"``; ``float(s)`` of each entry gives the coordinate back.
+    """
+    return "(" + ", ".join(f"{float(x):.17g}" for x in p) + ")"
 
 
 class MeshwrightError(Exception):

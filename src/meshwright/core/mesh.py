@@ -471,7 +471,7 @@ class Mesh:
         return facets[count == 1].astype(np.int32)
 
     # ----------------------------------------------------------------- validation
-    def validate(self, check_delaunay: bool = False) -> None:
+    def validate(self, check_delaunay: bool = False, allow_nonconvex: bool = False) -> None:
         """Raise :class:`ValidationError` on the first defect found; return None if valid.
 
         Checks, in order: every vertex used by a cell; no two vertices with identical
@@ -490,13 +490,20 @@ class Mesh:
             Also require every interior edge of the triangles of a 2-D mesh to be locally
             Delaunay (exact ``incircle``; cocircular quadruples pass).  Interior edges
             that are ``line`` cells are constraints and exempt (constrained Delaunay).
+            Tetrahedral meshes: every interior face (exact ``insphere``); tetrahedra
+            also get the checks of :mod:`meshwright.core.validate3d` (closed manifold
+            boundary, enclosed volume equal to the tets' volume).
+        allow_nonconvex : bool
+            Accept 2-D quads that are simple and counter-clockwise but not convex (see
+            :mod:`meshwright.core.validate_quad`) instead of requiring a strictly
+            positive Jacobian at every corner.
 
         Raises
         ------
         ValidationError
             Naming the first defect: cell type and index, vertex indices, coordinates.
         InputError
-            ``check_delaunay`` on a mesh without 2-D triangles.
+            ``check_delaunay`` on a mesh without 2-D triangles or tetrahedra.
         """
         if self.n_points == 0:
             raise ValidationError("mesh has no points")
@@ -504,13 +511,23 @@ class Mesh:
         _check_duplicate_points(self.points)
         for cell_type, block in self.cells.items():
             _check_repeated_vertices(cell_type, block)
+        if not isinstance(allow_nonconvex, (bool, np.bool_)):
+            raise InputError(f"allow_nonconvex must be True or False, got {allow_nonconvex!r}")
         top = _top_types(self)
-        if top and CELL_DIMS[top[0]] == self.dim:
+        if top and CELL_DIMS[top[0]] == self.dim and allow_nonconvex and self.dim == 2:
+            from meshwright.core.validate_quad import check_orientation_nonconvex
+
+            check_orientation_nonconvex(self)
+        elif top and CELL_DIMS[top[0]] == self.dim:
             _check_orientation(self)
         if top:
             _check_conformity(self, top)
             _check_embedded(self, top)
-        if check_delaunay:
+        if self.dim == 3 and len(self.tetra):
+            from meshwright.core.validate3d import check_tetra
+
+            check_tetra(self, check_delaunay)  # closed boundary, enclosed volume, Delaunay
+        elif check_delaunay:
             _check_delaunay(self)
 
     # ----------------------------------------------------------------- delegation

@@ -5,7 +5,10 @@ per-element Python loop).  Conventions:
 
 * angles are in degrees;
 * radius ratios are normalised to 1 for the equilateral triangle (``2 r / R``) and the
-  regular tetrahedron (``3 r / R``) and tend to 0 for degenerate elements;
+  regular tetrahedron (``3 r / R``) and tend to 0 for degenerate elements; the
+  chapter's sliver ratio ``a = r / R`` of a tetrahedron (Cavendish, Field and Frey 1985,
+  as quoted in section 18.1.1) is kept unnormalised: 1/3 for the regular tetrahedron,
+  below 0.01 for what the chapter calls a sliver;
 * areas, volumes, radius ratios and scaled Jacobians are *signed*: an inverted
   (clockwise) element shows a negative value instead of hiding behind an absolute value.
 
@@ -15,8 +18,10 @@ Measure names (keys of the per-block dictionaries):
 cell type     measures
 ============  ===================================================================
 triangle      min_angle, max_angle, radius_ratio, edge_ratio, area
-quad          min_angle, max_angle, edge_ratio, scaled_jacobian, area
-tetra         radius_ratio, min_dihedral, max_dihedral, edge_ratio, volume
+quad          min_angle, max_angle, edge_ratio, scaled_jacobian, aspect_ratio,
+              skew, area
+tetra         radius_ratio, sliver_ratio, radius_edge_ratio, min_dihedral,
+              max_dihedral, edge_ratio, volume
 ============  ===================================================================
 """
 
@@ -133,7 +138,12 @@ def quad_quality(points: np.ndarray, quads: np.ndarray) -> dict[str, np.ndarray]
         ``min_angle``, ``max_angle`` (interior corner angles in degrees; a reflex corner
         exceeds 180), ``edge_ratio`` (longest / shortest edge), ``scaled_jacobian``
         (smallest corner sine, 1 for a rectangle, <= 0 for an inverted or non-convex
-        quad) and ``area`` (shoelace; signed in 2-D).
+        quad), ``aspect_ratio`` (longest edge times perimeter over four times the area,
+        1 for a square; the Verdict library's quad aspect ratio, C. Stimpson et al., "The
+        Verdict geometric quality library", Sandia report SAND2007-1751), ``skew`` (the
+        absolute cosine between the two unit principal axes ``(p1 - p0) + (p2 - p3)`` and
+        ``(p2 - p1) + (p3 - p0)``, 0 for a rectangle, also Verdict's) and ``area``
+        (shoelace; signed in 2-D).
     """
     dim = np.asarray(points).shape[1]
     p = _as_xyz(points)[np.asarray(quads, dtype=np.int64)]  # (m, 4, 3)
@@ -160,11 +170,18 @@ def quad_quality(points: np.ndarray, quads: np.ndarray) -> dict[str, np.ndarray]
     area = 0.5 * _signed_normal_component(
         np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]), dim, None if normal is None else normal[:, 0]
     )
+    axis1 = (p[:, 1] - p[:, 0]) + (p[:, 2] - p[:, 3])
+    axis2 = (p[:, 2] - p[:, 1]) + (p[:, 3] - p[:, 0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        aspect = length.max(axis=1) * length.sum(axis=1) / (4.0 * area)
+        skew = np.abs(np.einsum("mi,mi->m", axis1, axis2)) / (_norm(axis1) * _norm(axis2))
     return {
         "min_angle": angles.min(axis=1),
         "max_angle": angles.max(axis=1),
         "edge_ratio": edge_ratio,
         "scaled_jacobian": scaled.min(axis=1),
+        "aspect_ratio": np.where(area > 0.0, aspect, np.inf),
+        "skew": np.nan_to_num(skew, nan=1.0),
         "area": area,
     }
 
@@ -190,11 +207,18 @@ def tetra_quality(points: np.ndarray, tets: np.ndarray) -> dict[str, np.ndarray]
     Returns
     -------
     dict of str to (m,) float64
-        ``radius_ratio`` (3 r / R, 1 for the regular tetrahedron), ``min_dihedral`` and
-        ``max_dihedral`` (degrees), ``edge_ratio`` (longest / shortest edge), ``volume``
-        (signed).
+        ``radius_ratio`` (3 r / R, 1 for the regular tetrahedron), ``sliver_ratio``
+        (the chapter's a = r / R: 1/3 for the regular tetrahedron, < 0.01 flags a
+        sliver), ``radius_edge_ratio`` (R / shortest edge: sqrt(6)/4 = 0.612 for the
+        regular tetrahedron, large for needles and caps, *not* for slivers),
+        ``min_dihedral`` and ``max_dihedral`` (interior dihedral angles in degrees),
+        ``edge_ratio`` (longest / shortest edge), ``volume`` (signed).  The radius ratios
+        carry the sign of the volume; a zero-volume tetrahedron has radius ratios 0 and
+        an infinite radius-edge ratio.
     """
     p = np.asarray(points, dtype=np.float64)[np.asarray(tets, dtype=np.int64)]  # (m, 4, 3)
+    # Measured relative to the centroid: less cancellation for tets far from the origin.
+    p = p - p.mean(axis=1, keepdims=True)
     u, v, w = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]
     vxw, wxu, uxv = np.cross(v, w), np.cross(w, u), np.cross(u, v)
     det = np.einsum("mi,mi->m", u, vxw)  # 6 V
@@ -204,23 +228,25 @@ def tetra_quality(points: np.ndarray, tets: np.ndarray) -> dict[str, np.ndarray]
     normals = np.cross(f[:, :, 1] - f[:, :, 0], f[:, :, 2] - f[:, :, 0])
     face_area2 = _norm(normals)  # (m, 4)
     lu, lv, lw = (np.einsum("mi,mi->m", x, x) for x in (u, v, w))
+    edges = _norm(p[:, _TET_EDGES[:, 1]] - p[:, _TET_EDGES[:, 0]])
+    flat = det == 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
         # Circumcentre relative to p0: (|u|^2 v x w + |v|^2 w x u + |w|^2 u x v) / (2 det).
         centre = (lu[:, None] * vxw + lv[:, None] * wxu + lw[:, None] * uxv) / (2.0 * det[:, None])
         big_r = _norm(centre)
         small_r = 3.0 * volume / (0.5 * face_area2.sum(axis=1))  # r = 3V / total face area
-        radius_ratio = np.where(det != 0.0, 3.0 * small_r / big_r, 0.0)
-        unit = normals / face_area2[..., None]
-        cos_normals = np.einsum(
-            "mki,mki->mk", unit[:, _TET_EDGE_FACES[:, 0]], unit[:, _TET_EDGE_FACES[:, 1]]
-        )
-        # The interior dihedral angle is pi minus the angle between outward normals.
-        dihedral = 180.0 - np.degrees(np.arccos(np.clip(cos_normals, -1.0, 1.0)))
-        edges = _norm(p[:, _TET_EDGES[:, 1]] - p[:, _TET_EDGES[:, 0]])
+        sliver_ratio = np.where(flat, 0.0, small_r / big_r)
+        radius_edge_ratio = np.where(flat, np.inf, big_r / edges.min(axis=1))
+        # Interior dihedral angle = pi minus the angle between the two outward normals;
+        # atan2 of |n1 x n2| and n1 . n2 stays accurate near 0 and 180 degrees.
+        n1, n2 = normals[:, _TET_EDGE_FACES[:, 0]], normals[:, _TET_EDGE_FACES[:, 1]]
+        between = np.arctan2(_norm(np.cross(n1, n2)), np.einsum("mki,mki->mk", n1, n2))
+        dihedral = 180.0 - np.degrees(between)
         edge_ratio = edges.max(axis=1) / edges.min(axis=1)
-    dihedral = np.nan_to_num(dihedral, nan=0.0)
     return {
-        "radius_ratio": np.nan_to_num(radius_ratio, nan=0.0),
+        "radius_ratio": 3.0 * np.nan_to_num(sliver_ratio, nan=0.0),
+        "sliver_ratio": np.nan_to_num(sliver_ratio, nan=0.0),
+        "radius_edge_ratio": np.where(np.isnan(radius_edge_ratio), np.inf, radius_edge_ratio),
         "min_dihedral": dihedral.min(axis=1),
         "max_dihedral": dihedral.max(axis=1),
         "edge_ratio": edge_ratio,

@@ -1,4 +1,4 @@
-"""Spatial sorting of 2-D points: Hilbert-curve order and biased randomized insertion order.
+"""Spatial sorting of 2-D and 3-D points: Hilbert-curve order and biased randomized insertion order.
 
 Incremental Delaunay insertion is fast when consecutive points are close (the point
 location walk is short and the touched triangles are still in cache) and robustly fast
@@ -8,6 +8,8 @@ Sources
 -------
 * D. Hilbert, "Über die stetige Abbildung einer Linie auf ein Flächenstück",
   Mathematische Annalen 38:459-460, 1891: the space-filling curve.
+* J. Skilling, "Programming the Hilbert curve", AIP Conference Proceedings 707:381-387,
+  2004: the transpose form of the d-dimensional curve, used for 3-D points.
 * N. Amenta, S. Choi and G. Rote, "Incremental constructions con BRIO", Proc. 19th ACM
   Symposium on Computational Geometry, 211-219, 2003: biased randomized insertion order.
 
@@ -23,6 +25,11 @@ selects one of four sub-squares, visited in the order::
       ry=0 | 0 | 3 |      quadrants 0 and 3 are transposed (3 also mirrored)
              rx=0 rx=1    so that the sub-curves join end to end.
 
+In 3-D each axis is quantised the same way and Skilling's algorithm turns the cell
+coordinates into the "transposed" Hilbert index (inverse undo of the excess work, Gray
+encoding), whose bits interleaved from the most significant down are the index along the
+curve; consecutive indices are face-adjacent cells.  The 2-D keys are unchanged.
+
 The permutation is a stable argsort of the keys, so equal cells keep their input order.
 
 BRIO
@@ -35,7 +42,7 @@ order in one argsort.
 
 Arrays
 ------
-points : (n, 2) float64, finite.  Keys : (n,) int64 in ``[0, 4**bits)``.
+points : (n, 2) or (n, 3) float64, finite.  Keys : (n,) int64 in ``[0, 2**(d bits))``.
 Permutations : (n,) int64, ``points[order]`` is the sorted sequence.
 """
 
@@ -47,6 +54,61 @@ from numba import njit
 __all__ = ["hilbert_keys", "hilbert_order", "brio_order"]
 
 _MAX_BITS = 26  # 2 * 26 key bits plus the round number still fit in an int64
+_MAX_BITS_3D = 19  # 3 * 19 key bits plus the round number still fit in an int64
+
+
+@njit(cache=True)
+def _hilbert_keys_3d(points, bits):
+    """Hilbert index of every 3-D point (Skilling's transpose algorithm), see the module docstring."""
+    n = points.shape[0]
+    keys = np.zeros(n, dtype=np.int64)
+    if n == 0:
+        return keys
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for a in range(3):
+        lo[a] = points[0, a]
+        hi[a] = points[0, a]
+    for i in range(1, n):
+        for a in range(3):
+            lo[a] = min(lo[a], points[i, a])
+            hi[a] = max(hi[a], points[i, a])
+    side = 1 << bits
+    top = side - 1
+    sc = np.empty(3)
+    for a in range(3):
+        sc[a] = 0.0 if hi[a] == lo[a] else side / (hi[a] - lo[a])
+    x = np.empty(3, dtype=np.int64)
+    for i in range(n):
+        for a in range(3):
+            x[a] = min(np.int64((points[i, a] - lo[a]) * sc[a]), top)
+        q = np.int64(1) << (bits - 1)
+        while q > 1:
+            p = q - 1
+            for a in range(3):
+                if x[a] & q:
+                    x[0] ^= p
+                else:
+                    t = (x[0] ^ x[a]) & p
+                    x[0] ^= t
+                    x[a] ^= t
+            q >>= 1
+        x[1] ^= x[0]
+        x[2] ^= x[1]
+        t = np.int64(0)
+        q = np.int64(1) << (bits - 1)
+        while q > 1:
+            if x[2] & q:
+                t ^= q - 1
+            q >>= 1
+        for a in range(3):
+            x[a] ^= t
+        d = np.int64(0)
+        for b in range(bits - 1, -1, -1):
+            for a in range(3):
+                d = (d << 1) | ((x[a] >> b) & 1)
+        keys[i] = d
+    return keys
 
 
 @njit(cache=True)
@@ -55,16 +117,18 @@ def hilbert_keys(points, bits):
 
     Parameters
     ----------
-    points : (n, 2) float64
+    points : (n, 2) or (n, 3) float64
         Finite coordinates.
     bits : int
-        Quantisation bits per axis, 1 to 26.
+        Quantisation bits per axis, 1 to 26 (2-D) or 19 (3-D).
 
     Returns
     -------
     (n,) int64
         Index of each point's cell along the Hilbert curve of order ``bits``.
     """
+    if points.shape[1] == 3:
+        return _hilbert_keys_3d(points, bits)
     n = points.shape[0]
     keys = np.zeros(n, dtype=np.int64)
     if n == 0:
@@ -106,13 +170,18 @@ def hilbert_keys(points, bits):
     return keys
 
 
-def _check_bits(bits: int) -> int:
+def _check(points, bits: int) -> tuple[np.ndarray, int]:
+    """The points as (n, 2) or (n, 3) float64 and ``bits`` checked for their dimension."""
     from meshwright.core.errors import InputError
 
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    if pts.ndim != 2 or pts.shape[1] not in (2, 3):
+        raise InputError(f"points must have shape (n, 2) or (n, 3), got {pts.shape}")
+    top = _MAX_BITS if pts.shape[1] == 2 else _MAX_BITS_3D
     bits = int(bits)
-    if not 1 <= bits <= _MAX_BITS:
-        raise InputError(f"bits must be in 1..{_MAX_BITS}, got {bits}")
-    return bits
+    if not 1 <= bits <= top:
+        raise InputError(f"bits must be in 1..{top} for {pts.shape[1]}-D points, got {bits}")
+    return pts, bits
 
 
 def hilbert_order(points, bits: int = 16) -> np.ndarray:
@@ -120,18 +189,19 @@ def hilbert_order(points, bits: int = 16) -> np.ndarray:
 
     Parameters
     ----------
-    points : (n, 2) array_like of float64
+    points : (n, 2) or (n, 3) array_like of float64
         Finite coordinates.
     bits : int, optional
-        Quantisation bits per axis (1 to 26); points in one cell keep their input order.
+        Quantisation bits per axis (1 to 26 in 2-D, 19 in 3-D); points in one cell keep
+        their input order.
 
     Returns
     -------
     (n,) int64
         ``points[order]`` follows the curve.
     """
-    pts = np.ascontiguousarray(points, dtype=np.float64)
-    return np.argsort(hilbert_keys(pts, _check_bits(bits)), kind="stable")
+    pts, bits = _check(points, bits)
+    return np.argsort(hilbert_keys(pts, bits), kind="stable")
 
 
 def brio_order(points, rng: np.random.Generator, min_round: int = 128, bits: int = 16) -> np.ndarray:
@@ -139,28 +209,27 @@ def brio_order(points, rng: np.random.Generator, min_round: int = 128, bits: int
 
     Parameters
     ----------
-    points : (n, 2) array_like of float64
+    points : (n, 2) or (n, 3) array_like of float64
         Finite coordinates.
     rng : numpy.random.Generator
         Source of the random round assignment; the order is a function of its state.
     min_round : int, optional
         Rounds expected to hold fewer points are merged into the first round.
     bits : int, optional
-        Hilbert quantisation bits per axis (1 to 26).
+        Hilbert quantisation bits per axis (1 to 26 in 2-D, 19 in 3-D).
 
     Returns
     -------
     (n,) int64
         Insertion order: a permutation of ``range(n)``.
     """
-    pts = np.ascontiguousarray(points, dtype=np.float64)
-    bits = _check_bits(bits)
+    pts, bits = _check(points, bits)
     n = pts.shape[0]
     keys = hilbert_keys(pts, bits)
     rounds = max(1, int(np.floor(np.log2(max(n, 1) / max(int(min_round), 1)))) + 1)
     if rounds > 1:
         # geometric(1/2) = 1 with probability 1/2 (last round), 2 with 1/4, ...
         back = np.minimum(rng.geometric(0.5, size=n), rounds)
-        keys |= (rounds - back) << (2 * bits)
+        keys |= (rounds - back) << (pts.shape[1] * bits)
         del back
     return np.argsort(keys, kind="stable")

@@ -38,6 +38,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 
 from meshwright.core.errors import GeometryError, InputError
+from meshwright.core.errors import fmt_point as _fmt
 from meshwright.geometry._kernels import nearest_segment
 
 __all__ = ["Curve", "Line", "Arc", "Polyline", "Parametric", "Spline"]
@@ -47,11 +48,6 @@ _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 _ARC_FINE_STEP = _TWO_PI / 256  # sagitta below 8e-5 of the radius
 _TABLE_TOL = 1e-4  # chordal deviation of parametric tables, relative to the length
 _TABLE_MAX = 16385
-
-
-def _fmt(p) -> str:
-    """Coordinates for messages: ``(x, y)`` with round-trip precision."""
-    return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
 
 
 def _params(t) -> np.ndarray:

@@ -24,12 +24,14 @@ the loop, curve, segment and coordinates at fault.
 
 from __future__ import annotations
 
+import numbers
 from typing import NamedTuple
 
 import numpy as np
 
-from meshwright.core.errors import GeometryError, InputError
+from meshwright.core.errors import GeometryError, InputError, fmt_point
 from meshwright.core.predicates import orient2d
+from meshwright.core.validate_input import check_coordinate_range
 from meshwright.geometry._discretize import interior_seed, place_params, unique_rows
 from meshwright.geometry._kernels import (
     INSIDE,
@@ -38,7 +40,7 @@ from meshwright.geometry._kernels import (
     find_bad_pairs,
     nearest_segment,
 )
-from meshwright.geometry.curves import Curve, Line, Polyline, _fmt
+from meshwright.geometry.curves import Curve, Line, Polyline
 from meshwright.sizing.field import as_size_field
 
 __all__ = ["Domain", "Discretization"]
@@ -111,10 +113,20 @@ def _as_chain(item, what: str) -> tuple[Curve, ...]:
 
 
 def _region(r, i: int) -> tuple[float, float, int, float | None]:
-    if len(r) not in (3, 4):
-        raise InputError(f"region {i} must be (x, y, marker[, max_area]), got {r!r}")
-    x, y, marker = float(r[0]), float(r[1]), int(r[2])
-    area = None if len(r) == 3 or r[3] is None else float(r[3])
+    """One region row ``(x, y, marker[, max_area])`` checked entry by entry."""
+    if isinstance(r, (str, bytes)) or not hasattr(r, "__len__") or len(r) not in (3, 4):
+        raise InputError(f"region {i} must be a row (x, y, marker[, max_area]), got {r!r}")
+    for k, name in enumerate(("x", "y", "marker")):
+        if isinstance(r[k], (bool, np.bool_)) or not isinstance(r[k], numbers.Real):
+            raise InputError(f"region {i} {name} must be a number, got {r[k]!r} ({type(r[k]).__name__})")
+    x, y = float(r[0]), float(r[1])
+    if not float(r[2]).is_integer():
+        raise InputError(f"region {i} marker must be an integer, got {r[2]!r}")
+    marker = int(r[2])
+    area = None if len(r) == 3 or r[3] is None else r[3]
+    if area is not None and (isinstance(area, (bool, np.bool_)) or not isinstance(area, numbers.Real)):
+        raise InputError(f"region {i} max_area must be a number or None, got {area!r} ({type(area).__name__})")
+    area = None if area is None else float(area)
     if not (np.isfinite(x) and np.isfinite(y)):
         raise GeometryError(f"region {i} seed has non-finite coordinates ({x}, {y})")
     if area is not None and not (np.isfinite(area) and area > 0):
@@ -137,7 +149,7 @@ class Domain:
     points : (p, 2) array_like, optional
         Interior points that must become mesh vertices.
     regions : sequence of (x, y, marker, max_area_or_None)
-        Region seeds.
+        Region seeds: numbers, the marker integral, ``max_area`` positive or None.
     size : optional
         Suggested size (anything :func:`meshwright.sizing.as_size_field` accepts) used
         when a caller gives none, e.g. from a JSON geometry file.
@@ -160,6 +172,10 @@ class Domain:
     ------
     GeometryError
         If the domain is invalid (see :meth:`validate`).
+    InputError
+        Malformed arguments (a region row of the wrong length or types, named by index), or
+        coordinates outside the exact predicates' range
+        (:mod:`meshwright.core.validate_input`).
     """
 
     def __init__(self, outer, holes=(), *, segments=(), points=None, regions=(), size=None):
@@ -167,11 +183,19 @@ class Domain:
             _as_chain(h, f"hole {i}") for i, h in enumerate(holes)
         ]
         self.constraints = tuple(_as_chain(s, f"segment {i}") for i, s in enumerate(segments))
-        pts = np.zeros((0, 2)) if points is None else np.asarray(points, dtype=np.float64)
+        try:
+            pts = np.zeros((0, 2)) if points is None else np.asarray(points, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"points must be a (p, 2) array of numbers: {exc}") from None
         if pts.ndim != 2 or pts.shape[1] != 2:
             raise InputError(f"points must have shape (p, 2), got {pts.shape}")
         self.points = np.ascontiguousarray(pts.reshape(-1, 2))
+        check_coordinate_range(self.points, "interior points")
+        if isinstance(regions, (str, bytes)) or not hasattr(regions, "__iter__"):
+            raise InputError(f"regions must be a sequence of (x, y, marker[, max_area]) rows, got {regions!r}")
         self.regions = tuple(_region(r, i) for i, r in enumerate(regions))
+        if self.regions:
+            check_coordinate_range(np.array([r[:2] for r in self.regions]), "region seeds")
         self.size = None if size is None else as_size_field(size)
         self.validate()
 
@@ -229,8 +253,8 @@ class Domain:
                     ka, kb = cids.index(a), cids.index(b)
                     what = "is open" if b == cids[0] else "is broken"
                     raise GeometryError(
-                        f"{self._name(g)} {what}: curve {ka} ends at {_fmt(pa)} but curve {kb} "
-                        f"starts at {_fmt(pb)}"
+                        f"{self._name(g)} {what}: curve {ka} ends at {fmt_point(pa)} but curve {kb} "
+                        f"starts at {fmt_point(pb)}"
                     )
                 # Prefer the user's exact coordinates (lines, polylines) at corners, else
                 # the start of the next curve (a closed arc's seam sits at its theta0).
@@ -288,7 +312,7 @@ class Domain:
         g, cids = next((g, cids) for g, cids in self._groups if cid in cids)
         k = cids.index(cid)
         a, b = asm.points[asm.segments[s]]
-        return f"{self._name(g)} curve {k} segment {asm.seg_local[s]} {_fmt(a)}-{_fmt(b)}"
+        return f"{self._name(g)} curve {k} segment {asm.seg_local[s]} {fmt_point(a)}-{fmt_point(b)}"
 
     # -- validation ----------------------------------------------------------------------
     def validate(self) -> Domain:
@@ -336,6 +360,7 @@ class Domain:
                 fine_pts.append(p)
         self._join(fine_pts)
         asm = self._assemble(params, fine_pts)
+        check_coordinate_range(asm.points, "domain boundary")
         a, b = asm.points[asm.segments[:, 0]], asm.points[asm.segments[:, 1]]
         zero = np.flatnonzero((a == b).all(axis=1))
         if len(zero):
@@ -367,11 +392,11 @@ class Domain:
             groups = np.unique(asm.point_group[idx[inv[idx] == v]])
             if len(groups) == 1:
                 raise GeometryError(
-                    f"{self._name(groups[0])} passes twice through {_fmt(verts[v])} "
+                    f"{self._name(groups[0])} passes twice through {fmt_point(verts[v])} "
                     "(duplicate point or self-touching loop)"
                 )
             raise GeometryError(
-                f"{self._name(groups[0])} and {self._name(groups[1])} touch at {_fmt(verts[v])}"
+                f"{self._name(groups[0])} and {self._name(groups[1])} touch at {fmt_point(verts[v])}"
             )
 
     def _loop_segments(self, asm: _Assembly, groups) -> tuple[np.ndarray, np.ndarray]:
@@ -409,7 +434,7 @@ class Domain:
         if len(outside):
             h = outside[0] + 1
             raise GeometryError(
-                f"{self._name(h)} lies outside the outer loop (vertex {_fmt(first[h])})"
+                f"{self._name(h)} lies outside the outer loop (vertex {fmt_point(first[h])})"
             )
         containers = []
         for j in range(1, nloops):
@@ -459,13 +484,13 @@ class Domain:
             s = np.flatnonzero(asm.point_group[asm.segments[:, 0]] == g)[0]
             mid = 0.5 * (asm.points[asm.segments[s, 0]] + asm.points[asm.segments[s, 1]])
             if classify_points(mid[None], a, b)[0] != INSIDE:
-                raise GeometryError(f"{self._name(g)} lies outside the domain (near {_fmt(mid)})")
+                raise GeometryError(f"{self._name(g)} lies outside the domain (near {fmt_point(mid)})")
         ca, cb = self._loop_segments(asm, [-1 - ci for ci in range(len(self.constraints))])
         if len(self.points):
             bad = np.flatnonzero(~np.isfinite(self.points).all(axis=1))
             if len(bad):
                 raise GeometryError(
-                    f"interior point {bad[0]} has non-finite coordinates {_fmt(self.points[bad[0]])}"
+                    f"interior point {bad[0]} has non-finite coordinates {fmt_point(self.points[bad[0]])}"
                 )
             where = classify_points(self.points, a, b)
             on_c = classify_points(self.points, ca, cb) == ON_BOUNDARY
@@ -473,13 +498,13 @@ class Domain:
             if len(bad):
                 i = bad[0]
                 what = "outside the domain" if where[i] == 0 else "on a boundary or constraint"
-                raise GeometryError(f"interior point {i} at {_fmt(self.points[i])} lies {what}")
+                raise GeometryError(f"interior point {i} at {fmt_point(self.points[i])} lies {what}")
             _, inv = unique_rows(self.points)
             twice = np.flatnonzero(np.bincount(inv) > 1)
             if len(twice):
                 i, j = np.flatnonzero(inv == twice[0])[:2]
                 raise GeometryError(
-                    f"interior points {i} and {j} coincide at {_fmt(self.points[i])}"
+                    f"interior points {i} and {j} coincide at {fmt_point(self.points[i])}"
                 )
         if self.regions:
             seeds = np.array([r[:2] for r in self.regions])
@@ -489,7 +514,7 @@ class Domain:
             if len(bad):
                 i = bad[0]
                 raise GeometryError(
-                    f"region {i} seed {_fmt(seeds[i])} is not strictly inside the domain"
+                    f"region {i} seed {fmt_point(seeds[i])} is not strictly inside the domain"
                 )
 
     def _seeds(self, asm: _Assembly) -> np.ndarray:
@@ -585,6 +610,34 @@ class Domain:
             out[m] = self.curves[cid].evaluate(t[m])
         return t, out
 
+    def boundary_length(self) -> float:
+        """Total length of the loops and constraints, on their fine polylines (chords, so a
+        little short of the true curves)."""
+        asm = self._fine
+        d = asm.points[asm.segments[:, 1]] - asm.points[asm.segments[:, 0]]
+        return float(np.hypot(d[:, 0], d[:, 1]).sum())
+
+    def estimate_boundary_points(self, size) -> float:
+        """About how many points :meth:`discretize` places on the curves for ``size``.
+
+        The integral of ``1 / h`` along every fine-polyline chord, with ``h`` the spacing
+        along the chord at its midpoint (:meth:`SizeField.along`): cheap whatever the size,
+        so callers can refuse a size far below the domain's extent before discretising.
+
+        Parameters
+        ----------
+        size : number, callable or SizeField
+
+        Returns
+        -------
+        float
+        """
+        h = as_size_field(size)
+        asm = self._fine
+        a, b = asm.points[asm.segments[:, 0]], asm.points[asm.segments[:, 1]]
+        d = b - a
+        return float(np.sum(np.hypot(d[:, 0], d[:, 1]) / h.along(0.5 * (a + b), d)))
+
     # -- discretisation ------------------------------------------------------------------
     def discretize(self, size=None) -> Discretization:
         """Place points along every curve so that spacing follows the size field.
@@ -623,8 +676,8 @@ class Domain:
             factors[curved] *= 2
         raise GeometryError(
             "cannot discretise the domain into a valid polygon: curves "
-            f"{sorted(set(int(c) for c in culprits))} stay in conflict; the geometry has features "
-            "below the fine-polyline resolution"
+            f"{sorted(set(int(c) for c in culprits))} stay in conflict after {_MAX_ROUNDS} doublings of their "
+            "segment counts; the geometry has features below the fine-polyline resolution"
         )
 
     def _conflicts(self, asm: _Assembly, verts, inv) -> list[int] | None:

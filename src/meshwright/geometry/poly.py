@@ -1,37 +1,35 @@
 """Triangle ``.poly`` files as :class:`~meshwright.geometry.Domain` objects.
 
-Format (J. R. Shewchuk, Triangle documentation, https://www.cs.cmu.edu/~quake/triangle.poly.html)::
+The file is parsed by :func:`meshwright.geometry.poly_format.parse_poly` (the one parser
+of the format, shared with :mod:`meshwright.io`; grammar, Triangle's rules and errors are
+documented there) and written by :func:`~meshwright.geometry.poly_format.write_poly_file`.
 
-    <# vertices> <dimension (2)> <# attributes> <# boundary markers (0 or 1)>
-    <vertex #> <x> <y> [attributes] [boundary marker]          (one line per vertex)
-    <# segments> <# boundary markers (0 or 1)>
-    <segment #> <endpoint> <endpoint> [boundary marker]
-    <# holes>
-    <hole #> <x> <y>
-    [<# regions>
-     <region #> <x> <y> <attribute> <maximum area>]
-
-``#`` starts a comment; numbering may start at 0 or 1 (the first vertex decides); with zero
-vertices the vertices are read from the ``.node`` file of the same name.
-
-Triangle treats every segment as a constraint and removes the triangles reachable from a
-hole seed or from the outside without crossing a segment.  :func:`read_poly` rebuilds that
-meaning as loops: the segment graph is split into faces (half-edges sorted by angle around
-each vertex); a face holding a hole seed is a hole, faces enclosed by segments and holding
-no seed are domain; segments between domain and non-domain form the loops (as
-:class:`~meshwright.geometry.curves.Polyline` curves keeping the segment markers, 0 turned
-into 1 on the boundary as Triangle does), segments inside the domain become interior
-constraints and segments outside it are dropped.  Vertices on no segment become interior
-points when they lie inside the domain.  Vertex attributes and markers are not kept.
+Triangle (J. R. Shewchuk, 1996) treats every segment as a constraint and removes the
+triangles reachable from a hole seed or from the outside without crossing a segment.
+:func:`read_poly` rebuilds that meaning as loops: the segment graph is split into faces
+(half-edges sorted by angle around each vertex, faces oriented by their signed area, both
+decided exactly: ``orient2d`` and rational sums, floats only as a filter); a face holding
+a hole seed is a hole, faces enclosed by segments and holding no seed are domain;
+segments between domain and
+non-domain form the loops (as :class:`~meshwright.geometry.curves.Polyline` curves keeping
+the segment markers, 0 turned into 1 on the boundary as Triangle does), segments inside
+the domain become interior constraints and segments outside it are dropped.  Vertices on
+no segment become interior points when they lie inside the domain.  Vertex attributes and
+markers are not kept.  Regional attributes must be integers: they become the regions'
+markers.
 """
 
 from __future__ import annotations
 
+from fractions import Fraction
+from functools import cmp_to_key
+from os import PathLike
 from pathlib import Path
 
 import numpy as np
 
-from meshwright.core.errors import FormatError, GeometryError
+from meshwright.core.errors import FormatError, GeometryError, InputError
+from meshwright.core.predicates import orient2d, orient2d_batch
 from meshwright.geometry._discretize import unique_rows
 from meshwright.geometry._kernels import (
     INSIDE,
@@ -42,124 +40,69 @@ from meshwright.geometry._kernels import (
 )
 from meshwright.geometry.curves import Polyline, _fmt
 from meshwright.geometry.domain import Discretization, Domain
+from meshwright.geometry.poly_format import PolyData, parse_poly, write_poly_file
 
 __all__ = ["read_poly", "write_poly"]
 
 
-class _Lines:
-    """Non-empty, comment-free lines of a file, with line numbers for error messages."""
+def _angular_order(xy: np.ndarray, org: np.ndarray, dst: np.ndarray) -> np.ndarray:
+    """Half-edges sorted by origin, then counter-clockwise by direction from the +x axis.
 
-    def __init__(self, path: Path):
-        self.path = path
-        try:
-            text = path.read_text()
-        except OSError as exc:
-            raise FormatError(f"{path}: cannot read ({exc.strerror})") from exc
-        self.lines = [
-            (i + 1, ln.split("#", 1)[0].split())
-            for i, ln in enumerate(text.splitlines())
-            if ln.split("#", 1)[0].strip()
-        ]
-        self.pos = 0
+    The order decides which faces the segments bound, so it is exact: a direction's half
+    plane (angles in [0, pi) or [pi, 2 pi)) comes from the signs of its coordinate
+    differences, which floating-point subtraction always gets right, and the order within
+    a half from ``orient2d``.  ``arctan2`` only gives the first guess: it ties or swaps
+    directions closer than its rounding (about 1e-16 rad), so every origin whose
+    neighbouring half-edges the exact test finds out of order is sorted again with it.
 
-    def more(self) -> bool:
-        return self.pos < len(self.lines)
+    Parameters
+    ----------
+    xy : (n, 2) float64
+    org, dst : (2m,) int64
+        Origin and head of every half-edge; no two half-edges from one origin share a
+        direction (overlapping segments are rejected before).
 
-    def next(self, what: str, least: int) -> tuple[int, list[str]]:
-        if not self.more():
-            raise FormatError(f"{self.path}: unexpected end of file, expected {what}")
-        lineno, tok = self.lines[self.pos]
-        self.pos += 1
-        if len(tok) < least:
-            raise FormatError(
-                f"{self.path}:{lineno}: expected {what} ({least} fields), got {len(tok)}"
-            )
-        return lineno, tok
-
-    def numbers(self, what: str, least: int, kind=float) -> tuple[int, list]:
-        lineno, tok = self.next(what, least)
-        try:
-            return lineno, [int(t) if kind is int else float(t) for t in tok]
-        except ValueError:
-            raise FormatError(
-                f"{self.path}:{lineno}: cannot parse {what} from {' '.join(tok)!r}"
-            ) from None
+    Returns
+    -------
+    (2m,) int64
+        Half-edge indices in that order.
+    """
+    d = xy[dst] - xy[org]
+    lower = (d[:, 1] < 0) | ((d[:, 1] == 0) & (d[:, 0] < 0))
+    guess = np.arctan2(d[:, 1], d[:, 0])
+    guess = np.where(lower & (guess > 0), guess - 2 * np.pi, guess)  # pi itself leads its half
+    order = np.lexsort((guess, lower, org))
+    a, b = order[:-1], order[1:]
+    same = np.flatnonzero((org[a] == org[b]) & (lower[a] == lower[b]))
+    if len(same):
+        tri = np.column_stack([org[a[same]], dst[a[same]], dst[b[same]]])
+        wrong = same[orient2d_batch(xy, tri) <= 0]
+        for o in np.unique(org[a[wrong]]):
+            fan = np.flatnonzero(org[order] == o)
+            order[fan] = sorted(order[fan], key=cmp_to_key(lambda e, f: _ccw_compare(xy, org, dst, lower, e, f)))
+    return order
 
 
-def _read_vertices(src: _Lines, path: Path):
-    _, head = src.numbers("vertex header '<#vertices> <dim> <#attributes> <#markers>'", 1, int)
-    head += [2, 0, 0][len(head) - 1 :]
-    nv, dim, nattr, nmark = head[:4]
-    if nv == 0:
-        node = path.with_suffix(".node")
-        if not node.exists():
-            raise FormatError(f"{path}: no vertices and no {node.name} next to it")
-        return _read_vertices(_Lines(node), node)
-    if dim != 2:
-        raise FormatError(f"{path}: dimension must be 2, got {dim}")
-    xy = np.empty((nv, 2))
-    lines = np.empty(nv, dtype=np.int64)
-    base = 0
-    for k in range(nv):
-        lineno, v = src.numbers(f"vertex {k}", 3 + nattr + nmark)
-        if k == 0:
-            base = int(v[0])
-            if base not in (0, 1):
-                raise FormatError(
-                    f"{path}:{lineno}: vertex numbering must start at 0 or 1, got {v[0]:g}"
-                )
-        if v[0] != base + k:
-            raise FormatError(f"{path}:{lineno}: expected vertex number {base + k}, got {v[0]:g}")
-        xy[k] = v[1:3]
-        lines[k] = lineno
-        if not np.isfinite(xy[k]).all():
-            raise FormatError(f"{path}:{lineno}: vertex {v[0]:g} has non-finite coordinates")
-    return xy, lines, base
-
-
-def _read(path: Path):
-    src = _Lines(path)
-    xy, vlines, base = _read_vertices(src, path)
-    _, head = src.numbers("segment header '<#segments> <#markers>'", 1, int)
-    nseg, has_mark = head[0], (head[1] if len(head) > 1 else 0)
-    seg = np.empty((nseg, 2), dtype=np.int64)
-    marks = np.zeros(nseg, dtype=np.int32)
-    slines = np.empty(nseg, dtype=np.int64)
-    for k in range(nseg):
-        lineno, s = src.numbers(f"segment {k}", 3 + (1 if has_mark else 0), int)
-        seg[k] = np.array(s[1:3]) - base
-        if (seg[k] < 0).any() or (seg[k] >= len(xy)).any():
-            raise FormatError(f"{path}:{lineno}: segment {s[0]} refers to a missing vertex")
-        if has_mark:
-            marks[k] = s[3]
-        slines[k] = lineno
-    _, head = src.numbers("hole header '<#holes>'", 1, int)
-    holes = np.array([src.numbers(f"hole {k}", 3)[1][1:3] for k in range(head[0])]).reshape(-1, 2)
-    regions = []
-    if src.more():
-        _, head = src.numbers("region header '<#regions>'", 1, int)
-        for k in range(head[0]):
-            lineno, r = src.numbers(f"region {k}", 4)
-            if r[3] != int(r[3]):
-                raise FormatError(
-                    f"{path}:{lineno}: region attribute {r[3]:g} is not an integer marker"
-                )
-            area = r[4] if len(r) > 4 and r[4] > 0 else None
-            regions.append((r[1], r[2], int(r[3]), area))
-    return xy, vlines, seg, marks if has_mark else None, slines, holes, regions
+def _ccw_compare(xy, org, dst, lower, e: int, f: int) -> int:
+    """-1 when half-edge ``e`` comes before ``f`` counter-clockwise around their origin."""
+    if lower[e] != lower[f]:
+        return -1 if lower[f] else 1
+    o, p, q = xy[org[e]], xy[dst[e]], xy[dst[f]]
+    turn = orient2d(o[0], o[1], p[0], p[1], q[0], q[1])
+    return -1 if turn > 0 else (1 if turn < 0 else 0)
 
 
 def _faces(xy: np.ndarray, seg: np.ndarray):
     """Faces of a planar segment graph; half-edge ``e < m`` is ``seg[e]``, ``e + m`` its twin.
 
-    Returns the face of each half-edge (faces to the left, bounded ones counter-clockwise)
-    and each face's signed area.
+    Returns the face of each half-edge (faces to the left, bounded ones counter-clockwise),
+    each face's signed area (float), whether it is positive (exact), and the half-edges'
+    origins and heads.
     """
     m = len(seg)
     org = np.concatenate([seg[:, 0], seg[:, 1]])
     dst = np.concatenate([seg[:, 1], seg[:, 0]])
-    d = xy[dst] - xy[org]
-    order = np.lexsort((np.arctan2(d[:, 1], d[:, 0]), org))
+    order = _angular_order(xy, org, dst)
     pos = np.empty(2 * m, dtype=np.int64)
     pos[order] = np.arange(2 * m)
     deg = np.bincount(org, minlength=len(xy))
@@ -176,33 +119,80 @@ def _faces(xy: np.ndarray, seg: np.ndarray):
     _, face = np.unique(label, return_inverse=True)
     cross = xy[org, 0] * xy[dst, 1] - xy[dst, 0] * xy[org, 1]
     area = 0.5 * np.bincount(face, cross)
-    return face, area, org, dst
+    # Bounded faces are the counter-clockwise ones: a topological decision, so the sign of
+    # the float shoelace sum is trusted only above its rounding error bound (each term
+    # errs by at most 2u|term|, the sum of k terms by (k - 1)u more); faces below it are
+    # summed again in exact rationals.
+    size = np.bincount(face, minlength=len(area))
+    magnitude = np.bincount(face, np.abs(xy[org, 0] * xy[dst, 1]) + np.abs(xy[dst, 0] * xy[org, 1]))
+    bound = (size + 2) * 2.0**-52 * magnitude
+    positive = area > 0
+    for f in np.flatnonzero(np.abs(area) <= bound):
+        he = np.flatnonzero(face == f)
+        exact = sum(
+            Fraction(xy[o, 0]) * Fraction(xy[t, 1]) - Fraction(xy[t, 0]) * Fraction(xy[o, 1])
+            for o, t in zip(org[he].tolist(), dst[he].tolist())
+        )
+        positive[f] = exact > 0
+    return face, area, positive, org, dst
+
+
+def _regions(data: PolyData, path: Path) -> list[tuple[float, float, int, float | None]]:
+    """Region seeds of ``data`` as :class:`Domain` regions (integer markers)."""
+    out = []
+    for (x, y, attribute, area), line in zip(data.regions, data.region_lines):
+        if attribute != round(attribute):
+            raise FormatError(
+                f"{path}, line {line}: region attribute {attribute:g} is not an integer; "
+                "a Domain's regions carry integer markers"
+            )
+        out.append((float(x), float(y), int(attribute), float(area) if area > 0 else None))
+    return out
 
 
 def read_poly(path) -> Domain:
     """Read a Triangle ``.poly`` file as a :class:`Domain`.
 
+    Parameters
+    ----------
+    path : str or Path
+        The ``.poly`` file; with 0 vertices declared, its vertices are read from the
+        ``.node`` file of the same base name.
+
+    Returns
+    -------
+    Domain
+
     Raises
     ------
+    InputError
+        ``path`` is not a str or path.
     FormatError
-        Unreadable or malformed file (message names file and line).
+        Missing, unreadable or malformed file (message names file and line; see
+        :func:`~meshwright.geometry.poly_format.parse_poly`), or a region attribute that
+        is not an integer.
     GeometryError
         Crossing segments, touching loops or no enclosed region (message names the file
         and the segments' lines).
     """
+    if not isinstance(path, (str, PathLike)):
+        raise InputError(f"read_poly needs a file path, got {type(path).__name__}")
     path = Path(path)
-    xy, vlines, seg0, marks, slines, holes, regions = _read(path)
+    data = parse_poly(path)
+    xy, seg0, marks, holes = data.vertices, data.segments, data.segment_markers, data.holes
+    slines = data.segment_lines
+    regions = _regions(data, path)
     verts, inv = unique_rows(xy)
     seg = inv[seg0]
     zero = np.flatnonzero(seg[:, 0] == seg[:, 1])
     if len(zero):
-        raise GeometryError(f"{path}:{slines[zero[0]]}: segment has zero length")
+        raise GeometryError(f"{path}, line {slines[zero[0]]}: segment has zero length")
     key = np.sort(seg, axis=1)
     _, first, count = np.unique(key, axis=0, return_index=True, return_counts=True)
     if (count > 1).any():
         dup = np.flatnonzero((key == key[first[np.flatnonzero(count > 1)[0]]]).all(axis=1))
         raise GeometryError(
-            f"{path}:{slines[dup[1]]}: segment duplicates the one on line {slines[dup[0]]}"
+            f"{path}, line {slines[dup[1]]}: segment duplicates the one on line {slines[dup[0]]}"
         )
     bad = find_bad_pairs(verts, seg, 1)
     if len(bad):
@@ -211,8 +201,8 @@ def read_poly(path) -> Domain:
     if len(seg) < 3:
         raise GeometryError(f"{path}: segments enclose no region")
     m = len(seg)
-    face, area, org, dst = _faces(verts, seg)
-    bounded = np.flatnonzero(area > 0)
+    face, area, positive, org, dst = _faces(verts, seg)
+    bounded = np.flatnonzero(positive)
     # Smallest bounded face containing each query point (-1: the unbounded exterior).
     he = np.flatnonzero(np.isin(face, bounded))
     lab = np.searchsorted(bounded, face[he])
@@ -233,7 +223,7 @@ def read_poly(path) -> Domain:
 
     hole_faces = containing(holes)
     # Each component's outer face lies in the face containing one of its vertices.
-    outer_faces = np.flatnonzero(area <= 0)
+    outer_faces = np.flatnonzero(~positive)
     _, first_he = np.unique(face, return_index=True)
     probe = verts[org[first_he[outer_faces]]]
     enclosing = np.full(len(area), -1, dtype=np.int64)
@@ -291,28 +281,42 @@ def _polylines(verts, seg, marks, which, boundary_marks: bool) -> list[tuple[Pol
     return out
 
 
-def write_poly(path, domain, size=None, base: int = 1) -> None:
+def write_poly(path, domain, size=None, first_index: int = 1) -> None:
     """Write a Domain's discretisation (or a :class:`Discretization`) as a ``.poly`` file.
 
     Vertices carry their markers, segments theirs; holes and regions follow.  Coordinates
     are written with 17 significant digits, so :func:`read_poly` reads them back exactly.
+
+    Parameters
+    ----------
+    path : str or Path
+    domain : Domain or Discretization
+    size : optional
+        Spacing of the discretisation (anything :meth:`Domain.discretize` accepts);
+        ignored for a Discretization, so giving both is an error.
+    first_index : {0, 1}
+        Number of the first vertex (Triangle's default is 1).
+
+    Raises
+    ------
+    InputError
+        ``domain`` of another type, ``size`` with a Discretization, bad ``first_index``.
     """
-    disc = domain if isinstance(domain, Discretization) else domain.discretize(size)
-    rows = [f"# written by meshwright\n{len(disc.points)} 2 0 1"]
-    rows += [
-        f"{i + base} {x:.17g} {y:.17g} {m}"
-        for i, ((x, y), m) in enumerate(zip(disc.points, disc.point_markers))
-    ]
-    rows.append(f"{len(disc.segments)} 1")
-    rows += [
-        f"{i + base} {a + base} {b + base} {m}"
-        for i, ((a, b), m) in enumerate(zip(disc.segments, disc.segment_markers))
-    ]
-    rows.append(f"{len(disc.holes)}")
-    rows += [f"{i + base} {x:.17g} {y:.17g}" for i, (x, y) in enumerate(disc.holes)]
-    rows.append(f"{len(disc.regions)}")
-    rows += [
-        f"{i + base} {x:.17g} {y:.17g} {int(m)} {a:.17g}"
-        for i, (x, y, m, a) in enumerate(disc.regions)
-    ]
-    Path(path).write_text("\n".join(rows) + "\n")
+    if isinstance(domain, Discretization):
+        if size is not None:
+            raise InputError("size applies to a Domain; a Discretization is already discretised")
+        disc = domain
+    elif isinstance(domain, Domain):
+        disc = domain.discretize(size)
+    else:
+        raise InputError(f"write_poly needs a Domain or a Discretization, got {type(domain).__name__}")
+    write_poly_file(
+        path,
+        disc.segments,
+        disc.segment_markers,
+        disc.holes,
+        disc.regions,
+        points=disc.points,
+        point_markers=disc.point_markers,
+        first_index=first_index,
+    )

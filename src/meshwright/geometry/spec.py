@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 from pathlib import Path
 
 import numpy as np
@@ -60,47 +61,115 @@ _TOP = {"version", "outer", "holes", "segments", "points", "regions", "size"}
 
 
 def _check_keys(obj: dict, allowed: set, where: str) -> None:
+    _object(obj, where)
     extra = set(obj) - allowed
     if extra:
         raise FormatError(f"{where}: unknown key(s) {sorted(extra)}; allowed {sorted(allowed)}")
 
 
-def _points(v, where: str, least: int = 1) -> np.ndarray:
+def _object(v, where: str) -> dict:
+    if not isinstance(v, dict):
+        raise FormatError(f"{where}: expected an object, got {_json_type(v)}")
+    return v
+
+
+def _list(v, where: str) -> list:
+    if not isinstance(v, (list, tuple)):
+        raise FormatError(f"{where}: expected a list, got {_json_type(v)}")
+    return v
+
+
+def _json_type(v) -> str:
+    """What a JSON value is, for messages: ``a string "abc"``, ``null``, ..."""
+    names = {
+        bool: "a boolean", int: "an integer", float: "a number", str: "a string", list: "a list", dict: "an object"
+    }
+    if v is None:
+        return "null"
     try:
-        a = np.asarray(v, dtype=np.float64)
+        text = json.dumps(v)
     except (TypeError, ValueError):
-        raise FormatError(f"{where}: expected a list of [x, y] pairs") from None
-    if a.ndim != 2 or a.shape[1] != 2 or len(a) < least:
-        raise FormatError(f"{where}: expected at least {least} [x, y] pairs, got shape {a.shape}")
+        text = repr(v)
+    return f"{names.get(type(v), type(v).__name__)} {text[:40]}"
+
+
+def _number(v, where: str, positive: bool = False) -> float:
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
+        raise FormatError(f"{where}: expected a number, got {_json_type(v)}")
+    try:
+        v = float(v)
+    except OverflowError:
+        raise FormatError(f"{where}: {str(v)[:20]}... is too large for a float") from None
+    if not math.isfinite(v) or (positive and v <= 0):
+        raise FormatError(f"{where}: expected a {'positive ' if positive else ''}finite number, got {v!r}")
+    return float(v)
+
+
+def _int(v, where: str) -> int:
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
+        raise FormatError(f"{where}: expected an integer, got {_json_type(v)}")
+    if not -(2**31) <= int(v) < 2**31:
+        raise FormatError(f"{where}: {int(v)} does not fit a 32-bit marker")
+    return int(v)
+
+
+def _bool(v, where: str) -> bool:
+    if not isinstance(v, bool):
+        raise FormatError(f"{where}: expected true or false, got {_json_type(v)}")
+    return v
+
+
+def _marker(obj: dict, where: str) -> int | None:
+    m = obj.get("marker")
+    return None if m is None else _int(m, where + ".marker")
+
+
+def _point(v, where: str) -> tuple[float, float]:
+    if not isinstance(v, (list, tuple, np.ndarray)) or len(v) != 2:
+        raise FormatError(f"{where}: expected a point [x, y], got {_json_type(v)}")
+    return _number(v[0], where + "[0]"), _number(v[1], where + "[1]")
+
+
+def _points(v, where: str, least: int = 1) -> np.ndarray:
+    _list(v, where)
+    a = np.array([_point(p, f"{where}[{i}]") for i, p in enumerate(v)], dtype=np.float64).reshape(-1, 2)
+    if len(a) < least:
+        raise FormatError(f"{where}: expected at least {least} [x, y] pairs, got {len(a)}")
     return a
 
 
 def _markers(obj: dict, where: str):
-    m = obj.get("markers", obj.get("marker"))
-    if m is None or isinstance(m, int):
-        return m
-    if isinstance(m, list) and all(isinstance(k, int) for k in m):
-        return np.asarray(m, dtype=np.int32)
-    raise FormatError(f"{where}: markers must be an int or a list of ints, got {m!r}")
+    key = "markers" if "markers" in obj else "marker"
+    m = obj.get(key)
+    if m is None or (isinstance(m, int) and not isinstance(m, bool)):
+        return None if m is None else _int(m, f"{where}.{key}")
+    if isinstance(m, list) and all(isinstance(k, int) and not isinstance(k, bool) for k in m):
+        return np.asarray([_int(k, f"{where}.{key}[{i}]") for i, k in enumerate(m)], dtype=np.int32)
+    raise FormatError(f"{where}.{key}: markers must be an int or a list of ints, got {_json_type(m)}")
 
 
 def _curve(obj, where: str):
     if not isinstance(obj, dict):
-        raise FormatError(f"{where}: a curve must be an object, got {type(obj).__name__}")
-    marker = obj.get("marker")
+        raise FormatError(f"{where}: a curve must be an object, got {_json_type(obj)}")
     if "line" in obj:
         _check_keys(obj, {"line", "marker"}, where)
         p = _points(obj["line"], where + ".line", 2)
-        return Line(p[0], p[1], marker)
+        return Line(p[0], p[1], _marker(obj, where))
     if "arc" in obj:
         _check_keys(obj, {"arc", "degrees", "marker"}, where)
         a = obj["arc"]
         _check_keys(a, {"center", "radius", "theta0", "theta1"}, where + ".arc")
-        k = math.pi / 180.0 if obj.get("degrees", False) else 1.0
-        try:
-            return Arc(a["center"], a["radius"], k * a["theta0"], k * a["theta1"], marker)
-        except KeyError as exc:
-            raise FormatError(f"{where}.arc: missing {exc.args[0]!r}") from None
+        missing = [key for key in ("center", "radius", "theta0", "theta1") if key not in a]
+        if missing:
+            raise FormatError(f"{where}.arc: missing {missing[0]!r}")
+        k = math.pi / 180.0 if _bool(obj.get("degrees", False), where + ".degrees") else 1.0
+        return Arc(
+            _point(a["center"], where + ".arc.center"),
+            _number(a["radius"], where + ".arc.radius", positive=True),
+            k * _number(a["theta0"], where + ".arc.theta0"),
+            k * _number(a["theta1"], where + ".arc.theta1"),
+            _marker(obj, where),
+        )
     if "polyline" in obj:
         _check_keys(obj, {"polyline", "markers", "marker"}, where)
         m = _markers(obj, where)
@@ -113,7 +182,9 @@ def _curve(obj, where: str):
     if "spline" in obj:
         _check_keys(obj, {"spline", "closed", "marker"}, where)
         return Spline(
-            _points(obj["spline"], where + ".spline", 2), bool(obj.get("closed", False)), marker
+            _points(obj["spline"], where + ".spline", 2),
+            _bool(obj.get("closed", False), where + ".closed"),
+            _marker(obj, where),
         )
     raise FormatError(f"{where}: a curve needs one of 'line', 'arc', 'polyline', 'spline'")
 
@@ -122,8 +193,7 @@ def _chain(obj, where: str, closed: bool) -> list:
     if isinstance(obj, list):
         return [Polyline(_points(obj, where, 2), closed=closed)]
     if not isinstance(obj, dict):
-        raise FormatError(f"{where}: expected a list of points or an object")
-    marker = obj.get("marker")
+        raise FormatError(f"{where}: expected a list of points or an object, got {_json_type(obj)}")
     if "polygon" in obj:
         _check_keys(obj, {"polygon", "markers", "marker"}, where)
         m = _markers(obj, where)
@@ -133,33 +203,46 @@ def _chain(obj, where: str, closed: bool) -> list:
     if "circle" in obj:
         _check_keys(obj, {"circle", "marker"}, where)
         c = obj["circle"]
-        _check_keys(c, {"center", "radius"}, where + ".circle")
-        return [Arc(c.get("center", (0.0, 0.0)), c.get("radius", 1.0), 0.0, 2.0 * math.pi, marker)]
+        w = where + ".circle"
+        _check_keys(c, {"center", "radius"}, w)
+        return [
+            Arc(
+                _point(c.get("center", [0.0, 0.0]), w + ".center"),
+                _number(c.get("radius", 1.0), w + ".radius", positive=True),
+                0.0,
+                2.0 * math.pi,
+                _marker(obj, where),
+            )
+        ]
     if "ellipse" in obj:
         _check_keys(obj, {"ellipse", "marker"}, where)
         e = obj["ellipse"]
-        _check_keys(e, {"center", "a", "b", "rotation"}, where + ".ellipse")
+        w = where + ".ellipse"
+        _check_keys(e, {"center", "a", "b", "rotation"}, w)
         return ellipse_loop(
-            e.get("center", (0.0, 0.0)),
-            e.get("a", 2.0),
-            e.get("b", 1.0),
-            e.get("rotation", 0.0),
-            marker,
+            _point(e.get("center", [0.0, 0.0]), w + ".center"),
+            _number(e.get("a", 2.0), w + ".a", positive=True),
+            _number(e.get("b", 1.0), w + ".b", positive=True),
+            _number(e.get("rotation", 0.0), w + ".rotation"),
+            _marker(obj, where),
         )
     if "naca" in obj:
         _check_keys(obj, {"naca", "chord", "aoa", "origin", "closed_te", "marker"}, where)
+        if not isinstance(obj["naca"], str):
+            raise FormatError(f"{where}.naca: expected a string of 4 digits, got {_json_type(obj['naca'])}")
+        marker = _marker(obj, where)
         return naca_loop(
             obj["naca"],
-            obj.get("chord", 1.0),
-            obj.get("aoa", 0.0),
-            obj.get("origin", (0.0, 0.0)),
-            obj.get("closed_te", True),
-            marker=obj.get("marker", 1),
+            _number(obj.get("chord", 1.0), where + ".chord", positive=True),
+            _number(obj.get("aoa", 0.0), where + ".aoa"),
+            _point(obj.get("origin", [0.0, 0.0]), where + ".origin"),
+            _bool(obj.get("closed_te", True), where + ".closed_te"),
+            marker=1 if marker is None else marker,
         )
     if "curves" in obj:
         _check_keys(obj, {"curves"}, where)
         if not isinstance(obj["curves"], list) or not obj["curves"]:
-            raise FormatError(f"{where}.curves: expected a non-empty list")
+            raise FormatError(f"{where}.curves: expected a non-empty list, got {_json_type(obj['curves'])}")
         return [_curve(c, f"{where}.curves[{i}]") for i, c in enumerate(obj["curves"])]
     raise FormatError(
         f"{where}: a loop needs one of 'polygon', 'circle', 'ellipse', 'naca', 'curves'"
@@ -178,37 +261,48 @@ def domain_from_dict(d: dict) -> Domain:
         The geometry it describes is invalid.
     """
     if not isinstance(d, dict):
-        raise FormatError(f"geometry must be a JSON object, got {type(d).__name__}")
+        raise FormatError(f"geometry must be a JSON object, got {_json_type(d)}")
     _check_keys(d, _TOP, "geometry")
-    if d.get("version", 1) != 1:
+    if "version" in d and (isinstance(d["version"], bool) or d["version"] != 1):
         raise FormatError(f"unsupported geometry version {d['version']!r}; this reader knows 1")
     if "outer" not in d:
         raise FormatError("geometry: missing 'outer'")
     try:
         outer = _chain(d["outer"], "outer", True)
-        holes = [_chain(h, f"holes[{i}]", True) for i, h in enumerate(d.get("holes", []))]
-        segs = [_chain(s, f"segments[{i}]", False) for i, s in enumerate(d.get("segments", []))]
+        holes = [_chain(h, f"holes[{i}]", True) for i, h in enumerate(_list(d.get("holes", []), "holes"))]
+        segs = [_chain(s, f"segments[{i}]", False) for i, s in enumerate(_list(d.get("segments", []), "segments"))]
+        points = _points(d["points"], "points") if d.get("points") is not None else None
+        regions = []
+        for i, r in enumerate(_list(d.get("regions", []), "regions")):
+            where = f"regions[{i}]"
+            if not isinstance(r, dict) or "point" not in r:
+                raise FormatError(f"{where}: expected {{'point': [x, y], 'marker': m, 'max_area': a}}")
+            _check_keys(r, {"point", "marker", "max_area"}, where)
+            x, y = _point(r["point"], where + ".point")
+            area = r.get("max_area")
+            regions.append(
+                (
+                    x,
+                    y,
+                    _int(r.get("marker", 0), where + ".marker"),
+                    None if area is None else _number(area, where + ".max_area", positive=True),
+                )
+            )
+        size = None if d.get("size") is None else _number(d["size"], "size", positive=True)
+        return Domain(outer, holes, segments=segs, points=points, regions=regions, size=size)
     except InputError as exc:
         raise FormatError(str(exc)) from exc
-    points = _points(d["points"], "points") if d.get("points") else None
-    regions = []
-    for i, r in enumerate(d.get("regions", [])):
-        where = f"regions[{i}]"
-        if not isinstance(r, dict) or "point" not in r:
-            raise FormatError(f"{where}: expected {{'point': [x, y], 'marker': m, 'max_area': a}}")
-        _check_keys(r, {"point", "marker", "max_area"}, where)
-        p = _points([r["point"]], where + ".point")[0]
-        regions.append((p[0], p[1], int(r.get("marker", 0)), r.get("max_area")))
-    return Domain(outer, holes, segments=segs, points=points, regions=regions, size=d.get("size"))
 
 
 def load_domain(path) -> Domain:
     """Read a JSON geometry file (schema in this module's docstring) as a :class:`Domain`."""
     path = Path(path)
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(path.read_text(encoding="utf-8"))
     except OSError as exc:
         raise FormatError(f"{path}: cannot read ({exc.strerror})") from exc
+    except UnicodeDecodeError as exc:
+        raise FormatError(f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason})") from exc
     except json.JSONDecodeError as exc:
         raise FormatError(f"{path}:{exc.lineno}:{exc.colno}: invalid JSON: {exc.msg}") from exc
     try:

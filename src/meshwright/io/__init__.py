@@ -2,12 +2,16 @@
 
 * :mod:`~meshwright.io.meshio_io`: every meshio format (``.vtu``, ``.vtk``, ``.msh``,
   ``.xdmf``, ``.off``, ``.mesh``, ...);
-* :mod:`~meshwright.io.triangle_format`: Triangle / TetGen ``.node``, ``.ele``, ``.poly``;
+* :mod:`~meshwright.io.triangle_format`: Triangle / TetGen ``.node``, ``.ele``, ``.poly``,
+  and Triangle's ``.edge``, ``.neigh``, ``.area`` as arrays
+  (``.node`` and ``.poly`` parsed by :mod:`meshwright.geometry.poly_format`, the one parser
+  of those formats, which :func:`meshwright.geometry.read_poly` uses too);
 * :mod:`~meshwright.io.points`: point sets (``.txt``, ``.csv``, ``.xyz``, ``.npy``, ``.node``).
 
 :func:`read` and :func:`write` pick the module from the extension (or ``file_format``:
-``"triangle"`` or any meshio format name).  Unreadable files raise
-:class:`~meshwright.core.errors.FormatError` naming the file and, for text formats, the line.
+``"triangle"`` or any meshio format name).  Missing, unreadable, corrupt, truncated or
+non-UTF-8 files raise :class:`~meshwright.core.errors.FormatError` naming the file and, for
+the Triangle and point formats, the line.
 """
 
 from __future__ import annotations
@@ -18,7 +22,10 @@ from meshwright.io import meshio_io
 from meshwright.io.points import read_points
 from meshwright.io.triangle_format import (
     TRIANGLE_SUFFIXES,
+    read_area,
+    read_edge,
     read_ele,
+    read_neigh,
     read_node,
     read_poly,
     read_triangle,
@@ -31,6 +38,9 @@ __all__ = [
     "read_points",
     "read_node",
     "read_ele",
+    "read_edge",
+    "read_neigh",
+    "read_area",
     "read_poly",
     "read_triangle",
     "write_triangle",

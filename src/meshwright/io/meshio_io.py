@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshwright.core.errors import FormatError
+from meshwright.core.errors import FormatError, InputError
 from meshwright.core.mesh import CELL_DIMS, CELL_NODES, Mesh
 
 __all__ = ["read", "write", "to_meshio", "from_meshio"]
@@ -279,6 +279,23 @@ def _reader_formats(path: Path, file_format: str | None) -> list[str]:
     return sorted(formats, key=lambda f: f != "gmsh")
 
 
+def _ends_inside_header(path: Path, fmt: str) -> bool:
+    """Whether ``path`` ends inside an OFF or PLY header.
+
+    meshio 5.3's OFF reader skips comment lines and its PLY reader reads header lines
+    until a line that ends the header, both without checking for the end of the file:
+    on a file cut short they loop forever.  Such files are refused before the call.
+    """
+    if fmt not in ("off", "ply"):
+        return False
+    with open(path, "rb") as fh:
+        head = fh.read(1 << 20)
+    if fmt == "ply":
+        return len(head) < (1 << 20) and b"end_header" not in head
+    significant = [ln for ln in head.split(b"\n")[1:] if ln.strip() and not ln.strip().startswith(b"#")]
+    return not significant
+
+
 def read(path, file_format: str | None = None, dim: int | None = None) -> Mesh:
     """Read any meshio format into a :class:`Mesh`.
 
@@ -292,27 +309,42 @@ def read(path, file_format: str | None = None, dim: int | None = None) -> Mesh:
 
     Raises
     ------
+    InputError
+        ``dim`` not None, 2 or 3.
     FormatError
-        The file cannot be parsed in that format, or holds unsupported cells.
+        The file is missing or unreadable, cannot be parsed in that format (corrupt,
+        truncated, not UTF-8 where the format is text), or holds unsupported cells.
     """
     import meshio
+
+    # reader_map is private to meshio: meshio.read() prints the error and calls
+    # sys.exit(1) when no reader succeeds, so the readers are called directly; the
+    # meshio version is pinned in pyproject.toml to the series this was checked against.
     from meshio._helpers import reader_map
 
     path = Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"{path}: no such file")
+    if dim not in (None, 2, 3):
+        raise InputError(f"dim must be None, 2 or 3, got {dim!r}")
+    if not path.is_file():
+        raise FormatError(f"{path}: no such file" if not path.exists() else f"{path}: not a regular file")
     errors = []
-    # The readers are called directly: meshio.read() prints the error and calls
-    # sys.exit(1) when no reader succeeds.
     for fmt in _reader_formats(path, file_format):
         if fmt not in reader_map:
             raise FormatError(f"{path}: unknown meshio format {fmt!r}")
         try:
+            if _ends_inside_header(path, fmt):
+                errors.append(f"as {fmt}: the file ends inside the header")
+                continue
             m = reader_map[fmt](str(path))
         except ImportError as exc:
             raise FormatError(f"{path}: reading {fmt} needs the optional package {exc.name!r}") from exc
-        except (meshio.ReadError, ValueError, KeyError, IndexError, TypeError, EOFError, UnicodeDecodeError) as exc:
-            errors.append(f"as {fmt}: {exc or type(exc).__name__}")
+        except OSError as exc:
+            raise FormatError(f"{path}: cannot read ({exc.strerror or exc})") from exc
+        except Exception as exc:  # noqa: BLE001
+            # Third-party parsers of untrusted files fail in any way a corrupt file leads
+            # them (ReadError, ValueError, UnicodeDecodeError, IndexError, AssertionError,
+            # struct and zlib errors, ...): each means "not readable as this format".
+            errors.append(f"as {fmt}: {str(exc) or type(exc).__name__}")
             continue
         return from_meshio(m, dim=dim, source=str(path))
     raise FormatError(f"{path}: cannot read ({'; '.join(errors)})")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshwright.core.errors import FormatError
+from meshwright.core.errors import FormatError, fmt_point
 
 __all__ = ["read_points"]
 
@@ -44,12 +44,17 @@ def read_points(path) -> np.ndarray:
     elif suffix == ".node":
         from meshwright.io.triangle_format import read_node
 
-        points = read_node(path).points
+        try:
+            points = read_node(path).points
+        except UnicodeDecodeError as exc:
+            raise FormatError(f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason})") from exc
     else:
         points = _read_table(path)
+    if len(points) == 0:
+        raise FormatError(f"{path}: no points found")
     bad = np.flatnonzero(~np.isfinite(points).all(axis=1))
     if len(bad):
-        raise FormatError(f"{path}: point {int(bad[0])} has a non-finite coordinate {points[bad[0]].tolist()}")
+        raise FormatError(f"{path}: point {int(bad[0])} has a non-finite coordinate {fmt_point(points[bad[0]])}")
     return np.ascontiguousarray(points, dtype=np.float64)
 
 
@@ -69,9 +74,9 @@ def _read_table(path: Path) -> np.ndarray:
     """Parse a text table; the fast path is ``np.loadtxt``, a line-by-line pass only runs
     to name the offending line when that fails."""
     try:
-        lines = path.read_text().splitlines()
+        lines = path.read_text(encoding="utf-8").splitlines()
     except UnicodeDecodeError as exc:
-        raise FormatError(f"{path}: not a text file ({exc})") from exc
+        raise FormatError(f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason})") from exc
     data_lines = []
     for lineno, line in enumerate(lines, start=1):
         for char in _COMMENT_CHARS:
@@ -92,6 +97,12 @@ def _read_table(path: Path) -> np.ndarray:
         arr = None
     if arr is None or arr.shape[1] not in (2, 3):
         _raise_first_bad_line(path, data_lines)
+    bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+    if len(bad):
+        i = int(bad[0])
+        raise FormatError(
+            f"{path}: point {i} has a non-finite coordinate {fmt_point(arr[i])} (line {data_lines[i][0]})"
+        )
     return arr
 
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from meshwright.core.errors import InputError
 
-__all__ = ["plot_mesh", "plot_triangulation"]
+__all__ = ["plot_mesh", "plot_triangulation", "plot_quality_histogram"]
 
 _FACE_COLOR = "#dce6f2"
 _EDGE_COLOR = "#1f2a36"
@@ -24,20 +24,25 @@ def _auto_linewidth(n_cells: int) -> float:
     return float(np.clip(30.0 / np.sqrt(max(n_cells, 1)), 0.1, 0.8))
 
 
-def _new_axes(ax, path, projection=None):
-    """Return (fig, ax): the given axes, an Agg-only figure when writing a file, else pyplot."""
-    if ax is not None:
-        return ax.figure, ax
+def _new_figure(path, figsize=(7.0, 7.0)):
+    """An Agg-only figure when writing a file (headless), else a pyplot figure."""
     if path is not None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
-        fig = Figure(figsize=(7.0, 7.0))
+        fig = Figure(figsize=figsize)
         FigureCanvasAgg(fig)
-    else:
-        import matplotlib.pyplot as plt
+        return fig
+    import matplotlib.pyplot as plt
 
-        fig = plt.figure(figsize=(7.0, 7.0))
+    return plt.figure(figsize=figsize)
+
+
+def _new_axes(ax, path, projection=None):
+    """Return (fig, ax): the given axes, an Agg-only figure when writing a file, else pyplot."""
+    if ax is not None:
+        return ax.figure, ax
+    fig = _new_figure(path)
     return fig, fig.add_subplot(projection=projection)
 
 
@@ -203,7 +208,9 @@ def plot_mesh(
     or cell data), ``line`` cells on top, thicker and coloured by
     ``cell_data["marker"]["line"]`` (without line cells, the boundary edges are
     emphasised).  3-D meshes: the boundary faces of the volume cells (or the surface
-    triangles / quads) in a 3-D axes.
+    triangles / quads) in a 3-D axes; with ``show_quality`` (tetra meshes) the boundary
+    faces take the colour of their tet's measure and a figure made here gets a histogram
+    of the measure over all tets beside the surface (see :func:`plot_quality_histogram`).
 
     Parameters
     ----------
@@ -214,7 +221,8 @@ def plot_mesh(
         Save the figure there; without ``ax`` the Agg canvas is used, so this works headless.
     show_quality : str, optional
         Colour 2-D cells by a measure of :meth:`Mesh.quality`, e.g. ``"min_angle"``,
-        ``"radius_ratio"``, ``"area"`` (it must exist for every face cell type present).
+        ``"radius_ratio"``, ``"area"`` (it must exist for every face cell type present);
+        for tetra meshes e.g. ``"min_dihedral"`` or ``"sliver_ratio"``.
     color_by : str or (m,) array, optional
         Colour 2-D cells by ``cell_data[color_by]`` (e.g. ``"marker"`` for regions) or by
         one value per triangle / quad cell (blocks in mesh order).
@@ -231,7 +239,7 @@ def plot_mesh(
     matplotlib.axes.Axes
     """
     if mesh.dim == 3:
-        return _plot_mesh_3d(mesh, ax, path, linewidth, title, dpi)
+        return _plot_mesh_3d(mesh, ax, path, linewidth, title, dpi, show_quality, color_by, cmap, show_points)
     from matplotlib.colors import Normalize
 
     face_types = [t for t in ("triangle", "quad") if t in mesh.cells and len(mesh.cells[t])]
@@ -265,21 +273,67 @@ def plot_mesh(
     return ax
 
 
-def _plot_mesh_3d(mesh, ax, path, linewidth, title, dpi):
+def _tetra_surface(mesh):
+    """Outward boundary faces of the tetra block and the tet owning each, or None when the
+    mesh also has hexahedra."""
+    from meshwright.core.flat import TET_FACES
+    from meshwright.core.mesh import build_neighbors_tet
+
+    if len(mesh.hexahedra) or not len(mesh.tetra):
+        return None
+    tets = mesh.tetra
+    owner, k = np.nonzero(build_neighbors_tet(tets) < 0)
+    return tets[owner[:, None], TET_FACES[k]], owner
+
+
+def _plot_mesh_3d(mesh, ax, path, linewidth, title, dpi, show_quality=None, color_by=None, cmap="viridis", show_points=False):
+    """3-D meshes: the boundary surface; with ``show_quality`` (tetra meshes) each boundary
+    face takes the colour of its tet's measure and, in a figure made here, a histogram of
+    that measure over all tets sits beside the surface."""
+    from matplotlib.colors import Normalize
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
+    if color_by is not None:
+        raise InputError("color_by is for 2-D meshes; colour a 3-D tetra mesh with show_quality")
+    surface = _tetra_surface(mesh) if show_quality is not None else None
+    values = None
+    if show_quality is not None:
+        if surface is None:
+            raise InputError("show_quality on a 3-D mesh needs tetra cells only (no hexahedra)")
+        report = mesh.quality()["tetra"]
+        if show_quality not in report:
+            raise InputError(f"tetra cells have no quality measure {show_quality!r}; available: {', '.join(report)}")
+        values = report[show_quality]
     volume = any(t in mesh.cells and len(mesh.cells[t]) for t in ("tetra", "hexahedron"))
-    faces = [mesh.boundary_facets()] if volume else [mesh.cells[t] for t in ("triangle", "quad") if t in mesh.cells]
-    fig, ax = _new_axes(ax, path, projection="3d")
+    if surface is not None:
+        faces = [surface[0]]
+    else:
+        faces = [mesh.boundary_facets()] if volume else [mesh.cells[t] for t in ("triangle", "quad") if t in mesh.cells]
+    hist_ax = None
+    if ax is None and values is not None:
+        fig = _new_figure(path, figsize=(13.0, 6.0))
+        ax = fig.add_subplot(1, 2, 1, projection="3d")
+        hist_ax = fig.add_subplot(1, 2, 2)
+    else:
+        fig, ax = _new_axes(ax, path, projection="3d")
     n = sum(len(f) for f in faces)
     lw = _auto_linewidth(n) if linewidth is None else linewidth
     for f in faces:
-        if len(f):
-            ax.add_collection3d(
-                Poly3DCollection(mesh.points[f], facecolors=_FACE_COLOR, edgecolors=_EDGE_COLOR, linewidths=lw, alpha=0.9)
-            )
+        if not len(f):
+            continue
+        coll = Poly3DCollection(mesh.points[f], facecolors=_FACE_COLOR, edgecolors=_EDGE_COLOR, linewidths=lw, alpha=0.9)
+        if values is not None:
+            coll.set_array(values[surface[1]])
+            coll.set_cmap(cmap)
+            coll.set_norm(Normalize(*_finite_range(values)))
+        ax.add_collection3d(coll)
+        if values is not None:
+            fig.colorbar(coll, ax=ax, shrink=0.6, label=f"{show_quality} (boundary tets)")
     if len(mesh.lines):
         ax.add_collection3d(Line3DCollection(mesh.points[mesh.lines], colors="C3", linewidths=max(3 * lw, 1.2)))
+    if show_points:
+        p = mesh.points
+        ax.scatter(p[:, 0], p[:, 1], p[:, 2], s=2.0, color=_EDGE_COLOR)
     lo, hi = mesh.points.min(axis=0), mesh.points.max(axis=0)
     centre, half = (lo + hi) / 2.0, max(float((hi - lo).max()) / 2.0, 1e-12)
     ax.set_xlim(centre[0] - half, centre[0] + half)
@@ -287,5 +341,67 @@ def _plot_mesh_3d(mesh, ax, path, linewidth, title, dpi):
     ax.set_zlim(centre[2] - half, centre[2] + half)
     if title:
         ax.set_title(title)
+    if hist_ax is not None:
+        plot_quality_histogram(mesh, show_quality, ax=hist_ax)
     _finish(fig, ax, path, dpi)
+    return ax
+
+
+# Reference lines drawn on quality histograms: the chapter's sliver flag, the regular tet.
+_HIST_MARKS = {
+    "sliver_ratio": ((0.01, "sliver flag a < 0.01 (18.1.1)"), (1.0 / 3.0, "regular tet 1/3")),
+    "radius_ratio": ((1.0, "regular element"),),
+    "min_dihedral": ((np.degrees(np.arccos(1.0 / 3.0)), "regular tet 70.53 deg"),),
+    "max_dihedral": ((np.degrees(np.arccos(1.0 / 3.0)), "regular tet 70.53 deg"),),
+}
+
+
+def plot_quality_histogram(mesh, measure="min_dihedral", cell_type=None, ax=None, path=None, bins=50, log=True, dpi=150):
+    """Histogram of one quality measure over all cells of a type (Mesh.quality()).
+
+    Parameters
+    ----------
+    mesh : Mesh
+    measure : str
+        A measure of :mod:`meshwright.core.quality`, e.g. ``"min_dihedral"``,
+        ``"sliver_ratio"`` (tetra), ``"min_angle"`` (triangle).
+    cell_type : str, optional
+        Default: ``"tetra"`` if the mesh has tetrahedra, else the first cell type with
+        measures.
+    ax : matplotlib Axes, optional
+    path : str or Path, optional
+        Save the figure there (headless Agg canvas when no ``ax`` is given).
+    bins : int
+        Number of bins (>= 1).
+    log : bool
+        Logarithmic count axis, so the few worst cells (slivers) stay visible.
+    dpi : int
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if isinstance(bins, bool) or not isinstance(bins, (int, np.integer)) or bins < 1:
+        raise InputError(f"bins must be a positive integer, got {bins!r}")
+    report = mesh.quality()
+    if cell_type is None:
+        cell_type = "tetra" if "tetra" in report else next(iter(report.cell_types), None)
+    if cell_type is None or cell_type not in report:
+        raise InputError(f"the mesh has no {cell_type or 'cells with quality measures'}")
+    if measure not in report[cell_type]:
+        raise InputError(f"{cell_type} cells have no quality measure {measure!r}; available: {', '.join(report[cell_type])}")
+    values = report[cell_type][measure]
+    finite = values[np.isfinite(values)]
+    fig, ax = _new_axes(ax, path)
+    ax.hist(finite, bins=int(bins), range=_finite_range(finite), color="#4c72b0", log=log)
+    for i, (x, label) in enumerate(_HIST_MARKS.get(measure, ())):
+        ax.axvline(x, color=("C3", "C2")[i], lw=1.0, ls="--", label=label)
+    if measure in _HIST_MARKS:
+        ax.legend(fontsize="small")
+    unit = " [deg]" if "angle" in measure or "dihedral" in measure else ""
+    ax.set_xlabel(f"{measure}{unit}")
+    ax.set_ylabel(f"{cell_type} cells")
+    ax.set_title(f"{measure}: min {finite.min():.4g}, mean {finite.mean():.4g} ({len(values)} cells)" if len(finite) else measure)
+    if path is not None:
+        fig.savefig(path, dpi=dpi, bbox_inches="tight")
     return ax

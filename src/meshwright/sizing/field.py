@@ -20,14 +20,9 @@ import numbers
 
 import numpy as np
 
-from meshwright.core.errors import InputError, SizeError
+from meshwright.core.errors import InputError, SizeError, fmt_point
 
 __all__ = ["SizeField", "as_size_field", "minimum"]
-
-
-def fmt_point(p) -> str:
-    """Coordinates for error messages: ``(x, y)`` with round-trip precision."""
-    return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
 
 
 class SizeField:

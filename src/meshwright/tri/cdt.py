@@ -65,6 +65,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import GeometryError, InputError, MeshingError
+from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.flat import GHOST
 from meshwright.tri import _encroach as enc
 from meshwright.tri._build2d import locate_points
@@ -77,10 +78,6 @@ __all__ = ["ConstrainedTriangulation", "SegmentCurves", "cdt_build"]
 _FLOOD_OK = 0
 _FLOOD_LEAK = 1  # the domain side of a segment reaches a ghost: open boundary
 _FLOOD_CLASH = 2  # the domain side of one segment is the exterior side of another
-
-
-def _fmt(p) -> str:
-    return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
 
 
 # ---------------------------------------------------------------------------- curves

@@ -55,6 +55,7 @@ from __future__ import annotations
 import numpy as np
 
 from meshwright.core.errors import MeshingError
+from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.flat import grown_rows
 from meshwright.core.spatial.loose_quadtree import Q_NODES, qt_new
 from meshwright.sizing.field import as_size_field
@@ -213,10 +214,6 @@ class _Front:
 
     def advance(self, par) -> int:
         return int(fk.advance(self.fs, par))
-
-
-def _fmt(p) -> str:
-    return f"({float(p[0]):.17g}, {float(p[1]):.17g})"
 
 
 def _is_uniform(field) -> bool:

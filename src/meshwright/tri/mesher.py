@@ -22,6 +22,15 @@ Point placement methods (:data:`MESH_METHODS`, the CLI's ``--method`` choices):
 Without a size, ``frontal-delaunay`` and ``front`` take the chapter's background: the
 triangulated boundary nodes with their point distribution function (18.3).
 
+What each method honours is declared in its registry entry (:class:`MeshMethod`), and
+:func:`triangulate` checks every argument against it before any work: ``min_angle`` up to
+``max_min_angle`` (Delaunay refinement natively; Weatherill and frontal Delaunay by a final
+Delaunay refinement pass on their points; the advancing front, which makes its own
+triangles, not at all), ``progress`` where the method reports it, and the method's own
+options (Weatherill's ``alpha``).  A parameter a method cannot honour is an error, never
+dropped.  The work is capped: ``max_points`` bounds every method, and a size or area bound
+that would need more points than the cap is refused before the boundary is discretised.
+
 Smoothing keeps boundary nodes on their true curves: each boundary node slides along the
 curve of its segments (projected with :meth:`Domain.project`); nodes where two curves meet
 and the domain's interior points never move.
@@ -31,14 +40,20 @@ from __future__ import annotations
 
 from typing import Callable, NamedTuple
 
+import math
+import numbers
+import os
+from pathlib import Path
+
 import numpy as np
 
-from meshwright.core.errors import InputError
+from meshwright.core.errors import InputError, SizeError
 from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d_batch
+from meshwright.core.validate_input import check_count, check_positive, check_seed
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
-from meshwright.geometry.shapes import builtin, polygon
+from meshwright.geometry.shapes import BUILTIN_DOMAINS, builtin, polygon
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.boundary import point_distribution
 from meshwright.sizing.field import SizeField, as_size_field
@@ -49,11 +64,14 @@ from meshwright.tri.ruppert import conform, refine
 from meshwright.tri.smoothing import smooth as smooth_points
 from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
 
-__all__ = ["MESH_METHODS", "MeshMethod", "triangulate"]
+__all__ = ["MESH_METHODS", "MeshMethod", "triangulate", "DEFAULT_MAX_POINTS", "RUPPERT_MAX_ANGLE"]
+
+DEFAULT_MAX_POINTS = 100_000_000  # vertices; about 20 GB of kernel arrays, far beyond a 2-D mesh anyone waits for
+RUPPERT_MAX_ANGLE = 33.8  # degrees: where Delaunay refinement with off-centres still terminates in practice
 
 
 class _Job(NamedTuple):
-    """What a point-placement method gets: the classified CDT and the request."""
+    """What a point-placement method gets: the classified CDT and the checked request."""
 
     ct: ConstrainedTriangulation
     disc: Discretization
@@ -61,6 +79,8 @@ class _Job(NamedTuple):
     min_angle: float
     max_area: float | None
     progress: bool
+    max_points: int
+    alpha: float
 
 
 class MeshMethod(NamedTuple):
@@ -75,16 +95,29 @@ class MeshMethod(NamedTuple):
         ``place(job)`` adds points to ``job.ct`` in place and returns None, or returns its
         own triangulation of the inside ``(points (n, 2) float64, triangles (t, 3) int32)``
         on ``job.ct``'s vertices followed by new ones (see ``ConstrainedTriangulation.to_mesh``).
+    max_min_angle : float
+        Largest ``min_angle`` (degrees) the method guarantees; 0 when it honours none.
+    default_min_angle : float
+        ``min_angle`` used when the caller gives None.
+    reports_progress : bool
+        Whether ``progress=True`` shows a bar for this method.
+    options : tuple of str
+        Keyword options of :func:`triangulate` only this method takes (``"alpha"``).
     """
 
     name: str
     summary: str
     place: Callable[[_Job], tuple | None]
+    max_min_angle: float
+    default_min_angle: float
+    reports_progress: bool
+    options: tuple[str, ...] = ()
 
 
 def _place_delaunay(job: _Job) -> None:
+    kw = dict(min_angle=job.min_angle, size=job.field, max_area=job.max_area, max_points=job.max_points)
     if not job.progress:
-        refine(job.ct, min_angle=job.min_angle, size=job.field, max_area=job.max_area)
+        refine(job.ct, **kw)
         return
     from tqdm import tqdm
 
@@ -93,7 +126,14 @@ def _place_delaunay(job: _Job) -> None:
         def report(n: int) -> None:
             bar.update(n - bar.n)
 
-        refine(job.ct, min_angle=job.min_angle, size=job.field, max_area=job.max_area, progress=report)
+        refine(job.ct, progress=report, **kw)
+
+
+def _finish(job: _Job) -> None:
+    """The angle and area bounds of a point-placement method without its own: a Delaunay
+    refinement pass on its points (by angle and area only; its spacing already holds)."""
+    if job.min_angle > 0.0 or job.max_area is not None:
+        refine(job.ct, min_angle=job.min_angle, max_area=job.max_area, max_points=job.max_points)
 
 
 def _place_weatherill(job: _Job) -> None:
@@ -115,16 +155,15 @@ def _place_weatherill(job: _Job) -> None:
         weatherill(
             ct,
             dp,
-            DEFAULT_ALPHA,
+            job.alpha,
             size=job.field,
+            max_points=job.max_points,
             callback=None if bar is None else (lambda p, acc, n: bar.update(1)),
         )
     finally:
         if bar is not None:
             bar.close()
-    if job.max_area is not None:
-        # A hard area bound still holds: refine by area only (no angle criterion).
-        refine(ct, min_angle=0.0, max_area=job.max_area)
+    _finish(job)
 
 
 def _background(job: _Job):
@@ -137,9 +176,8 @@ def _background(job: _Job):
 
 
 def _place_frontal(job: _Job) -> None:
-    frontal_delaunay(job.ct, _background(job))
-    if job.max_area is not None:
-        refine(job.ct, min_angle=0.0, max_area=job.max_area)
+    frontal_delaunay(job.ct, _background(job), max_points=job.max_points)
+    _finish(job)
 
 
 def _place_front(job: _Job) -> tuple:
@@ -151,7 +189,11 @@ def _place_front(job: _Job) -> tuple:
         bar = tqdm(desc="advancing front", unit=" nodes", leave=False)
     try:
         return advancing_front(
-            job.ct, field, max_area=job.max_area, progress=None if bar is None else (lambda n: bar.update(n - bar.n))
+            job.ct,
+            field,
+            max_area=job.max_area,
+            max_points=job.max_points,
+            progress=None if bar is None else (lambda n: bar.update(n - bar.n)),
         )
     finally:
         if bar is not None:
@@ -161,25 +203,103 @@ def _place_front(job: _Job) -> tuple:
 MESH_METHODS: dict[str, MeshMethod] = {
     m.name: m
     for m in (
-        MeshMethod("delaunay", "guaranteed-quality Delaunay refinement (Ruppert, off-centres)", _place_delaunay),
-        MeshMethod("weatherill", "Weatherill's automatic point generation (chapter 18.1.3)", _place_weatherill),
-        MeshMethod("frontal-delaunay", "frontal Delaunay: advancing-front points, Delaunay insertion (18.3)", _place_frontal),
-        MeshMethod("front", "advancing front with stretched background grids (18.2)", _place_front),
+        MeshMethod(
+            "delaunay", "guaranteed-quality Delaunay refinement (Ruppert, off-centres)", _place_delaunay,
+            RUPPERT_MAX_ANGLE, 30.0, True,
+        ),
+        MeshMethod(
+            "weatherill", "Weatherill's automatic point generation (chapter 18.1.3)", _place_weatherill,
+            RUPPERT_MAX_ANGLE, 0.0, True, ("alpha",),
+        ),
+        MeshMethod(
+            "frontal-delaunay", "frontal Delaunay: advancing-front points, Delaunay insertion (18.3)", _place_frontal,
+            RUPPERT_MAX_ANGLE, 0.0, False,
+        ),
+        MeshMethod("front", "advancing front with stretched background grids (18.2)", _place_front, 0.0, 0.0, True),
     )
 }
 
 
 def _as_domain(domain) -> Domain:
+    """The Domain named by ``triangulate``'s first argument (see its docstring)."""
     if isinstance(domain, Domain):
         return domain
-    if isinstance(domain, str):
+    if isinstance(domain, str) and domain in BUILTIN_DOMAINS:
         return builtin(domain)
-    arr = np.asarray(domain, dtype=np.float64)
-    if arr.ndim == 2 and arr.shape[1] == 2:
+    if isinstance(domain, (str, os.PathLike)):
+        path = Path(domain)
+        suffix = path.suffix.lower()
+        if not path.is_file() or suffix not in (".json", ".poly"):
+            raise InputError(
+                f"domain {str(domain)!r} is neither a built-in domain ({', '.join(sorted(BUILTIN_DOMAINS))}) "
+                "nor an existing .json or .poly file"
+            )
+        from meshwright.geometry import load_domain, read_poly
+
+        return load_domain(path) if suffix == ".json" else read_poly(path)
+    try:
+        arr = np.asarray(domain, dtype=np.float64)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is not None and arr.ndim == 2 and arr.shape[1] == 2:
         return polygon(arr)
     raise InputError(
-        f"domain must be a meshwright.geometry.Domain, a built-in name or an (n, 2) polygon, got {type(domain).__name__}"
+        "domain must be a meshwright.geometry.Domain, a built-in name, a .json/.poly path or an (n, 2) "
+        f"polygon, got {type(domain).__name__}" + ("" if arr is None else f" of shape {arr.shape}")
     )
+
+
+def _min_angle(m: MeshMethod, min_angle) -> float:
+    """``min_angle`` checked against what ``m`` honours (None: the method's default)."""
+    if min_angle is None:
+        return m.default_min_angle
+    if isinstance(min_angle, bool) or not isinstance(min_angle, numbers.Real) or not math.isfinite(min_angle):
+        raise InputError(f"min_angle must be a finite number of degrees, got {min_angle!r}")
+    a = float(min_angle)
+    if a < 0.0:
+        raise InputError(f"min_angle must be >= 0 degrees, got {a!r}")
+    if a > 0.0 and m.max_min_angle == 0.0:
+        raise InputError(
+            f"method {m.name!r} cannot honour min_angle={a:g}: it makes its own triangles without an angle "
+            "bound; leave min_angle None (or 0), or use a method that refines by angle "
+            f"({', '.join(k for k, v in MESH_METHODS.items() if v.max_min_angle > 0)})"
+        )
+    if a > m.max_min_angle:
+        raise InputError(
+            f"min_angle={a:g} is above what method {m.name!r} can honour ({m.max_min_angle:g} degrees: "
+            "Delaunay refinement may not terminate beyond it)"
+        )
+    return a
+
+
+def _check_work(dom: Domain, field: SizeField | None, max_area: float | None, cap: int) -> None:
+    """Refuse, before discretising, a size or area bound that needs more than ``cap`` points.
+
+    The estimate is a low one (so nothing feasible is refused): the boundary points
+    :meth:`Domain.estimate_boundary_points` places, plus for a uniform size half the
+    vertices of equilateral triangles of that side, or for ``max_area`` a quarter of
+    area / max_area (triangles of at most that area, about two per vertex, the advancing
+    front's closing triangles up to twice it).
+    """
+    area = abs(dom.area())
+    boundary = 0.0 if field is None else dom.estimate_boundary_points(field)
+    interior = 0.0
+    what = []
+    if field is not None:
+        what.append(f"size {field.constant:g}" if field.constant is not None else f"size field {field.name}")
+        if field.constant is not None and not isinstance(field, BackgroundGrid):
+            interior = area / (math.sqrt(3.0) * field.constant**2)
+    if max_area is not None:
+        what.append(f"max_area {max_area:g}")
+        interior = max(interior, area / (4.0 * max_area))
+    need = boundary + interior
+    if need > cap:
+        x0, y0, x1, y1 = dom.bbox
+        raise SizeError(
+            f"{' and '.join(what)} would need about {need:.3g} points ({boundary:.3g} on the boundary) "
+            f"on a domain of extent {x1 - x0:.3g} x {y1 - y0:.3g} (boundary length {dom.boundary_length():.3g}, "
+            f"area {area:.3g}), above max_points = {cap}; coarsen it or raise max_points"
+        )
 
 
 def _regions(disc: Discretization) -> list[tuple]:
@@ -236,46 +356,70 @@ def triangulate(
     domain,
     size=None,
     *,
-    min_angle: float = 30.0,
+    min_angle: float | None = None,
     method: str = "delaunay",
     smooth: int = 0,
     max_area: float | None = None,
     seed: int = 0,
     progress: bool = False,
     conforming: bool = False,
+    max_points: int | None = None,
+    alpha: float | None = None,
 ) -> Mesh:
     """Boundary-conforming quality triangle mesh of a 2-D domain.
 
+    Every argument is checked here, before any work, against what the chosen method
+    honours (its :class:`MeshMethod` entry); a parameter the method cannot honour is an
+    error, never silently dropped.
+
     Parameters
     ----------
-    domain : Domain, str or (n, 2) array_like
+    domain : Domain, str, path or (n, 2) array_like
         What to mesh: a domain, the name of a built-in one
-        (:data:`meshwright.geometry.BUILTIN_DOMAINS`), or the vertex loop of a polygon.  Curved boundaries stay
-        curves: every boundary point lies on the true curve.
+        (:data:`meshwright.geometry.BUILTIN_DOMAINS`), the path of a JSON geometry
+        (:mod:`meshwright.geometry.spec`) or Triangle ``.poly`` file, or the vertex loop of
+        a polygon.  Curved boundaries stay curves: every boundary point lies on the true
+        curve.  Coordinates must lie in the exact predicates' range
+        (:mod:`meshwright.core.validate_input`).
     size : number, callable or SizeField, optional
         Target edge length ``h(x)`` (boundary spacing and interior size); default: the
         domain's own size, or else the boundary as given with sizes grown from it.
-    min_angle : float
-        Smallest angle in degrees for ``method="delaunay"`` (up to ~33; angles next to
-        smaller input angles are left alone).  0 refines by size only.
+    min_angle : float, optional
+        Smallest angle in degrees, at most the method's ``max_min_angle``
+        (:data:`RUPPERT_MAX_ANGLE` = 33.8; angles next to smaller input angles are left
+        alone).  ``"delaunay"`` refines to it natively (default 30); ``"weatherill"`` and
+        ``"frontal-delaunay"`` honour it by a final Delaunay refinement pass on their
+        points (default None: no angle bound, their own point placement only);
+        ``"front"`` cannot honour it (only None or 0).  0 means no angle bound.
     method : str
         A key of :data:`MESH_METHODS`.
     smooth : int
         Spring-analogy smoothing passes afterwards (chapter 18.2); 0 for none.
     max_area : float, optional
-        Largest triangle area (region seeds may lower it locally).  ``method="front"``
-        honours it through the spacing (``MAX_AREA_SIDE`` times the side of the
-        equilateral triangle of that area, boundary segments split to it), so a few
-        closing triangles may exceed it (by less than twice); the Delaunay methods refine
-        until it holds exactly.
-    seed : int
-        Randomness of the insertion order (results are reproducible for a seed).
+        Largest triangle area, positive and finite (region seeds may lower it locally).
+        ``method="front"`` honours it through the spacing (``MAX_AREA_SIDE`` times the
+        side of the equilateral triangle of that area, boundary segments split to it), so
+        a few closing triangles may exceed it (by less than twice); the Delaunay methods
+        refine until it holds exactly.
+    seed : int or numpy.random.Generator
+        Randomness of the insertion order (results are reproducible for a seed); a
+        non-negative int.
     progress : bool
-        Show a progress bar for long runs.
+        Show a progress bar for long runs; only for methods whose ``reports_progress`` is
+        set (``"frontal-delaunay"`` reports none, so True is refused there).
     conforming : bool
         Also split segments until every triangle is Delaunay (not only constrained
         Delaunay), like Triangle's ``-D``.  With ``method="front"`` the front's points
         are then connected by the Delaunay kernel instead of by the front.
+    max_points : int, optional
+        Cap on the mesh's vertices, passed to every method (default
+        :data:`DEFAULT_MAX_POINTS`).  A size or ``max_area`` whose estimated point count
+        exceeds it is refused at once with a :class:`SizeError`; a method that reaches it
+        raises :class:`MeshingError` naming it.
+    alpha : float, optional
+        Weatherill's density coefficient (``method="weatherill"`` only; default
+        :data:`meshwright.tri.weatherill.DEFAULT_ALPHA` = 0.6): a candidate closer than
+        ``alpha dP`` to a node is rejected, so smaller values give more points.
 
     Returns
     -------
@@ -289,26 +433,44 @@ def triangulate(
     GeometryError
         Invalid geometry (named loops, segments, coordinates).
     InputError
-        Unknown method, bad parameters.
+        Not a domain (its type named), unknown method, a parameter of the wrong type or
+        range, or one the method cannot honour (named).
+    SizeError
+        ``size`` or ``max_area`` zero, negative, NaN or infinite, or needing more than
+        ``max_points`` points (the estimate and the cap named).
+    FormatError
+        A domain file that cannot be read (the file named).
     MeshingError
         A cap on points or steps was hit.
     """
-    if method not in MESH_METHODS:
+    if not isinstance(method, str) or method not in MESH_METHODS:
         raise InputError(f"unknown method {method!r}; choose one of {', '.join(sorted(MESH_METHODS))}")
-    if int(smooth) < 0:
-        raise InputError(f"smooth must be a non-negative number of passes, got {smooth!r}")
+    m = MESH_METHODS[method]
+    passes = check_count(smooth, "smooth (passes)")
+    angle = _min_angle(m, min_angle)
+    if max_area is not None:
+        max_area = check_positive(max_area, "max_area")
+    cap = DEFAULT_MAX_POINTS if max_points is None else check_count(max_points, "max_points", 3)
+    if alpha is not None and "alpha" not in m.options:
+        raise InputError(f"alpha is an option of method 'weatherill' only; method {method!r} has no use for it")
+    alpha = DEFAULT_ALPHA if alpha is None else check_positive(alpha, "alpha", InputError)
+    for name, flag in (("progress", progress), ("conforming", conforming)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise InputError(f"{name} must be True or False, got {flag!r}")
+    if progress and not m.reports_progress:
+        raise InputError(f"method {method!r} reports no progress; call it with progress=False")
+    seed = check_seed(seed)
+    field = None if size is None else as_size_field(size)
     dom = _as_domain(domain)
-    field = None
-    if size is not None:
-        field = as_size_field(size)
-    elif dom.size is not None:
+    if field is None:
         field = dom.size
+    _check_work(dom, field, max_area, cap)
     disc = dom.discretize(field)
     curves = SegmentCurves.from_domain(dom, disc)
     ct = cdt_build(disc.points, disc.segments, seed=seed, curves=curves)
     sides = np.where(dom.curve_loop[disc.segment_curve] >= 0, 1, 0)
     ct.classify(segment_sides=sides, holes=disc.holes, regions=_regions(disc))
-    fill = MESH_METHODS[method].place(_Job(ct, disc, field, float(min_angle), max_area, bool(progress)))
+    fill = m.place(_Job(ct, disc, field, angle, max_area, bool(progress), cap, alpha))
     if fill is not None and conforming:
         # A Delaunay mesh was asked for: the method's points, connected by the kernel.
         ct.insert_points(fill[0][ct.n_points :])
@@ -316,6 +478,6 @@ def triangulate(
     if conforming:
         conform(ct)
     mesh = ct.to_mesh(segment_markers=disc.segment_markers, fill=fill)
-    if smooth:
-        mesh = _smooth_mesh(mesh, ct, dom, disc, int(smooth))
+    if passes:
+        mesh = _smooth_mesh(mesh, ct, dom, disc, passes)
     return mesh

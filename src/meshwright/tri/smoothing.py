@@ -34,6 +34,7 @@ triangles positively oriented.
 
 from __future__ import annotations
 
+import numbers
 from typing import Callable
 
 import numpy as np
@@ -42,6 +43,7 @@ from numba import njit
 from meshwright.core.errors import InputError
 from meshwright.core.predicates import orient2d
 from meshwright.core.topology import boundary_edges_of
+from meshwright.core.validate_input import as_points, check_coordinate_range, check_count
 
 __all__ = ["smooth", "node_adjacency"]
 
@@ -238,6 +240,39 @@ def _boundary_tangents(points: np.ndarray, bnbr: np.ndarray, on_boundary: np.nda
     return kind, tangent
 
 
+def _indices(arr, what: str, width: int, n: int) -> np.ndarray:
+    """(k, width) int64 node indices in ``[0, n)`` from an integer array, or InputError naming the entry."""
+    a = np.asarray(arr)
+    if a.size == 0:
+        return np.zeros((0, width), dtype=np.int64)
+    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
+        raise InputError(f"{what} must be an integer array of node indices, got dtype {a.dtype}")
+    if a.ndim != 2 or a.shape[1] != width:
+        raise InputError(f"{what} must have shape (k, {width}), got {a.shape}")
+    bad = np.flatnonzero(((a < 0) | (a >= n)).any(axis=1))
+    if len(bad):
+        raise InputError(f"{what} row {bad[0]} {a[bad[0]].tolist()} refers to a node outside [0, {n})")
+    return a.astype(np.int64)
+
+
+def _fixed_nodes(fixed, n: int) -> np.ndarray:
+    """Node indices of ``fixed`` (indices or an (n,) mask), checked against ``n``."""
+    if fixed is None:
+        return np.zeros(0, dtype=np.int64)
+    f = np.asarray(fixed)
+    if f.dtype == bool:
+        if f.shape != (n,):
+            raise InputError(f"fixed as a mask must have shape ({n},), got {f.shape}")
+        return np.flatnonzero(f)
+    f = f.ravel()
+    if f.size and not np.issubdtype(f.dtype, np.integer):
+        raise InputError(f"fixed must be node indices (integers) or an (n,) bool mask, got dtype {f.dtype}")
+    bad = np.flatnonzero((f < 0) | (f >= n))
+    if len(bad):
+        raise InputError(f"fixed entry {bad[0]} is node {int(f[bad[0]])}, outside [0, {n})")
+    return f.astype(np.int64)
+
+
 def smooth(
     points: np.ndarray,
     triangles: np.ndarray,
@@ -277,21 +312,30 @@ def smooth(
     (n, 2) float64
         Smoothed coordinates.  Connectivity is unchanged; no triangle is inverted and the
         worst radius ratio around every node is never decreased by a move.
+
+    Raises
+    ------
+    InputError
+        Points not (n, 2), NaN/infinite or outside the predicates' exact range
+        (:mod:`meshwright.core.validate_input`); connectivity (``triangles``,
+        ``boundary_edges``, ``fixed``) not integer or referring to a node outside
+        ``[0, n)`` (the row is named); ``passes`` not a non-negative int; ``relax`` outside
+        (0, 1]; ``project`` not callable.
     """
-    xy = np.array(points, dtype=np.float64, order="C", copy=True)
-    tris = np.ascontiguousarray(triangles, dtype=np.int32)
-    if xy.ndim != 2 or xy.shape[1] != 2:
-        raise InputError(f"points must have shape (n, 2), got {xy.shape}")
-    if tris.ndim != 2 or tris.shape[1] != 3:
-        raise InputError(f"triangles must have shape (m, 3), got {tris.shape}")
-    if not 0.0 < relax <= 1.0:
-        raise InputError(f"relax = c*dt must lie in (0, 1], got {relax}")
-    if passes < 0:
-        raise InputError(f"passes must be non-negative, got {passes}")
+    xy = as_points(points, "points", copy=True)
+    check_coordinate_range(xy, "points")
     n = len(xy)
+    tris = _indices(triangles, "triangles", 3, n).astype(np.int32)
+    passes = check_count(passes, "passes")
+    if isinstance(relax, bool) or not isinstance(relax, numbers.Real) or not 0.0 < float(relax) <= 1.0:
+        raise InputError(f"relax = c*dt must be a number in (0, 1], got {relax!r}")
+    relax = float(relax)
+    if project is not None and not callable(project):
+        raise InputError(f"project must be callable project(nodes, xy) -> xy, got {type(project).__name__}")
+    fixed_nodes = _fixed_nodes(fixed, n)
     if boundary_edges is None:
         boundary_edges = boundary_edges_of(tris)
-    boundary_edges = np.asarray(boundary_edges, dtype=np.int64).reshape(-1, 2)
+    boundary_edges = _indices(boundary_edges, "boundary_edges", 2, n)
     bnbr = _boundary_neighbours(boundary_edges, n)
     on_boundary = np.zeros(n, dtype=bool)
     on_boundary[boundary_edges.ravel()] = True
@@ -299,9 +343,7 @@ def smooth(
     if project is None:
         # Without the true curve, only nodes on straight stretches may slide.
         _fix_corners(xy, bnbr, kind)
-    if fixed is not None:
-        fixed = np.asarray(fixed)
-        kind[fixed if fixed.dtype != bool else np.flatnonzero(fixed)] = 2
+    kind[fixed_nodes] = 2
     nbr_offsets, nbr_indices, tri_offsets, tri_indices = node_adjacency(tris, n)
     sliding = np.flatnonzero(kind == 1).astype(np.int64)
     if project is None:

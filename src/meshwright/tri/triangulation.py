@@ -6,7 +6,9 @@ Rote 2003) with Hilbert-sorted rounds (:mod:`meshwright.core.spatial_sort`).
 
 Pipeline of :func:`delaunay`
 ----------------------------
-1. Validate once: shape (n, 2), finite, at least three distinct points not all collinear.
+1. Validate once: shape (n, 2), finite, inside the predicates' exact range
+   (:func:`meshwright.core.validate_input.check_coordinate_range`), a valid seed, at least
+   three distinct points not all collinear.
 2. Order: BRIO from ``numpy.random.default_rng(seed)``; the first point not coinciding with
    the first, and the first not collinear with those two, are moved to positions 1 and 2 so
    insertion starts from a non-degenerate triangle and its three ghosts.
@@ -44,6 +46,7 @@ import numpy as np
 
 from meshwright.core.errors import DegenerateInputError, DuplicatePointError, InputError, MeshingError
 from meshwright.core.spatial_sort import brio_order
+from meshwright.core.validate_input import as_points, check_coordinate_range, check_seed
 from meshwright.tri import bowyer, watson
 from meshwright.tri._build2d import (
     compact, find_start, hull_loop, init_triangle, insert_batch, locate_points, promote, relabel, scatter_rows,
@@ -78,16 +81,9 @@ DELAUNAY_ALGORITHMS = {
 
 
 def _coerce_points(points, what: str) -> np.ndarray:
-    """Return the points as C-contiguous (n, 2) float64 (not copied if already so), or raise."""
-    try:
-        arr = np.ascontiguousarray(points, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{what} must be an (n, 2) array of numbers: {exc}") from exc
-    if arr.ndim != 2 or arr.shape[1] != 2:
-        raise InputError(f"{what} must have shape (n, 2), got {arr.shape}")
-    bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
-    if bad.size:
-        raise InputError(f"{what}: point {bad[0]} is not finite: {arr[bad[0]].tolist()}")
+    """C-contiguous (n, 2) float64 (not copied if already so) inside the predicates' exact range."""
+    arr = as_points(points, what)
+    check_coordinate_range(arr, what)
     return arr
 
 
@@ -137,6 +133,7 @@ class Triangulation:
             raise InputError(f"unknown algorithm {algorithm!r}; choose from {sorted(DELAUNAY_ALGORITHMS)}")
         if duplicates not in ("merge", "reject"):
             raise InputError(f"duplicates must be 'merge' or 'reject', got {duplicates!r}")
+        seed = check_seed(seed)
         self.algorithm = algorithm
         self._alg = DELAUNAY_ALGORITHMS[algorithm]
         self._rng = np.random.default_rng(seed)
@@ -351,14 +348,17 @@ def delaunay(points, algorithm: str = "bowyer", duplicates: str = "merge", seed=
     Parameters
     ----------
     points : (n, 2) array_like of float64
-        At least three distinct, finite, not all collinear points.
+        At least three distinct, finite, not all collinear points; every nonzero coordinate
+        of magnitude in ``[2**-148, 2**200]``, where the predicates are exact (see
+        :mod:`meshwright.core.validate_input`: scale by a power of two to get there).
     algorithm : {"bowyer", "watson"}
         Insertion algorithm; both give the identical triangulation.
     duplicates : {"merge", "reject"}
         Merge coincident points into one vertex (see ``Triangulation.index_map``) or raise
         :class:`~meshwright.core.errors.DuplicatePointError` naming them.
     seed : int or numpy.random.Generator
-        Randomness of the insertion order (BRIO) and of the point-location walk.
+        Randomness of the insertion order (BRIO) and of the point-location walk: a
+        non-negative int (not a bool or float) or a Generator.
 
     Returns
     -------
@@ -367,7 +367,8 @@ def delaunay(points, algorithm: str = "bowyer", duplicates: str = "merge", seed=
     Raises
     ------
     InputError
-        Wrong shape, non-numeric, NaN or infinite coordinates, unknown option.
+        Wrong shape, non-numeric, NaN or infinite coordinates, a coordinate outside the
+        predicates' exact range, a bad seed, unknown option.
     DegenerateInputError
         Fewer than three distinct points, or all collinear.
     DuplicatePointError

@@ -35,7 +35,9 @@ order, gives the same accept/reject decisions as inserting each point at once (t
 vertices added during a pass are the accepted points) with far shorter point location.
 
 An optional size field ``h`` caps ``dP_m`` by ``h(centroid)``; without it the spacing is
-the chapter's, interpolated from the boundary alone.
+the chapter's, interpolated from the boundary alone.  ``alpha`` is the chapter's density
+coefficient: :func:`meshwright.triangulate` takes it as ``alpha=`` for
+``method="weatherill"`` (``--alpha`` on the command line), default :data:`DEFAULT_ALPHA`.
 
 Termination: accepted points are pairwise at least ``alpha min(dP)`` apart and ``dP`` never
 drops below the smallest boundary (or size-field) value, so a bounded domain holds finitely
@@ -90,8 +92,10 @@ def select_spaced(pts, tri, nbr, inside, cand, host, radius):
 
     Candidate i, lying in triangle slot ``host[i]``, is accepted when no vertex of the
     triangles its disk of radius ``radius[i]`` reaches, and no candidate accepted before it
-    that was listed on one of those triangles, lies strictly inside the disk.  Shared by the
-    frontal Delaunay rows (:mod:`meshwright.tri.frontal_delaunay`).
+    that was listed on one of those triangles, lies strictly inside the disk.  (The frontal
+    Delaunay method, :mod:`meshwright.tri.frontal_delaunay`, places one point at a time in
+    Rebay's order and keeps its spacing inside its own kernel, so this batch test is
+    Weatherill's alone.)
 
     Parameters
     ----------

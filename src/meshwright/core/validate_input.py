@@ -1,0 +1,166 @@
+"""Argument checks shared by the public doors: point arrays, the predicates' coordinate range,
+counts, seeds and positive numbers.
+
+Every public function checks all its arguments before any work (docs/ARCHITECTURE.md); the
+checks that several doors need live here, so each is written once and every door names the
+culprit the same way (:func:`meshwright.core.errors.fmt_point`).
+
+Coordinate range
+----------------
+The predicates of :mod:`meshwright.core.predicates` decide exactly only while none of their
+intermediate products overflows or underflows.  Their documented sufficient condition is that
+every nonzero coordinate has magnitude in ``[COORD_MIN, COORD_MAX] = [2**-148, 2**200]``
+(about 2.8e-45 .. 1.6e60); zero is always allowed.  :func:`check_coordinate_range` enforces it
+at the doors of ``delaunay``, ``voronoi``, ``triangulate`` (the domain) and ``smooth``.
+
+The doors check rather than rescale.  Multiplying by a power of two is exact in binary
+floating point, so a door could move a tiny or huge point set into the range and scale its
+results back; but every derived quantity (Voronoi vertices, areas, sizes, later insertions
+and location queries) would then have to follow the same factor, and a point set whose
+magnitudes span more than ``2**348`` would still not fit.  A clear error naming the point is
+simpler and leaves the choice of units to the caller: multiply the coordinates by ``2**k``
+yourself (exact), mesh, and divide the result by the same ``2**k`` (exact again).
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from meshwright.core.errors import InputError, SizeError, fmt_point
+
+__all__ = [
+    "COORD_MIN",
+    "COORD_MAX",
+    "as_points",
+    "check_coordinate_range",
+    "check_count",
+    "check_positive",
+    "check_seed",
+]
+
+COORD_MIN = 2.0**-148
+COORD_MAX = 2.0**200
+
+
+def as_points(points, what: str = "points", dim: int = 2, *, copy: bool = False) -> np.ndarray:
+    """The one point coercer: C-contiguous ``(n, dim)`` float64 with finite coordinates.
+
+    Parameters
+    ----------
+    points : (n, dim) array_like of float
+    what : str
+        Name of the argument in error messages.
+    dim : int
+        Required number of columns.
+    copy : bool
+        Always return a new array (otherwise not copied when already C-contiguous float64).
+
+    Returns
+    -------
+    (n, dim) float64, C-contiguous
+
+    Raises
+    ------
+    InputError
+        Not numeric, wrong shape, or a NaN/infinite coordinate (the first such point named
+        with its index and coordinates).
+    """
+    try:
+        arr = np.array(points, dtype=np.float64, order="C", copy=True) if copy else np.ascontiguousarray(
+            points, dtype=np.float64
+        )
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{what} must be an (n, {dim}) array of numbers: {exc}") from exc
+    if arr.ndim != 2 or arr.shape[1] != dim:
+        raise InputError(f"{what} must have shape (n, {dim}), got {arr.shape}")
+    bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+    if bad.size:
+        raise InputError(f"{what}: point {bad[0]} is not finite: {fmt_point(arr[bad[0]])}")
+    return arr
+
+
+def check_coordinate_range(points: np.ndarray, what: str = "points") -> None:
+    """Raise unless every nonzero coordinate lies in the predicates' exact range.
+
+    Parameters
+    ----------
+    points : (n, d) float64
+        Finite coordinates (see :func:`as_points`).
+    what : str
+        Name of the argument in error messages.
+
+    Raises
+    ------
+    InputError
+        Naming the first point with a nonzero coordinate of magnitude below ``COORD_MIN`` or
+        above ``COORD_MAX``, and how to rescale.
+    """
+    a = np.abs(np.asarray(points, dtype=np.float64))
+    if a.size == 0:
+        return
+    bad = ((a != 0.0) & (a < COORD_MIN)) | (a > COORD_MAX)
+    if not bad.any():
+        return
+    i = int(np.flatnonzero(bad.reshape(len(a), -1).any(axis=1))[0])
+    raise InputError(
+        f"{what}: point {i} {fmt_point(points[i])} has a coordinate outside the exact predicates' "
+        f"range (nonzero magnitudes in [2**-148, 2**200], about {COORD_MIN:.2g} .. {COORD_MAX:.2g}); "
+        "multiply all coordinates by a power of two (exact) to bring them into it"
+    )
+
+
+def check_count(value, what: str, minimum: int = 0) -> int:
+    """An integer argument (not bool, not float) at least ``minimum``; returns it as int.
+
+    Raises
+    ------
+    InputError
+        Naming ``what`` and the value given.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise InputError(f"{what} must be an integer >= {minimum}, got {value!r} ({type(value).__name__})")
+    if int(value) < minimum:
+        raise InputError(f"{what} must be an integer >= {minimum}, got {int(value)}")
+    return int(value)
+
+
+def check_seed(seed, what: str = "seed"):
+    """A seed for :func:`numpy.random.default_rng`: a non-negative int or a Generator.
+
+    Returns
+    -------
+    int or numpy.random.Generator
+
+    Raises
+    ------
+    InputError
+        A bool, float, negative or other value.
+    """
+    if isinstance(seed, np.random.Generator):
+        return seed
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
+        raise InputError(
+            f"{what} must be a non-negative integer or a numpy.random.Generator, got {seed!r} ({type(seed).__name__})"
+        )
+    if int(seed) < 0:
+        raise InputError(f"{what} must be non-negative, got {int(seed)}")
+    return int(seed)
+
+
+def check_positive(value, what: str, error: type = SizeError) -> float:
+    """A positive, finite real number (not bool); returns it as float.
+
+    Raises
+    ------
+    error
+        (:class:`SizeError` by default) naming ``what`` and the value: zero, negative, NaN,
+        infinite, or not a number.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise error(f"{what} must be a positive number, got {value!r} ({type(value).__name__})")
+    v = float(value)
+    if not (np.isfinite(v) and v > 0.0):
+        raise error(f"{what} must be positive and finite, got {v!r}")
+    return v

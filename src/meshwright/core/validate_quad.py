@@ -1,0 +1,86 @@
+"""Orientation check of 2-D meshes whose quads may be non-convex (``allow_nonconvex``).
+
+``Mesh.validate`` requires every quad to be strictly convex: all four corner triples
+``(q[k-1], q[k], q[k+1])`` strictly counter-clockwise by the exact ``orient2d``, i.e. a
+strictly positive Jacobian at every corner.  The advancing-front pairing of section
+18.5.1 (Zhu et al. 1991) tolerates angles of 180 degrees and more before its shape
+enhancement, so :func:`check_orientation_nonconvex` accepts any *simple*
+counter-clockwise quad instead: one whose diagonal from corner 0 or from corner 1 splits
+it into two strictly counter-clockwise triangles.  A convex quad passes by either
+diagonal, a quad with one reflex corner by the diagonal from that corner, a
+self-intersecting (bow-tie) or clockwise quad by neither (each diagonal leaves one
+triangle clockwise or flat).  Triangles of the mesh must still be strictly
+counter-clockwise.  Every sign is exact (:mod:`meshwright.core.predicates`).
+
+Array layout: points (n, 2) float64; quads (m, 4) and triangles (t, 3) int32,
+counter-clockwise.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from meshwright.core.errors import ValidationError
+from meshwright.core.predicates import orient2d_batch
+
+__all__ = ["check_orientation_nonconvex", "simple_ccw_quads"]
+
+
+def _fmt(points: np.ndarray, cell: np.ndarray) -> str:
+    return ", ".join(f"({points[v, 0]:.17g}, {points[v, 1]:.17g})" for v in cell)
+
+
+def simple_ccw_quads(points: np.ndarray, quads: np.ndarray) -> np.ndarray:
+    """Which quads are simple and counter-clockwise (non-convex allowed).
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+    quads : (m, 4) int
+
+    Returns
+    -------
+    (m,) bool
+    """
+    q = np.asarray(quads, dtype=np.int64)
+    ok = np.zeros(len(q), dtype=bool)
+    for k in (0, 1):
+        first = np.ascontiguousarray(q[:, [k, k + 1, k + 2]])
+        second = np.ascontiguousarray(q[:, [k + 2, (k + 3) % 4, k]])
+        s1 = np.asarray(orient2d_batch(points, first))
+        s2 = np.asarray(orient2d_batch(points, second))
+        ok |= (s1 > 0) & (s2 > 0)
+    return ok
+
+
+def check_orientation_nonconvex(mesh) -> None:
+    """Raise :class:`ValidationError` unless every triangle is strictly counter-clockwise
+    and every quad simple and counter-clockwise (module docstring).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        A 2-D mesh.
+    """
+    points = mesh.points
+    tris = mesh.cells_of("triangle")
+    if len(tris):
+        sign = np.asarray(orient2d_batch(points, np.ascontiguousarray(tris, dtype=np.int64)))
+        bad = np.flatnonzero(sign <= 0)
+        if len(bad):
+            c = int(bad[0])
+            what = "degenerate (zero area)" if sign[c] == 0 else "inverted (negative area)"
+            raise ValidationError(
+                f"triangle {c} (vertices {', '.join(str(int(v)) for v in tris[c])}) at {_fmt(points, tris[c])} "
+                f"is {what}; {len(bad)} such cells in total"
+            )
+    quads = mesh.cells_of("quad")
+    if len(quads):
+        bad = np.flatnonzero(~simple_ccw_quads(points, quads))
+        if len(bad):
+            c = int(bad[0])
+            raise ValidationError(
+                f"quad {c} (vertices {', '.join(str(int(v)) for v in quads[c])}) at {_fmt(points, quads[c])} "
+                f"is not a simple counter-clockwise quadrilateral (self-intersecting, clockwise or flat); "
+                f"{len(bad)} such cells in total"
+            )

@@ -1,0 +1,538 @@
+"""Numba kernels of :mod:`meshwright.quad.pairing`: triangle pairing and quad shape enhancement.
+
+Sources: J. Z. Zhu, O. C. Zienkiewicz, E. Hinton and J. Wu, "A new approach to the
+development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32,
+1991 (pairs of triangles sharing a side, then node elimination, element elimination and
+diagonal swapping); augmenting paths with blossoms shrunk: J. Edmonds, "Paths, trees, and
+flowers", Canad. J. Math. 17, 1965, searched breadth first from each unpaired triangle.
+
+Array layout
+------------
+xy     : (n, 2) float64 node coordinates.
+tri    : flat int32, ``tri[3*t + k]`` vertex k of counter-clockwise triangle t; triangles
+         are numbered in the order the advancing front made them.
+nbr    : flat int32, ``nbr[3*t + k]`` the triangle across the side opposite vertex k, -1 on
+         the boundary; ``nbr`` of a side that is a constraint (a ``line`` cell) is -1 too,
+         so no pair is ever formed across a boundary or an interior segment.
+mate   : (nt,) int32, the triangle t is paired with, -1 while unpaired.
+quad   : (m, 4) int32 counter-clockwise quadrilaterals; ``alive`` (m,) int8.
+bnd    : (n,) int8, 1 for a node on the boundary, on an interior segment or given as an
+         interior point (never moved or removed by the enhancement).
+csr    : node -> incident quads, ``(off (n+1,) int64, idx int32)``, rebuilt by the caller
+         before every enhancement pass.
+
+Invariants: every topological decision (is the pair's quadrilateral strictly convex, is a
+quadrilateral after an operation strictly convex) is an exact ``orient2d``; the scaled
+Jacobian and the 150-degree rule at boundary nodes are quality rules in floating point,
+applied only among valid choices.  An operation touches only quads not touched before in
+the same pass, so the node -> quad table stays true for every quad an operation reads.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.predicates import orient2d
+
+FLAT = 0.5  # a corner between two boundary sides needs this sine (angle <= 150 degrees)
+
+__all__ = [
+    "FLAT", "corner_ok", "corner_flat", "quad_sj", "quad_ok", "pair_quad", "pair_score", "greedy_pairs", "augment",
+    "enhance_pass",
+]
+
+
+@njit(inline="always")
+def corner_ok(xy, p, c, n):
+    """Whether corner c (previous p, next n) of a counter-clockwise polygon is strictly convex."""
+    return orient2d(xy[p, 0], xy[p, 1], xy[c, 0], xy[c, 1], xy[n, 0], xy[n, 1]) > 0.0
+
+
+@njit(cache=True)
+def quad_sj(xy, a, b, c, d):
+    """Scaled Jacobian of quad (a, b, c, d): the smallest corner sine, <= 0 when not convex."""
+    v = (a, b, c, d)
+    worst = 1.0
+    for k in range(4):
+        p = v[(k + 3) % 4]
+        q = v[k]
+        r = v[(k + 1) % 4]
+        ux = xy[r, 0] - xy[q, 0]
+        uy = xy[r, 1] - xy[q, 1]
+        wx = xy[p, 0] - xy[q, 0]
+        wy = xy[p, 1] - xy[q, 1]
+        lu = np.sqrt(ux * ux + uy * uy)
+        lw = np.sqrt(wx * wx + wy * wy)
+        s = (ux * wy - uy * wx) / (lu * lw) if lu * lw > 0.0 else 0.0
+        if s < worst:
+            worst = s
+    return worst
+
+
+@njit(cache=True)
+def corner_flat(xy, p, c, n):
+    """Whether corner c (previous p, next n) of a counter-clockwise polygon is wider than
+    150 degrees (sine below :data:`FLAT` on the obtuse side, or reflex)."""
+    ux = xy[n, 0] - xy[c, 0]
+    uy = xy[n, 1] - xy[c, 1]
+    wx = xy[p, 0] - xy[c, 0]
+    wy = xy[p, 1] - xy[c, 1]
+    lu = np.sqrt(ux * ux + uy * uy)
+    lw = np.sqrt(wx * wx + wy * wy)
+    if lu * lw == 0.0:
+        return True
+    sine = (ux * wy - uy * wx) / (lu * lw)
+    cosine = (ux * wx + uy * wy) / (lu * lw)
+    return sine < 0.0 or (cosine < 0.0 and sine < FLAT)
+
+
+@njit(cache=True)
+def quad_ok(xy, a, b, c, d):
+    """Whether quad (a, b, c, d) has four distinct nodes and strictly convex corners (exact)."""
+    if a == b or a == c or a == d or b == c or b == d or c == d:
+        return False
+    return corner_ok(xy, d, a, b) and corner_ok(xy, a, b, c) and corner_ok(xy, b, c, d) and corner_ok(xy, c, d, a)
+
+
+@njit(cache=True)
+def pair_quad(tri, nbr, t, k):
+    """Quad (a, b, d, c) formed by triangle t and its neighbour across the side opposite vertex k.
+
+    Returns (a, b, d, c), or (-1, -1, -1, -1) when there is no neighbour there.
+    """
+    s = nbr[3 * t + k]
+    if s < 0:
+        return -1, -1, -1, -1
+    a = tri[3 * t + k]
+    b = tri[3 * t + (k + 1) % 3]
+    c = tri[3 * t + (k + 2) % 3]
+    d = -1
+    for j in range(3):
+        if nbr[3 * s + j] == t:
+            d = tri[3 * s + j]
+    return a, b, d, c
+
+
+@njit(cache=True)
+def pair_score(xy, tri, nbr, t, k, qmin):
+    """Scaled Jacobian of the pair (t, side k), or -1 when not allowed: below ``qmin``, not
+    strictly convex (allowed with the score 0 when ``qmin < 0``: the chapter's quads with
+    a corner of 180 degrees or more, left to enhancement and smoothing), or with a corner
+    wider than 150 degrees between two boundary sides (a boundary node left in one quad
+    at a nearly straight boundary, which no later step can open)."""
+    a, b, d, c = pair_quad(tri, nbr, t, k)
+    if a < 0 or d < 0:
+        return -1.0
+    # Corners a and d are those of the two triangles, already counter-clockwise.
+    if corner_ok(xy, a, b, d) and corner_ok(xy, d, c, a):
+        q = quad_sj(xy, a, b, d, c)
+    elif qmin < 0.0:
+        q = 0.0
+    else:
+        return -1.0
+    s = nbr[3 * t + k]
+    jb = 0
+    jc = 0
+    for j in range(3):
+        if tri[3 * s + j] == b:
+            jb = j
+        elif tri[3 * s + j] == c:
+            jc = j
+    # Corner b lies between t's side opposite c and s's side opposite c; likewise for c.
+    if nbr[3 * t + (k + 2) % 3] < 0 and nbr[3 * s + jc] < 0 and corner_flat(xy, a, b, d):
+        return -1.0
+    if nbr[3 * t + (k + 1) % 3] < 0 and nbr[3 * s + jb] < 0 and corner_flat(xy, d, c, a):
+        return -1.0
+    return q if q >= qmin else -1.0
+
+
+@njit(cache=True)
+def greedy_pairs(xy, tri, nbr, mate, qmin):
+    """Pair triangles in the order the front made them (Zhu's first and second triangle).
+
+    Triangle t, the first of a pair, takes the unpaired neighbour that is its only chance
+    (a neighbour with no other free partner), else the one giving the best quadrilateral.
+    Returns the number of pairs made.
+    """
+    nt = mate.shape[0]
+    made = 0
+    for t in range(nt):
+        if mate[t] >= 0:
+            continue
+        best = -1
+        best_q = -1.0
+        forced = False
+        for k in range(3):
+            s = nbr[3 * t + k]
+            if s < 0 or mate[s] >= 0:
+                continue
+            q = pair_score(xy, tri, nbr, t, k, qmin)
+            if q < 0.0:
+                continue
+            free = 0
+            for j in range(3):
+                u = nbr[3 * s + j]
+                if u >= 0 and u != t and mate[u] < 0 and pair_score(xy, tri, nbr, s, j, qmin) >= 0.0:
+                    free += 1
+            if free == 0 and not forced:
+                forced = True
+                best, best_q = s, q
+            elif (free == 0) == forced and q > best_q:
+                best, best_q = s, q
+        if best >= 0:
+            mate[t] = best
+            mate[best] = t
+            made += 1
+    return made
+
+
+@njit(cache=True)
+def _allowed(xy, tri, nbr, v, k, qmin):
+    return nbr[3 * v + k] >= 0 and pair_score(xy, tri, nbr, v, k, qmin) >= 0.0
+
+
+@njit(cache=True)
+def _lca(a, b, mate, pred, base, mark, stamp):
+    """Base of the blossom closing at a and b (walk up both alternating trees)."""
+    while True:
+        a = base[a]
+        mark[a] = stamp
+        if mate[a] < 0:
+            break
+        a = pred[mate[a]]
+    while True:
+        b = base[b]
+        if mark[b] == stamp:
+            return b
+        b = pred[mate[b]]
+
+
+@njit(cache=True)
+def _mark_path(v, b, child, mate, pred, base, blossom):
+    while base[v] != b:
+        blossom[base[v]] = 1
+        blossom[base[mate[v]]] = 1
+        pred[v] = child
+        child = mate[v]
+        v = pred[mate[v]]
+
+
+@njit(cache=True)
+def _search(xy, tri, nbr, mate, qmin, root, used, pred, base, blossom, mark, stamp, vis, queue, max_visit):
+    """Edmonds' alternating-tree search from ``root``; returns the free triangle reached or -1.
+
+    ``vis[:count]`` lists every triangle whose ``used``/``pred``/``base`` entries changed;
+    the count is returned second so the caller can reset them.
+    """
+    nv = 0
+    vis[nv] = root
+    nv += 1
+    used[root] = 1
+    head = 0
+    tail = 0
+    queue[tail] = root
+    tail += 1
+    while head < tail:
+        if nv >= max_visit:
+            return -1, nv, stamp
+        v = queue[head]
+        head += 1
+        for k in range(3):
+            if not _allowed(xy, tri, nbr, v, k, qmin):
+                continue
+            to = nbr[3 * v + k]
+            if base[v] == base[to] or mate[v] == to:
+                continue
+            if to == root or (mate[to] >= 0 and pred[mate[to]] >= 0):
+                stamp += 1
+                cur = _lca(v, to, mate, pred, base, mark, stamp)
+                for r in range(nv):
+                    blossom[vis[r]] = 0
+                _mark_path(v, cur, to, mate, pred, base, blossom)
+                _mark_path(to, cur, v, mate, pred, base, blossom)
+                for r in range(nv):
+                    i = vis[r]
+                    if blossom[base[i]] != 0:
+                        base[i] = cur
+                        if used[i] == 0:
+                            used[i] = 1
+                            queue[tail] = i
+                            tail += 1
+            elif pred[to] < 0:
+                pred[to] = v
+                vis[nv] = to
+                nv += 1
+                if mate[to] < 0:
+                    return to, nv, stamp
+                w = mate[to]
+                used[w] = 1
+                vis[nv] = w
+                nv += 1
+                queue[tail] = w
+                tail += 1
+    return -1, nv, stamp
+
+
+@njit(cache=True)
+def augment(xy, tri, nbr, mate, qmin, max_visit):
+    """Pair left-over triangles along augmenting paths (Edmonds 1965, blossoms shrunk).
+
+    From an unpaired triangle u an alternating tree grows across allowed sides; reaching
+    another unpaired triangle v, the pairs along the path shift by one so that u and v
+    are both paired.  Each search enters at most ``max_visit`` triangles (it then gives up
+    on u), so the pass costs O(left-overs x max_visit).  Returns the number of pairs gained.
+    """
+    nt = mate.shape[0]
+    used = np.zeros(nt, dtype=np.int8)
+    pred = np.full(nt, -1, dtype=np.int32)
+    base = np.arange(nt).astype(np.int32)
+    blossom = np.zeros(nt, dtype=np.int8)
+    mark = np.zeros(nt, dtype=np.int64)
+    vis = np.empty(2 * nt + 2, dtype=np.int32)
+    queue = np.empty(2 * nt + 2, dtype=np.int32)
+    stamp = 0
+    gained = 0
+    for u in range(nt):
+        if mate[u] >= 0:
+            continue
+        found, nv, stamp = _search(
+            xy, tri, nbr, mate, qmin, u, used, pred, base, blossom, mark, stamp, vis, queue, max_visit
+        )
+        if found >= 0:
+            v = found
+            while v >= 0:
+                pv = pred[v]
+                ppv = mate[pv]
+                mate[v] = pv
+                mate[pv] = v
+                v = ppv
+            gained += 1
+        for r in range(nv):
+            i = vis[r]
+            used[i] = 0
+            pred[i] = -1
+            base[i] = i
+            blossom[i] = 0
+    return gained
+
+
+@njit(cache=True)
+def _local_min(xy, quad, alive, off, idx, v, skip, sub_from, sub_to):
+    """Smallest scaled Jacobian of the live quads around v (except ``skip``), with node
+    ``sub_from`` read as ``sub_to``; -1 when one of them would not be strictly convex."""
+    worst = 1.0
+    for s in range(off[v], off[v + 1]):
+        q = idx[s]
+        if q == skip or alive[q] == 0:
+            continue
+        a, b, c, d = quad[q, 0], quad[q, 1], quad[q, 2], quad[q, 3]
+        if a == sub_from:
+            a = sub_to
+        if b == sub_from:
+            b = sub_to
+        if c == sub_from:
+            c = sub_to
+        if d == sub_from:
+            d = sub_to
+        if not quad_ok(xy, a, b, c, d):
+            return -1.0
+        sj = quad_sj(xy, a, b, c, d)
+        if sj < worst:
+            worst = sj
+    return worst
+
+
+@njit(cache=True)
+def _live_count(alive, off, idx, v):
+    count = 0
+    for s in range(off[v], off[v + 1]):
+        if alive[idx[s]] != 0:
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def _star_free(off, idx, lock, v):
+    for s in range(off[v], off[v + 1]):
+        if lock[idx[s]] != 0:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _lock_star(off, idx, lock, v):
+    for s in range(off[v], off[v + 1]):
+        lock[idx[s]] = 1
+
+
+@njit(cache=True)
+def _position(quad, q, v):
+    for k in range(4):
+        if quad[q, k] == v:
+            return k
+    return -1
+
+
+@njit(cache=True)
+def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node):
+    """Interior nodes in exactly two quads (doublets): the two quads become one."""
+    done = 0
+    n = xy.shape[0]
+    for v in range(n):
+        if bnd[v] != 0 or tri_node[v] != 0 or not _star_free(off, idx, lock, v):
+            continue
+        q1 = -1
+        q2 = -1
+        count = 0
+        for s in range(off[v], off[v + 1]):
+            if alive[idx[s]] != 0:
+                count += 1
+                if q1 < 0:
+                    q1 = idx[s]
+                else:
+                    q2 = idx[s]
+        if count != 2:
+            continue
+        i = _position(quad, q1, v)
+        a, b, c = quad[q1, (i + 1) % 4], quad[q1, (i + 2) % 4], quad[q1, (i + 3) % 4]
+        j = _position(quad, q2, v)
+        if quad[q2, (j + 1) % 4] != c or quad[q2, (j + 3) % 4] != a:
+            continue
+        d = quad[q2, (j + 2) % 4]
+        if not quad_ok(xy, a, b, c, d):
+            continue
+        _lock_star(off, idx, lock, v)
+        quad[q1, 0], quad[q1, 1], quad[q1, 2], quad[q1, 3] = a, b, c, d
+        alive[q2] = 0
+        done += 1
+    return done
+
+
+@njit(cache=True)
+def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept):
+    """Quads whose opposite nodes a, c are interior and in three quads each (diamonds):
+    a and c merge at their midpoint and the quad disappears."""
+    done = 0
+    for q in range(quad.shape[0]):
+        if alive[q] == 0 or lock[q] != 0:
+            continue
+        for r in range(2):
+            a = quad[q, r]
+            c = quad[q, r + 2]
+            if bnd[a] != 0 or bnd[c] != 0 or tri_node[a] != 0 or tri_node[c] != 0:
+                continue
+            if off[a + 1] - off[a] != 3 or off[c + 1] - off[c] != 3:
+                continue
+            b = quad[q, r + 1]
+            d = quad[q, (r + 3) % 4]
+            if _live_count(alive, off, idx, b) < 3 or _live_count(alive, off, idx, d) < 3:
+                continue
+            if not (_star_free(off, idx, lock, a) and _star_free(off, idx, lock, c)):
+                continue
+            old = min(_local_min(xy, quad, alive, off, idx, a, -1, -1, -1),
+                      _local_min(xy, quad, alive, off, idx, c, -1, -1, -1))
+            ax, ay = xy[a, 0], xy[a, 1]
+            xy[a, 0] = 0.5 * (ax + xy[c, 0])
+            xy[a, 1] = 0.5 * (ay + xy[c, 1])
+            new = min(_local_min(xy, quad, alive, off, idx, a, q, -1, -1),
+                      _local_min(xy, quad, alive, off, idx, c, q, c, a))
+            if new <= 0.0 or new < min(old, accept):
+                xy[a, 0], xy[a, 1] = ax, ay
+                continue
+            _lock_star(off, idx, lock, a)
+            _lock_star(off, idx, lock, c)
+            for s in range(off[c], off[c + 1]):
+                p = idx[s]
+                for k in range(4):
+                    if quad[p, k] == c:
+                        quad[p, k] = a
+            alive[q] = 0
+            done += 1
+            break
+    return done
+
+
+@njit(cache=True)
+def _flat_boundary_corner(xy, bnd, a, b, c, d):
+    """Whether quad (a, b, c, d) has a corner between two boundary nodes, itself on the
+    boundary, wider than 150 degrees (a boundary node left in one quad)."""
+    v = (a, b, c, d)
+    for k in range(4):
+        p = v[(k + 3) % 4]
+        q = v[k]
+        r = v[(k + 1) % 4]
+        if bnd[p] != 0 and bnd[q] != 0 and bnd[r] != 0 and corner_flat(xy, p, q, r):
+            return True
+    return False
+
+
+@njit(cache=True)
+def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain):
+    """Two quads sharing a side form a hexagon; the side moves to the hexagon diagonal that
+    gives the best pair when its worst scaled Jacobian gains more than ``gain``."""
+    done = 0
+    h = np.empty(6, dtype=np.int64)
+    for q1 in range(quad.shape[0]):
+        if alive[q1] == 0 or lock[q1] != 0:
+            continue
+        for k in range(4):
+            u = quad[q1, k]
+            v = quad[q1, (k + 1) % 4]
+            if bnd[u] != 0 and bnd[v] != 0:
+                continue  # possibly a boundary side: only interior sides are swapped
+            q2 = -1
+            for s in range(off[u], off[u + 1]):
+                p = idx[s]
+                if p != q1 and alive[p] != 0 and _position(quad, p, v) >= 0:
+                    q2 = p
+            if q2 < 0 or lock[q2] != 0:
+                continue
+            j = _position(quad, q2, u)
+            if quad[q2, (j + 3) % 4] != v:
+                continue  # q2 must run v -> u
+            # Hexagon counter-clockwise: u, c, d, v, a, b with q1 = (u, v, a, b), q2 = (v, u, c, d).
+            h[0] = u
+            h[1] = quad[q2, (j + 1) % 4]
+            h[2] = quad[q2, (j + 2) % 4]
+            h[3] = v
+            h[4] = quad[q1, (k + 2) % 4]
+            h[5] = quad[q1, (k + 3) % 4]
+            old = min(quad_sj(xy, h[0], h[1], h[2], h[3]), quad_sj(xy, h[3], h[4], h[5], h[0]))
+            best = old + gain
+            pick = -1
+            for r in range(1, 3):
+                p0, p1, p2, p3 = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
+                s0, s1, s2, s3 = h[(r + 3) % 6], h[(r + 4) % 6], h[(r + 5) % 6], h[r]
+                if not (quad_ok(xy, p0, p1, p2, p3) and quad_ok(xy, s0, s1, s2, s3)):
+                    continue
+                if _flat_boundary_corner(xy, bnd, p0, p1, p2, p3) or _flat_boundary_corner(xy, bnd, s0, s1, s2, s3):
+                    continue
+                val = min(quad_sj(xy, p0, p1, p2, p3), quad_sj(xy, s0, s1, s2, s3))
+                if val > best:
+                    best = val
+                    pick = r
+            if pick < 0:
+                continue
+            r = pick
+            quad[q1, 0], quad[q1, 1], quad[q1, 2], quad[q1, 3] = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
+            quad[q2, 0], quad[q2, 1], quad[q2, 2], quad[q2, 3] = h[(r + 3) % 6], h[(r + 4) % 6], h[(r + 5) % 6], h[r]
+            lock[q1] = 1
+            lock[q2] = 1
+            done += 1
+            break
+    return done
+
+
+@njit(cache=True)
+def enhance_pass(xy, quad, alive, bnd, off, idx, tri_node, accept, gain):
+    """One pass of node elimination, element elimination and diagonal swapping.
+
+    ``tri_node`` (n,) int8 flags nodes of left-over triangles, which no operation touches.
+    Returns (doublets removed, diamonds collapsed, sides swapped).
+    """
+    lock = np.zeros(quad.shape[0], dtype=np.int8)
+    n1 = _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node)
+    n2 = _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept)
+    n3 = _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain)
+    return n1, n2, n3

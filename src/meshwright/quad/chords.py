@@ -1,0 +1,156 @@
+"""Chord refinement: a mixed quad-triangle mesh finished with quadrilaterals only.
+
+A *chord* of a quadrilateral mesh is the strip of quads crossed by entering each through
+one side and leaving through the opposite one (the dual line of the mesh; in 3-D the
+sheets of M. J. Borden, S. E. Benzley and J. F. Shepherd, "Hexahedral sheet extraction",
+11th International Meshing Roundtable, 2002).  Splitting every quad of a chord along it,
+and every triangle at the chord's ends into three quads, keeps the mesh conforming, so
+left-over triangles of a pairing (:mod:`meshwright.quad.pairing`) become quads while only
+the quads on their chords change; one midpoint split of every element
+(:func:`meshwright.quad.subdivide.split_all`) is the global alternative.
+
+Invariants: every side a chord crosses is split in both its elements (chords are
+deterministic: a quad met again in the same direction is the same chord walked from its
+other end); a boundary or interior-segment side's midpoint lies on its true curve.
+
+Array layout: a :class:`~meshwright.quad.mesher.QuadFill` in and out (points (n, 2)
+float64; quads (m, 4), triangles (t, 3), lines (k, 2) int32 counter-clockwise; line
+markers and curves (k,) int32).  Half-edge ``h`` is side ``h % 4`` of quad ``h // 4`` for
+``h < 4 m`` and side ``(h - 4 m) % 3`` of triangle ``(h - 4 m) // 3`` beyond.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from meshwright.core.errors import InputError, MeshingError
+from meshwright.core.validate_input import check_count
+from meshwright.geometry.domain import Domain
+
+__all__ = ["chord_split"]
+
+
+def chord_split(fill, domain: Domain, max_points: int):
+    """Finish a mixed fill with quads only, refining along chords from the left-over triangles.
+
+    Every side of a left-over triangle starts a chord: it crosses the quad beyond that side
+    to the opposite side, and the next quad, until it meets the boundary (or an interior
+    segment's end of the mesh) or another triangle.  Every side a chord crosses gets its
+    midpoint (on the true curve for a line), a quad crossed once becomes two, a quad
+    crossed both ways four (around its vertex mean), a triangle three (around its
+    centroid).  Every split side is split in both its elements, so the result conforms;
+    only the quads on the chords change, unlike the global midpoint split.
+
+    Parameters
+    ----------
+    fill : QuadFill
+    domain : Domain
+    max_points : int
+
+    Returns
+    -------
+    QuadFill
+        No triangles.
+
+    Raises
+    ------
+    InputError
+        ``fill`` not a QuadFill, ``domain`` not a Domain, ``max_points`` not a positive int.
+    MeshingError
+        The refinement would exceed ``max_points``.
+    """
+    from meshwright.quad.mesher import QuadFill
+    from meshwright.quad.subdivide import curve_midpoints
+
+    if not isinstance(fill, QuadFill):
+        raise InputError(f"fill must be a meshwright.quad.QuadFill, got {type(fill).__name__}")
+    if not isinstance(domain, Domain):
+        raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
+    max_points = check_count(max_points, "max_points", 1)
+    xy = fill.points
+    n = len(xy)
+    quads = fill.quads.astype(np.int64)
+    tris = fill.triangles.astype(np.int64)
+    m = len(quads)
+    starts = np.concatenate([quads.ravel(), tris.ravel()])
+    ends = np.concatenate([np.roll(quads, -1, axis=1).ravel(), np.roll(tris, -1, axis=1).ravel()])
+    key = np.minimum(starts, ends) * n + np.maximum(starts, ends)
+    order = np.argsort(key, kind="stable")
+    other = np.full(len(key), -1, dtype=np.int64)
+    same = key[order[1:]] == key[order[:-1]]
+    a, b = order[:-1][same], order[1:][same]
+    other[a], other[b] = b, a
+    crossed = np.zeros(m, dtype=np.int8)  # bit 0: sides 0 and 2 split, bit 1: sides 1 and 3
+    split = np.zeros(len(key), dtype=bool)
+    for h in range(4 * m, len(key)):
+        split[h] = True
+        o = other[h]
+        while 0 <= o < 4 * m:
+            q, k = divmod(int(o), 4)
+            bit = 1 << (k % 2)
+            if crossed[q] & bit:
+                break  # the same chord, walked from its other end
+            crossed[q] |= bit
+            split[o] = True
+            out = 4 * q + (k + 2) % 4
+            split[out] = True
+            o = other[out]
+        if o >= 0:
+            split[o] = True
+    uniq = np.unique(key[split])
+    total = n + len(uniq) + int((crossed == 3).sum()) + len(tris)
+    if total > max_points:
+        raise MeshingError(f"the chord refinement needs {total} vertices, above max_points = {max_points}")
+    mid = 0.5 * (xy[uniq // n] + xy[uniq % n])
+    lines = fill.lines.astype(np.int64)
+    lkey = np.minimum(lines[:, 0], lines[:, 1]) * n + np.maximum(lines[:, 0], lines[:, 1])
+    lsplit = np.isin(lkey, uniq)
+    lmid = np.searchsorted(uniq, lkey[lsplit])
+    on_curve = fill.line_curves[lsplit] >= 0
+    if on_curve.any():
+        ends_l = lines[lsplit][on_curve]
+        mid[lmid[on_curve]] = curve_midpoints(
+            domain, fill.line_curves[lsplit][on_curve], xy[ends_l[:, 0]], xy[ends_l[:, 1]]
+        )
+    node = np.full(len(key), -1, dtype=np.int64)
+    node[split] = n + np.searchsorted(uniq, key[split])
+    hq = node[: 4 * m].reshape(m, 4)
+    ht = node[4 * m :].reshape(-1, 3)
+    both = np.flatnonzero(crossed == 3)
+    centres = np.concatenate([xy[quads[both]].mean(axis=1), xy[tris].mean(axis=1)])
+    cq = n + len(uniq) + np.arange(len(both))
+    ct = n + len(uniq) + len(both) + np.arange(len(tris))
+    out = [quads[crossed == 0]]
+    for bit in (1, 2):
+        sel = np.flatnonzero(crossed == bit)
+        v, h = quads[sel], hq[sel]
+        if bit == 1:  # (v0, m0, m2, v3) and (m0, v1, v2, m2)
+            out += [
+                np.column_stack([v[:, 0], h[:, 0], h[:, 2], v[:, 3]]),
+                np.column_stack([h[:, 0], v[:, 1], v[:, 2], h[:, 2]]),
+            ]
+        else:  # (v0, v1, m1, m3) and (m3, m1, v2, v3)
+            out += [
+                np.column_stack([v[:, 0], v[:, 1], h[:, 1], h[:, 3]]),
+                np.column_stack([h[:, 3], h[:, 1], v[:, 2], v[:, 3]]),
+            ]
+    for cells, h, c in ((quads[both], hq[both], cq), (tris, ht, ct)):
+        p = cells.shape[1]
+        for k in range(p):
+            out.append(np.column_stack([cells[:, k], h[:, k], c, h[:, (k - 1) % p]]))
+    new_lines = []
+    for r, (u, w) in enumerate(lines.tolist()):
+        if lsplit[r]:
+            mm = n + int(np.searchsorted(uniq, lkey[r]))
+            new_lines += [(u, mm), (mm, w)]
+        else:
+            new_lines.append((u, w))
+    reps = np.where(lsplit, 2, 1)
+    return fill._replace(
+        points=np.ascontiguousarray(np.concatenate([xy, mid, centres])),
+        quads=np.ascontiguousarray(np.concatenate(out)).astype(np.int32),
+        triangles=np.zeros((0, 3), dtype=np.int32),
+        lines=np.asarray(new_lines, dtype=np.int32).reshape(-1, 2),
+        line_markers=np.repeat(fill.line_markers, reps).astype(np.int32),
+        line_curves=np.repeat(fill.line_curves, reps).astype(np.int32),
+    )

@@ -1,0 +1,787 @@
+r"""Quadrilaterals by pairing advancing-front triangles (chapter 18.5.1, Zhu et al. 1991).
+
+Source: J. Z. Zhu, O. C. Zienkiewicz, E. Hinton and J. Wu, "A new approach to the
+development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32,
+1991, as summarised in section 18.5.1 of the reference chapter: an even number of
+boundary nodes, two triangles sharing a side combined into one quadrilateral as the front
+advances, then shape enhancement (node elimination, element elimination, diagonal
+swapping, side elimination) and smoothing.
+
+What this module does (and what it does not)
+--------------------------------------------
+This is the *frontal pairing* route: the advancing front of 18.2
+(:func:`meshwright.tri.front.advancing_front`, spacing, stretching and direction from the
+size field or background grid exactly as there) makes its triangles first, numbered in
+the order the front made them, and the pairing then walks them in that order.
+
+1. **Even boundaries.**  Every loop gets an even number of boundary nodes: a loop whose
+   discretisation is odd gets one node on its longest segment, on the true curve (the
+   segment's arc-length midpoint), and up to :data:`RESPACE` nodes on each side along the
+   same curve piece are spaced evenly again, so the front meets no half-length segment
+   (it would close a sliver there).  With ``fixed_boundary=True`` the discretisation is
+   kept and an odd loop raises :class:`ParityError` naming it.  Even loops make the
+   triangle count of the domain even (``t = 2 n_inside + n_boundary - 2 + 2 holes``), the
+   necessary condition for pairing every triangle.  Before pairing, an ear of the front
+   (a triangle on two boundary sides) wider than :data:`FLAT_ANGLE` has its third side
+   flipped, or split at its midpoint when the flip is not convex, since no pair could
+   take it.
+2. **Pairing in front order** (:func:`~meshwright.quad._pairing_kernel.greedy_pairs`): the
+   first unpaired triangle ABC (the chapter's step 2) is combined with the neighbour across
+   one of its sides (steps 5-6, 8) that has no other partner left, else with the one
+   making the best quadrilateral.  Strictly convex pairs (exact ``orient2d`` at both new
+   corners) whose scaled Jacobian reaches a bound come first; the bound is lowered in
+   steps (:data:`PAIR_BOUNDS`) down to plain convexity, and a last round admits, as the
+   chapter does before enhancement, pairs with a corner of 180 degrees or more (step 5
+   below repairs or reverts them).  No round pairs across a boundary or interior segment,
+   or leaves a boundary node in one quad at a corner wider than 150 degrees.
+3. **Side elimination** of left-over triangles
+   (:func:`~meshwright.quad._pairing_kernel.augment`): an unpaired triangle and another
+   one reached through an alternating chain of pairs exchange partners along the chain, so
+   both end paired (each exchange removes a diagonal and inserts another; breadth first,
+   :data:`MAX_VISIT` triangles per search, Edmonds' blossoms shrunk).  Triangles still
+   unpaired then *walk*: the diagonal between one and a paired neighbour is flipped, the
+   two new triangles paired, the neighbour's old partner freed, and the search repeated
+   (at most :data:`MAX_WALKS` rounds, :data:`STALE_WALKS` without progress).  This is the
+   global counterpart of the chapter's sub-front parity rule (steps 3, 5(c) and 6), which
+   keeps every sub-front even so that no triangle is stranded.
+4. **Shape enhancement** (:func:`~meshwright.quad._pairing_kernel.enhance_pass`, up to
+   :data:`ENHANCE_PASSES` passes): node elimination (an interior node in two quads: they
+   become one), element elimination (a quad between two interior nodes of three quads
+   each: the two nodes merge at their midpoint, the quad disappears), diagonal swapping
+   (two quads sharing a side: the side moves to the hexagon diagonal with the better worst
+   scaled Jacobian).  Every result is strictly convex by exact ``orient2d``.
+5. **Smoothing** (:data:`ENHANCE_SMOOTH` passes, part of the enhancement whatever
+   ``quadrangulate``'s ``smooth``, which adds the shared smoother's sweeps afterwards):
+   the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over the four corner
+   triangles of every quad, so a move is accepted only if every quad stays strictly
+   convex; boundary nodes slide on their true curves (``smooth_boundary=True``)
+   or stay fixed; curve joints, polygon corners and interior points never move.  The
+   nodes of a non-convex quad move only to make it convex; a quad still non-convex after
+   smoothing is cut back into two triangles (``PairingReport.reverted``).
+6. **All-quad route**: triangles that are still unpaired (a face of the domain cut off
+   by interior segments with an odd count, a boundary fan the pairing cannot take, a
+   quad cut back in step 5) are finished, when ``all_quad=True``, by chord refinement
+   (:func:`meshwright.quad.chords.chord_split`): each side of a left-over triangle starts
+   a chord through the quads beyond it to the boundary or to another triangle; crossed sides get their
+   midpoints (on the true curves for boundary sides), each crossed quad splits in two (in
+   four where chords cross), each triangle into three quads; the result conforms, and is
+   smoothed again.  Unlike one midpoint split of every element
+   (:func:`meshwright.quad.subdivide.split_all`), only the quads on the chords change.
+   With ``all_quad=False`` the quad-dominant mesh is returned and :class:`PairingReport`
+   counts the triangles left.
+
+Still missing from the chapter's full method: the second triangle is not *generated* by the
+front beside the first (the front makes triangles only; pairing follows their creation
+order), so the chapter's per-sub-front parity bookkeeping (steps 3, 5(a)-(c), 6) is
+replaced by the even loops of step 1 plus the alternating chains of step 3, and the
+placement of the front's nodes ignores the pairing (so a boundary fan of triangles can
+leave an unpairable one, and then chords refine the mesh through it).  The chapter does not define
+its four enhancement operations; "side elimination" is read here as the removal of the
+side between two unpaired triangles (step 3) and the others as in Zhu et al.'s names.
+
+Array layout: points (n, 2) float64; triangles (t, 3) and quads (q, 4) int32
+counter-clockwise; the kernel's flat arrays in :mod:`meshwright.quad._pairing_kernel`.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from meshwright.core.errors import GeometryError, InputError, MeshingError
+from meshwright.core.errors import fmt_point as _fmt
+from meshwright.core.mesh import build_neighbors
+from meshwright.core.predicates import orient2d_batch
+from meshwright.core.validate_input import as_points, check_count, check_seed
+from meshwright.geometry.curves import Line, Polyline
+from meshwright.geometry.domain import Discretization, Domain
+from meshwright.quad import _pairing_kernel as pk
+from meshwright.quad.chords import chord_split
+from meshwright.sizing.background import BackgroundGrid
+from meshwright.sizing.field import as_size_field
+from meshwright.tri.cdt import SegmentCurves, cdt_build
+from meshwright.tri.front import advancing_front
+from meshwright.tri.smoothing import smooth as smooth_points
+
+__all__ = [
+    "ParityError", "PairingReport", "pair_domain", "pairing_fill", "make_loops_even",
+    "pair_triangles", "enhance", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS",
+    "FLAT_ANGLE", "RESPACE", "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
+]
+
+PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
+MAX_VISIT = 4096  # triangles one alternating-chain search may enter (last round)
+EARLY_VISIT = 64  # ... in the rounds before the last
+MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
+STALE_WALKS = 8  # ... stopped after this many rounds without fewer unpaired triangles
+FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
+RESPACE = 6  # segments on each side of a parity split spaced evenly again
+ENHANCE_PASSES = 8  # cap on enhancement passes (each stops early when nothing changes)
+ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a split)
+ACCEPT = 0.4  # element elimination may lower the local worst scaled Jacobian, but not below this
+SWAP_GAIN = 0.02  # a diagonal swap must raise the pair's worst scaled Jacobian by more than this
+
+
+class ParityError(GeometryError):
+    """A loop has an odd number of boundary nodes and its nodes may not change."""
+
+
+class PairingReport(NamedTuple):
+    """What the pairing did.
+
+    Attributes
+    ----------
+    nodes_added : tuple of int
+        Loops that received one node to make their count even.
+    triangles : int
+        Triangles the advancing front made.
+    paired : int
+        Quads formed by pairing (greedy and alternating chains).
+    chains : int
+        Pairs gained along alternating chains (side elimination).
+    left_over : int
+        Triangles left unpaired after pairing.
+    reverted : int
+        Quads that enhancement and smoothing left non-convex, cut back into two
+        triangles each.
+    eliminated : tuple of int
+        Node eliminations, element eliminations and diagonal swaps.
+    split : bool
+        Whether the all-quad route refined along chords
+        (:func:`meshwright.quad.chords.chord_split`).
+    triangles_left : int
+        Triangles in the returned mesh (0 when ``all_quad``).
+    """
+
+    nodes_added: tuple
+    triangles: int
+    paired: int
+    chains: int
+    left_over: int
+    reverted: int
+    eliminated: tuple
+    split: bool
+    triangles_left: int
+
+
+def _cells(arr, what: str, width: int, n: int) -> np.ndarray:
+    """(k, width) int32 node indices in ``[0, n)``, or InputError naming the row."""
+    a = np.asarray(arr)
+    if a.size == 0:
+        return np.zeros((0, width), dtype=np.int32)
+    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
+        raise InputError(f"{what} must be an integer array of node indices, got dtype {a.dtype}")
+    if a.ndim != 2 or a.shape[1] != width:
+        raise InputError(f"{what} must have shape (k, {width}), got {a.shape}")
+    bad = np.flatnonzero(((a < 0) | (a >= n)).any(axis=1))
+    if len(bad):
+        raise InputError(f"{what} row {bad[0]} {a[bad[0]].tolist()} refers to a node outside [0, {n})")
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _flag(value, what: str) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{what} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def _loop_name(li: int) -> str:
+    return "outer loop (loop 0)" if li == 0 else f"hole {li - 1} (loop {li})"
+
+
+def _split_and_respace(domain: Domain, disc, r: int):
+    """``disc`` with segment ``r`` split at its arc-length midpoint and the nodes of up to
+    :data:`RESPACE` segments on each side (same curve piece) spaced evenly in arc length,
+    so the two half segments leave no sliver for the front.  Curve ends and polyline
+    corners never move; returns a new Discretization."""
+    p = disc.points.copy()
+    seg = disc.segments.astype(np.int64)
+    c = int(disc.segment_curve[r])
+    curve = domain.curves[c]
+    ta, tb = disc.segment_params[r]
+    tm = float(curve.midpoint_param(np.array([ta]), np.array([tb]))[0])
+    n_loop = int(seg[domain.curve_loop[disc.segment_curve] >= 0].max()) + 1
+    seg[seg >= n_loop] += 1
+    u, w = seg[r]
+    seg = np.concatenate([seg[:r], [[u, n_loop], [n_loop, w]], seg[r + 1 :]])
+    p = np.concatenate([p[:n_loop], curve.evaluate(np.array([tm])), p[n_loop:]])
+    par = np.concatenate([disc.segment_params[:r], [[ta, tm], [tm, tb]], disc.segment_params[r + 1 :]])
+    dup = np.concatenate([np.arange(r + 1), np.arange(r, len(disc.segments))])
+    curve_of = disc.segment_curve[dup]
+    piece = curve.piece_index(par.mean(axis=1))
+    same = (curve_of == c) & (piece == piece[r])
+    lo, hi = r, r + 1
+    while lo > 0 and r - lo < RESPACE and same[lo - 1] and seg[lo - 1, 1] == seg[lo, 0]:
+        lo -= 1
+    while hi < len(seg) - 1 and hi - r - 1 < RESPACE and same[hi + 1] and seg[hi + 1, 0] == seg[hi, 1]:
+        hi += 1
+    if hi > lo + 1:
+        ends = curve.arclength(np.array([par[lo, 0], par[hi, 1]]))
+        t_new = curve.t_at_length(np.linspace(ends[0], ends[1], hi - lo + 2)[1:-1])
+        nodes = seg[lo + 1 : hi + 1, 0]
+        p[nodes] = curve.evaluate(t_new)
+        par[lo + 1 : hi + 1, 0] = t_new
+        par[lo:hi, 1] = t_new
+    pm = np.concatenate([disc.point_markers[:n_loop], [disc.segment_markers[r]], disc.point_markers[n_loop:]])
+    return disc._replace(
+        points=np.ascontiguousarray(p),
+        segments=seg.astype(np.int32),
+        segment_markers=disc.segment_markers[dup],
+        segment_curve=curve_of,
+        segment_params=par,
+        point_markers=pm.astype(np.int32),
+    )
+
+
+def make_loops_even(domain: Domain, disc, fixed_boundary: bool = False):
+    """Give every loop an even number of boundary nodes (step 1).
+
+    A loop with an odd count gets one node: its longest segment is split at its
+    arc-length midpoint on the true curve, and its neighbours on the same curve piece
+    are spaced evenly again (:func:`_split_and_respace`).
+
+    Parameters
+    ----------
+    domain : Domain
+    disc : Discretization
+        ``domain.discretize(...)``.
+    fixed_boundary : bool
+        Refuse to add nodes: an odd loop raises :class:`ParityError`.
+
+    Returns
+    -------
+    Discretization
+        With every loop even (``disc`` itself when nothing changed).
+    tuple of int
+        The loops that received a node.
+
+    Raises
+    ------
+    InputError
+        ``domain`` / ``disc`` of the wrong type, ``fixed_boundary`` not a bool.
+    ParityError
+        An odd loop with ``fixed_boundary=True`` (the loop and its first node named).
+    """
+    if not isinstance(domain, Domain):
+        raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
+    if not isinstance(disc, Discretization):
+        raise InputError(f"disc must be the Discretization of domain.discretize(), got {type(disc).__name__}")
+    fixed_boundary = _flag(fixed_boundary, "fixed_boundary")
+    added = []
+    for li in range(len(domain.loops)):
+        rows = np.flatnonzero(domain.curve_loop[disc.segment_curve] == li)
+        if len(rows) % 2 == 0:
+            continue
+        e = disc.segments[rows]
+        p = disc.points
+        if fixed_boundary:
+            raise ParityError(
+                f"{_loop_name(li)} has {len(rows)} boundary nodes, an odd number, and fixed_boundary=True forbids "
+                f"adding one (its first node is at {_fmt(p[e[0, 0]])}); a loop of quadrilaterals needs an even count"
+            )
+        length = np.hypot(*(p[e[:, 1]] - p[e[:, 0]]).T)
+        disc = _split_and_respace(domain, disc, int(rows[int(np.argmax(length))]))
+        added.append(li)
+    return disc, tuple(added)
+
+
+def _neighbours(tris: np.ndarray, bkey: np.ndarray, n: int) -> np.ndarray:
+    """(t, 3) int32 neighbours with -1 across the blocked edges (keys ``min * n + max``)."""
+    nbr = build_neighbors(tris).astype(np.int32)
+    if len(bkey):
+        for k in range(3):
+            u = tris[:, (k + 1) % 3].astype(np.int64)
+            w = tris[:, (k + 2) % 3].astype(np.int64)
+            nbr[np.isin(np.minimum(u, w) * n + np.maximum(u, w), bkey), k] = -1
+    return nbr
+
+
+def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> int:
+    """Move every unpaired triangle t one pair further: flip the diagonal between t and a
+    paired neighbour s (their union an allowed quad,
+    :func:`~meshwright.quad._pairing_kernel.pair_score`), pair the two new triangles and
+    free s's old partner; ``tris`` and ``nbr`` are updated in place.  Returns the number
+    of flips."""
+    flips = 0
+    touched = np.zeros(len(tris), dtype=bool)
+    for t in np.flatnonzero(mate < 0).tolist():
+        if touched[t]:
+            continue
+        for k in rng.permutation(3).tolist():
+            s = int(nbr[t, k])
+            if s < 0 or mate[s] < 0 or touched[s] or touched[mate[s]]:
+                continue
+            if pk.pair_score(xy, tris.ravel(), nbr.ravel(), t, k, qmin) < 0.0:
+                continue  # the union is not an allowed quad (not strictly convex, or flat at the boundary)
+            a, b, c = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
+            d = tris[s][nbr[s] == t][0]
+            old = int(mate[s])
+            jb, jc = int(np.flatnonzero(tris[s] == b)[0]), int(np.flatnonzero(tris[s] == c)[0])
+            n_ca, n_ab = int(nbr[t, (k + 1) % 3]), int(nbr[t, (k + 2) % 3])
+            n_bd, n_dc = int(nbr[s, jc]), int(nbr[s, jb])
+            tris[t] = (a, b, d)
+            tris[s] = (a, d, c)
+            # Only the two triangles and the back-pointers of two outer neighbours change.
+            nbr[t] = (n_bd, s, n_ab)
+            nbr[s] = (n_dc, n_ca, t)
+            if n_bd >= 0:
+                nbr[n_bd][nbr[n_bd] == s] = t
+            if n_ca >= 0:
+                nbr[n_ca][nbr[n_ca] == t] = s
+            mate[old] = -1
+            mate[t], mate[s] = s, t
+            touched[[t, s, old]] = True
+            flips += 1
+            break
+    return flips
+
+
+def _open_ears(xy, tris, nbr):
+    """Open every triangle with two boundary sides and a corner between them wider than
+    ``FLAT_ANGLE`` (a sliver the front closed along the boundary): no pair could take it,
+    and any quad on it would keep that corner.  Its third side is flipped when the union
+    with the neighbour is strictly convex, else split at its midpoint (both triangles in
+    two, the ear vertex then joined to the interior); every new triangle is checked
+    counter-clockwise by exact ``orient2d``.
+
+    Returns
+    -------
+    xy : (n', 2) float64
+        ``xy`` with the midpoints appended.
+    tris : (t', 3) int32
+        Changed in place; split triangles' second halves appended.
+    changed : int
+    """
+    ears = np.flatnonzero((nbr < 0).sum(axis=1) == 2)
+    new_xy, new_tris = [], []
+    changed = 0
+    for t in ears.tolist():
+        if (nbr[t] == -2).any():
+            continue
+        k = int(np.flatnonzero(nbr[t] >= 0)[0])
+        s = int(nbr[t, k])
+        a, b, c = (int(v) for v in (tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]))
+        u, w = xy[b] - xy[a], xy[c] - xy[a]
+        if (nbr[s] < 0).sum() >= 2 or np.degrees(np.arctan2(u[0] * w[1] - u[1] * w[0], u @ w)) < FLAT_ANGLE:
+            continue
+        d = int(tris[s][nbr[s] == t][0])
+        if (orient2d_batch(xy, np.array([[a, b, d], [d, c, a]])) > 0.0).all():
+            tris[t] = (a, b, d)
+            tris[s] = (a, d, c)
+        else:
+            m = len(xy) + len(new_xy)
+            trial = np.vstack([xy[[a, b, c, d]], 0.5 * (xy[b] + xy[c])])
+            # Local indices: a 0, b 1, c 2, d 3, m 4.
+            parts = np.array([[0, 1, 4], [0, 4, 2], [2, 4, 3], [4, 1, 3]])
+            if (orient2d_batch(trial, parts) <= 0.0).any():
+                continue
+            new_xy.append(trial[4])
+            tris[t] = (a, b, m)
+            tris[s] = (c, m, d)
+            new_tris += [(a, m, c), (m, b, d)]
+        # Keep the table true for the next ears: both triangles' sides changed.
+        nbr[t] = nbr[s] = -2
+        changed += 1
+    if new_xy:
+        xy = np.ascontiguousarray(np.vstack([xy, np.asarray(new_xy)]))
+        tris = np.ascontiguousarray(np.vstack([tris, np.asarray(new_tris, dtype=np.int32)]))
+    return xy, tris, changed
+
+
+def pair_triangles(
+    points, triangles, blocked=None, bounds=PAIR_BOUNDS, max_visit=MAX_VISIT, walks=MAX_WALKS, seed=0,
+):
+    """Pair triangles sharing a side into strictly convex quads, in the triangles' order.
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+    triangles : (t, 3) int32
+        Counter-clockwise, in the order the front made them.
+    blocked : (b, 2) int, optional
+        Edges no pair may cross (boundary and interior segments).
+    bounds : sequence of float
+        Scaled-Jacobian floors, one greedy round and one chain round per entry.
+    max_visit : int
+        Triangles one alternating-chain search may enter.
+    walks : int
+        Rounds of moving the unpaired triangles by a diagonal flip
+        (:func:`_walk_left_overs`), each followed by a chain round at the last bound;
+        :data:`STALE_WALKS` rounds without progress end them.
+    seed : int
+        Randomness of which side a walk takes.
+
+    Returns
+    -------
+    quads : (q, 4) int32
+        Counter-clockwise; the pair (t, s) with t made first gives quad ``(a, b, d, c)``,
+        t = (a, b, c) and d the vertex of s across b c.
+    first : (q,) int64
+        The first triangle of each pair.
+    left : (l,) int64
+        Triangles left unpaired.
+    triangles : (t, 3) int32
+        The triangles after the ear openings and the walks' flips (``left`` indexes them).
+    chains : int
+        Pairs gained along alternating chains.
+    points : (n', 2) float64
+        ``points`` with the nodes that opened flat ears appended (:func:`_open_ears`).
+
+    Raises
+    ------
+    InputError
+        Points not (n, 2) finite, a triangle or blocked edge out of range (its row named)
+        or a triangle not counter-clockwise, ``bounds`` empty or not numbers,
+        ``max_visit`` / ``walks`` not counts.
+    """
+    xy = as_points(points, "points")
+    n = len(xy)
+    tris = _cells(triangles, "triangles", 3, n).copy()
+    o = orient2d_batch(xy, tris)
+    if (o <= 0.0).any():
+        t = int(np.flatnonzero(o <= 0.0)[0])
+        raise InputError(f"triangle {t} {tris[t].tolist()} is not counter-clockwise (exact orient2d)")
+    blocked = _cells(np.zeros((0, 2), dtype=np.int32) if blocked is None else blocked, "blocked", 2, n)
+    try:
+        bounds = tuple(float(q) for q in bounds)
+    except (TypeError, ValueError):
+        raise InputError(f"bounds must be a sequence of numbers, got {bounds!r}") from None
+    if not bounds or not all(np.isfinite(bounds)):
+        raise InputError(f"bounds must be a non-empty sequence of finite numbers, got {bounds!r}")
+    max_visit = check_count(max_visit, "max_visit", 1)
+    walks = check_count(walks, "walks")
+    bkey = np.zeros(0, dtype=np.int64)
+    if len(blocked):
+        key = np.sort(blocked.astype(np.int64), axis=1)
+        bkey = np.unique(key[:, 0] * n + key[:, 1])
+    nbr = _neighbours(tris, bkey, n)
+    xy, tris, changed = _open_ears(xy, tris, nbr)
+    if changed:
+        nbr = _neighbours(tris, bkey, n)
+    mate = np.full(len(tris), -1, dtype=np.int32)
+    chains = 0
+    for i, q in enumerate(bounds):
+        pk.greedy_pairs(xy, tris.ravel(), nbr.ravel(), mate, float(q))
+        # Early rounds only mend locally: a triangle with no partner at a high bound would
+        # search its whole component in vain; the last round searches far.
+        visit = int(max_visit) if i == len(bounds) - 1 else min(int(max_visit), EARLY_VISIT)
+        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(q), visit))
+    rng = np.random.default_rng(seed)
+    best, stale = int((mate < 0).sum()), 0
+    for _ in range(walks):
+        if best == 0 or stale >= STALE_WALKS:
+            break
+        if _walk_left_overs(xy, tris, nbr, mate, rng, max(float(bounds[-1]), 0.0)) == 0:
+            break
+        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
+        left = int((mate < 0).sum())
+        best, stale = (left, 0) if left < best else (best, stale + 1)
+    first = np.flatnonzero((mate >= 0) & (mate > np.arange(len(tris))))
+    # Quad (a, b, d, c): t = (a, b, c) with a opposite the shared side, d the partner's third vertex.
+    k = np.argmax(nbr[first] == mate[first][:, None], axis=1)
+    t = tris[first].astype(np.int64)
+    rows = np.arange(len(first))
+    a, b, c = t[rows, k], t[rows, (k + 1) % 3], t[rows, (k + 2) % 3]
+    d = tris[mate[first]].astype(np.int64).sum(axis=1) - b - c
+    quads = np.column_stack([a, b, d, c]).astype(np.int32)
+    return quads, first, np.flatnonzero(mate < 0), tris, chains, xy
+
+
+def _node_quads(quads: np.ndarray, alive: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """CSR node -> live quads: (off (n+1,) int64, idx int32)."""
+    live = np.flatnonzero(alive)
+    owner = quads[live].ravel().astype(np.int64)
+    order = np.argsort(owner, kind="stable")
+    off = np.zeros(n + 1, dtype=np.int64)
+    np.add.at(off, owner + 1, 1)
+    return np.cumsum(off), np.repeat(live, 4)[order].astype(np.int32)
+
+
+def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
+    """Node elimination, element elimination and diagonal swapping (step 8's enhancement).
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+        Not modified.
+    quads : (q, 4) int32
+        Strictly convex, counter-clockwise.
+    boundary : (n,) bool
+        Nodes on the boundary or on interior segments: never moved or removed.
+    triangles : (t, 3) int32, optional
+        Left-over triangles; their nodes are not touched.
+    passes : int
+        Cap on passes.
+
+    Returns
+    -------
+    points : (n, 2) float64
+        A copy (element elimination moves nodes).
+    quads : (q', 4) int32
+    kept : (q',) int64
+        Row of ``quads`` (input) each output quad continues.
+    counts : tuple of int
+        Node eliminations, element eliminations, diagonal swaps.
+
+    Raises
+    ------
+    InputError
+        Points not (n, 2) finite, a quad or triangle row out of range (named),
+        ``boundary`` not an (n,) bool array, ``passes`` not a count.
+    """
+    xy = as_points(points, "points", copy=True)
+    qd = _cells(quads, "quads", 4, len(xy)).copy()
+    b = np.asarray(boundary)
+    if b.shape != (len(xy),) or b.dtype != bool:
+        raise InputError(f"boundary must be a ({len(xy)},) bool array, got {b.dtype} of shape {b.shape}")
+    passes = check_count(passes, "passes")
+    alive = np.ones(len(qd), dtype=np.int8)
+    bnd = b.astype(np.int8)
+    tri_node = np.zeros(len(xy), dtype=np.int8)
+    if triangles is not None:
+        tri_node[_cells(triangles, "triangles", 3, len(xy)).ravel()] = 1
+    total = np.zeros(3, dtype=np.int64)
+    for _ in range(passes):
+        off, idx = _node_quads(qd, alive, len(xy))
+        got = pk.enhance_pass(xy, qd, alive, bnd, off, idx, tri_node, ACCEPT, SWAP_GAIN)
+        total += np.asarray(got)
+        if sum(got) == 0:
+            break
+    kept = np.flatnonzero(alive == 1)
+    return xy, qd[kept], kept, tuple(int(c) for c in total)
+
+
+def _nonconvex(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
+    """Indices of quads with a corner that is not strictly convex (exact orient2d)."""
+    q = np.asarray(quads, dtype=np.int64)
+    bad = np.zeros(len(q), dtype=bool)
+    for k in range(4):
+        corner = np.column_stack([q[:, (k + 3) % 4], q[:, k], q[:, (k + 1) % 4]])
+        bad |= orient2d_batch(xy, corner) <= 0.0
+    return np.flatnonzero(bad)
+
+
+def _unpair_nonconvex(xy, quads, tris):
+    """Quads that enhancement and smoothing left non-convex go back to two triangles each,
+    cut along the diagonal that makes both counter-clockwise (exact ``orient2d``; a simple
+    quadrilateral always has one).  Returns (quads, triangles)."""
+    bad = _nonconvex(xy, quads)
+    if not len(bad):
+        return quads, tris
+    q = quads[bad].astype(np.int64)
+    cut02 = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
+    cut13 = np.concatenate([q[:, [1, 2, 3]], q[:, [1, 3, 0]]])
+    m = len(q)
+    o02 = orient2d_batch(xy, cut02)
+    o13 = orient2d_batch(xy, cut13)
+    use02 = (o02[:m] > 0.0) & (o02[m:] > 0.0)
+    use13 = (o13[:m] > 0.0) & (o13[m:] > 0.0)
+    if not (use02 | use13).all():
+        i = int(bad[np.flatnonzero(~(use02 | use13))[0]])
+        raise MeshingError(
+            f"pairing left quad {i} with corners {', '.join(_fmt(xy[v]) for v in quads[i])} that no diagonal splits"
+        )
+    halves = np.where(np.concatenate([use02, use02])[:, None], cut02, cut13)
+    keep = np.ones(len(quads), dtype=bool)
+    keep[bad] = False
+    return quads[keep], np.concatenate([np.asarray(tris, dtype=np.int32).reshape(-1, 3), halves.astype(np.int32)])
+
+
+def _corner_triangles(quads: np.ndarray) -> np.ndarray:
+    """The four corner triangles of every quad: all counter-clockwise iff the quad is strictly convex."""
+    q = np.asarray(quads, dtype=np.int32)
+    return np.concatenate([q[:, [k, (k + 1) % 4, (k + 2) % 4]] for k in range(4)])
+
+
+def _fixed_nodes(xy, lines, line_curve, domain: Domain, n_interior_fixed) -> np.ndarray:
+    """(n,) bool: nodes smoothing never moves: where two curves meet, polygon corners, given points."""
+    n = len(xy)
+    lo = np.full(n, np.iinfo(np.int64).max)
+    hi = np.full(n, -1)
+    np.minimum.at(lo, lines.ravel(), np.repeat(line_curve, 2))
+    np.maximum.at(hi, lines.ravel(), np.repeat(line_curve, 2))
+    fixed = (hi >= 0) & (lo != hi)
+    straight = np.array([isinstance(c, (Line, Polyline)) for c in domain.curves], dtype=bool)
+    e = lines[straight[line_curve]]
+    nxt = np.full(n, -1)
+    prv = np.full(n, -1)
+    nxt[e[:, 0]] = e[:, 1]
+    prv[e[:, 1]] = e[:, 0]
+    mid = np.flatnonzero((nxt >= 0) & (prv >= 0))
+    fixed[mid] |= orient2d_batch(xy, np.column_stack([prv[mid], mid, nxt[mid]])) != 0.0
+    fixed[n_interior_fixed] = True
+    return fixed, np.where(hi >= 0, hi, 0)
+
+
+def _smooth(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, sliding):
+    if passes == 0 or not len(lines):
+        return xy
+    fixed, vcurve = _fixed_nodes(xy, lines, line_curve, domain, fixed_pts)
+    if not sliding:
+        fixed[lines.ravel()] = True
+
+    def project(nodes, p):
+        return domain.project(vcurve[nodes], p)[1]
+
+    elems = np.concatenate([_corner_triangles(quads), np.asarray(tris, dtype=np.int32).reshape(-1, 3)])
+    return smooth_points(xy, elems, lines, passes=passes, fixed=fixed, project=project)
+
+
+def _compact(xy, blocks):
+    """Drop unused nodes; returns (xy, blocks renumbered, old -> new map)."""
+    used = np.zeros(len(xy), dtype=bool)
+    for b in blocks:
+        used[np.asarray(b).ravel()] = True
+    newid = (np.cumsum(used) - 1).astype(np.int32)
+    return xy[used], [newid[np.asarray(b)].astype(np.int32) for b in blocks], np.where(used, newid, -1)
+
+
+def pair_domain(
+    domain: Domain,
+    field=None,
+    *,
+    all_quad: bool = True,
+    smooth: int = ENHANCE_SMOOTH,
+    smooth_boundary: bool = True,
+    fixed_boundary: bool = False,
+    seed=0,
+    max_points: int | None = None,
+):
+    """Quadrilateral fill of ``domain`` by pairing advancing-front triangles (18.5.1).
+
+    Parameters
+    ----------
+    domain : Domain
+        Validated (the caller's door, :func:`meshwright.quadrangulate`).
+    field : SizeField or BackgroundGrid, optional
+        Spacing (a background grid also gives stretching s and direction alpha); None:
+        chapter 18.3's background from the boundary nodes, as ``triangulate``'s front.
+    all_quad : bool
+        Refine along chords when triangles remain (module docstring, step 6).
+    smooth : int
+        Laplacian passes after the enhancement (and again after a split); 0 for none.
+    smooth_boundary : bool
+        Boundary nodes slide on their curves while smoothing; False keeps them fixed.
+    fixed_boundary : bool
+        Keep the discretisation's boundary nodes: an odd loop is an error.
+    seed : int or numpy.random.Generator
+        Randomness of the constrained triangulation and of the left-over walks.
+    max_points : int, optional
+        Cap on vertices (the front's nodes, and the chord refinement's).
+
+    Returns
+    -------
+    QuadFill
+        See :mod:`meshwright.quad.mesher`; ``triangles`` is empty when ``all_quad``.
+    PairingReport
+
+    Raises
+    ------
+    InputError
+        An argument of the wrong type or range (named).
+    ParityError
+        An odd loop with ``fixed_boundary=True`` (the loop named).
+    MeshingError
+        The front could not close (the face named), a cap was hit, or the result failed
+        its own exact check (the quad named).
+    """
+    from meshwright.quad.mesher import QuadFill
+
+    if not isinstance(domain, Domain):
+        raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
+    field = None if field is None else as_size_field(field)
+    all_quad = _flag(all_quad, "all_quad")
+    smooth_boundary = _flag(smooth_boundary, "smooth_boundary")
+    fixed_boundary = _flag(fixed_boundary, "fixed_boundary")
+    passes = check_count(smooth, "smooth (passes)")
+    seed = check_seed(seed)
+    cap = np.iinfo(np.int32).max if max_points is None else check_count(max_points, "max_points", 4)
+    disc, added = make_loops_even(domain, domain.discretize(field), fixed_boundary)
+    curves = SegmentCurves.from_domain(domain, disc)
+    ct = cdt_build(disc.points, disc.segments, seed=seed, curves=curves)
+    sides = np.where(domain.curve_loop[disc.segment_curve] >= 0, 1, 0)
+    regions = [(x, y, int(m)) if a <= 0 else (x, y, int(m), float(a)) for x, y, m, a in disc.regions]
+    ct.classify(segment_sides=sides, holes=disc.holes, regions=regions)
+    if field is None:
+        # Chapter 18.3's background, as triangulate's front takes it: the triangulated
+        # boundary nodes with their point distribution function.
+        field = BackgroundGrid.from_boundary(ct.points, ct.segments()[0], ct.triangles(False))
+    pts, tris = advancing_front(ct, field, max_points=cap)
+    base = ct.to_mesh(segment_markers=disc.segment_markers, fill=(pts, tris))
+    # The mesh keeps the front's triangle order; recover each line's curve.
+    used = np.zeros(len(pts), dtype=bool)
+    used[tris.ravel()] = True
+    newid = np.cumsum(used) - 1
+    edges, ids = ct.segments()
+    keep = used[edges[:, 0]] & used[edges[:, 1]]
+    n = base.n_points
+    ekey = np.sort(newid[edges[keep]], axis=1)
+    ekey = ekey[:, 0] * n + ekey[:, 1]
+    lines = base.cells["line"]
+    lkey = np.sort(lines.astype(np.int64), axis=1)
+    lkey = lkey[:, 0] * n + lkey[:, 1]
+    order = np.argsort(ekey)
+    line_curve = disc.segment_curve[ids[keep]][order][np.searchsorted(ekey, lkey, sorter=order)].astype(np.int32)
+    line_marker = base.cell_data["marker"]["line"].astype(np.int32)
+    xy = base.points
+    n_free = len(domain.points)
+    fixed_pts = newid[ct.index_map[len(disc.points) - n_free :]] if n_free else np.zeros(0, dtype=np.int64)
+
+    quads, first, left, t3, chains, xy = pair_triangles(xy, base.cells["triangle"], lines, seed=seed)
+    lt = t3[left]
+    bnd = np.zeros(len(xy), dtype=bool)
+    bnd[lines.ravel()] = True
+    bnd[fixed_pts] = True
+    xy, quads, _, counts = enhance(xy, quads, bnd, lt)
+    xy = _smooth(xy, quads, lt, lines, line_curve, domain, fixed_pts, passes, smooth_boundary)
+    n_quads = len(quads)
+    quads, lt = _unpair_nonconvex(xy, quads, lt)
+    reverted = n_quads - len(quads)
+    xy, (quads, lt, lines), remap = _compact(xy, [quads, lt, lines])
+    fixed_pts = remap[fixed_pts]
+    fill = QuadFill(xy, quads, lt, lines, line_marker, line_curve)
+    split = bool(all_quad and len(lt))
+    if split:
+        fill = chord_split(fill, domain, cap)
+        # The refinement appends its nodes: the old indices, interior points included, stay valid.
+        moved = _smooth(
+            fill.points, fill.quads, fill.triangles, fill.lines, fill.line_curves, domain, fixed_pts, passes,
+            smooth_boundary,
+        )
+        fill = fill._replace(points=np.ascontiguousarray(moved))
+    _check(fill.points, fill.quads, fill.triangles)
+    report = PairingReport(
+        added, len(t3), len(first), chains, len(left), reverted, counts, split, len(fill.triangles)
+    )
+    return fill, report
+
+
+def pairing_fill(job):
+    """``QUAD_METHODS["pairing"].build``: :func:`pair_domain` on a checked :class:`QuadJob`.
+
+    The method's own smoothing (:data:`ENHANCE_SMOOTH` passes, boundary nodes sliding on
+    their curves) is part of its shape enhancement and always runs, since the relaxed
+    pairs need it to open; ``job.smooth`` sweeps of the shared smoother follow in the
+    mesher (:func:`meshwright.quadrangulate`).
+    """
+    return pair_domain(
+        job.domain, job.field, all_quad=job.all_quad, smooth=ENHANCE_SMOOTH, seed=job.seed,
+        max_points=job.max_points,
+    )[0]
+
+
+def _check(xy, quads, tris) -> None:
+    """Exact last check: every quad strictly convex, every triangle counter-clockwise."""
+    bad = _nonconvex(xy, quads)
+    if len(bad):
+        q = int(bad[0])
+        raise MeshingError(
+            f"pairing produced a non-convex quad {q} with corners "
+            + ", ".join(_fmt(xy[v]) for v in quads[q])
+        )
+    if len(tris):
+        o = orient2d_batch(xy, tris)
+        if (o <= 0.0).any():
+            t = int(np.flatnonzero(o <= 0.0)[0])
+            raise MeshingError(f"pairing left an inverted triangle {t} at {_fmt(xy[tris[t]].mean(axis=0))}")

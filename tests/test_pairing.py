@@ -1,0 +1,470 @@
+"""Quadrilaterals by pairing advancing-front triangles (issue 12, 18.5.1, Zhu et al. 1991).
+
+Oracles never share code with what they check: convexity of every corner by exact
+``Fraction`` cross products, scaled Jacobians recomputed corner by corner with ``math``,
+boundary nodes against the circle's equation, parity by counting line cells per loop.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import meshwright as mw
+from meshwright.core.errors import InputError, MeshingError
+from meshwright.geometry import airfoil_in_farfield, circle, circles, naca_loop, polygon
+from meshwright.quad import QUAD_METHODS, quadrangulate
+from meshwright.quad import _pairing_kernel as pk
+from meshwright.quad.pairing import ParityError, enhance, make_loops_even, pair_domain, pair_triangles
+from meshwright.sizing import BackgroundGrid, gradation
+from meshwright.sizing.field import as_size_field
+
+
+# ------------------------------------------------------------------ independent oracles
+
+
+def _cross(p, q, r) -> Fraction:
+    """Exact (q - p) x (r - p)."""
+    px, py = Fraction(float(p[0])), Fraction(float(p[1]))
+    return (Fraction(float(q[0])) - px) * (Fraction(float(r[1])) - py) - (Fraction(float(q[1])) - py) * (
+        Fraction(float(r[0])) - px
+    )
+
+
+def _strictly_convex(xy, quad) -> bool:
+    return all(_cross(xy[quad[k - 1]], xy[quad[k]], xy[quad[(k + 1) % 4]]) > 0 for k in range(4))
+
+
+def _min_scaled_jacobian(xy, quads) -> float:
+    worst = 1.0
+    for q in quads:
+        for k in range(4):
+            p, c, n = xy[q[k - 1]], xy[q[k]], xy[q[(k + 1) % 4]]
+            ux, uy = n[0] - c[0], n[1] - c[1]
+            wx, wy = p[0] - c[0], p[1] - c[1]
+            worst = min(worst, (ux * wy - uy * wx) / (math.hypot(ux, uy) * math.hypot(wx, wy)))
+    return worst
+
+
+def _check_all_quad(mesh, on_circle=()):
+    """Every quad strictly convex (exact), conforming (each interior edge twice, opposite
+    ways), line cells exactly the boundary edges, boundary nodes of curved loops on them."""
+    xy, quads = mesh.points, mesh.cells["quad"]
+    assert "triangle" not in mesh.cells
+    assert all(_strictly_convex(xy, q) for q in quads)
+    directed = {}
+    for q in quads.tolist():
+        for k in range(4):
+            e = (q[k], q[(k + 1) % 4])
+            assert e not in directed, f"edge {e} used twice in the same direction"
+            directed[e] = True
+    boundary = {e for e in directed if (e[1], e[0]) not in directed}
+    lines = {tuple(e) for e in mesh.cells["line"].tolist()}
+    assert boundary == lines
+    for centre, radius in on_circle:
+        v = np.unique(mesh.cells["line"])
+        d = np.hypot(*(xy[v] - centre).T)
+        near = np.abs(d - radius) < 1e-3 * radius
+        assert np.allclose(d[near], radius, rtol=1e-9, atol=1e-12)
+
+
+# ---------------------------------------------------------------------- even parity
+
+
+def test_odd_loop_gets_one_node_on_the_true_curve_and_even_spacing():
+    dom = circle()
+    disc = dom.discretize(0.1)
+    assert len(disc.segments) % 2 == 1  # the case under test: 63 segments
+    even, added = make_loops_even(dom, disc)
+    assert added == (0,)
+    assert len(even.segments) == len(disc.segments) + 1
+    assert np.allclose(np.hypot(*even.points.T), 1.0, rtol=0, atol=1e-12)
+    seg = even.points[even.segments[:, 1]] - even.points[even.segments[:, 0]]
+    length = np.hypot(*seg.T)
+    # The respacing leaves no half-length segment beside the split.
+    assert length.min() > 0.85 * np.median(length)
+    # The chain is still one closed loop in order.
+    assert np.array_equal(even.segments[:-1, 1], even.segments[1:, 0])
+    assert even.segments[-1, 1] == even.segments[0, 0]
+
+
+def test_even_loops_are_left_alone_and_fixed_odd_loops_are_named():
+    dom = circle()
+    disc = dom.discretize(0.1)
+    even, _ = make_loops_even(dom, disc)
+    again, added = make_loops_even(dom, even)
+    assert added == () and again is even
+    with pytest.raises(ParityError, match=r"outer loop \(loop 0\) has 63 boundary nodes"):
+        make_loops_even(dom, disc, fixed_boundary=True)
+    hole = circles(centers=[(0.5, 0.5)], radii=[0.2], box=(0, 0, 1, 1))
+    with pytest.raises(ParityError, match=r"hole 0 \(loop 1\)"):
+        make_loops_even(hole, hole.discretize(0.05), fixed_boundary=True)
+
+
+def test_every_loop_of_the_mesh_is_even_before_any_split():
+    dom = circles(centers=[(0.5, 0.5)], radii=[0.2], box=(0, 0, 1, 1))
+    fill, report = pair_domain(dom, as_size_field(0.05), all_quad=False)
+    mid = fill.points[fill.lines].mean(axis=1)
+    on_hole = np.abs(np.hypot(*(mid - 0.5).T) - 0.2) < 0.01
+    assert on_hole.sum() % 2 == 0 and (~on_hole).sum() % 2 == 0
+    assert 1 in report.nodes_added
+
+
+# ----------------------------------------------------------------- the pair step
+
+
+def _strip():
+    """Four triangles in a row under a gently bent roof (front order 1, 0, 2, 3)."""
+    xy = np.array([[0, 0], [1, 0], [2, 0], [0, 1], [1, 1.1], [2, 1]], dtype=np.float64)
+    tris = np.array([[1, 4, 3], [0, 1, 3], [1, 2, 4], [2, 5, 4]], dtype=np.int32)
+    return xy, tris
+
+
+def test_pairs_are_counter_clockwise_strictly_convex_and_cover_the_triangles():
+    xy, tris = _strip()
+    quads, first, left, _, _, _ = pair_triangles(xy, tris)
+    assert len(left) == 0 and len(quads) == 2
+    assert all(_strictly_convex(xy, q) for q in quads)
+    covered = sorted(sorted(set(q.tolist())) for q in quads)
+    assert covered == [[0, 1, 3, 4], [1, 2, 4, 5]]
+    # Triangle 0 (made first) takes triangle 1, its only chance, not triangle 2.
+    assert first.tolist() == [0, 2]
+
+
+def test_a_non_convex_pair_only_in_the_relaxed_round():
+    # A dart: the two triangles' union has a reflex corner at vertex 2.
+    xy = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2]], dtype=np.float64)
+    tris = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.int32)
+    quads, _, left, _, _, _ = pair_triangles(xy, tris, bounds=(0.5, 0.0), walks=0)
+    assert len(quads) == 0 and sorted(left.tolist()) == [0, 1]
+    # The relaxed round admits reflex corners, but not between two boundary sides (here
+    # vertex 2 lies on the boundary of this two-triangle mesh).
+    quads, _, left, _, _, _ = pair_triangles(xy, tris, bounds=(0.0, -1.0), walks=0)
+    assert len(quads) == 0
+    # Surrounded by triangles, the same dart pairs in the relaxed round only.
+    ring = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2], [1, -1], [3, 1], [-1, 1]], dtype=np.float64)
+    tris = np.array([[0, 1, 2], [0, 2, 3], [0, 4, 1], [1, 5, 2], [2, 5, 3], [0, 3, 6]], dtype=np.int32)
+    blocked = np.array([[0, 4], [4, 1], [1, 5], [5, 3], [3, 6], [6, 0]])
+    from meshwright.core.mesh import build_neighbors
+
+    nbr = build_neighbors(tris).astype(np.int32)
+    assert nbr[0, 1] == 1  # triangle 0 meets the dart's other half across side 0-2
+    assert pk.pair_score(ring, tris.ravel(), nbr.ravel(), 0, 1, 0.0) == -1.0
+    assert pk.pair_score(ring, tris.ravel(), nbr.ravel(), 0, 1, -1.0) == 0.0
+    quads, _, left, _, _, _ = pair_triangles(ring, tris, blocked, walks=0)
+    assert len(left) == 0 and all(_strictly_convex(ring, q) for q in quads)
+
+
+def test_a_quad_smoothing_cannot_open_is_cut_back_into_triangles():
+    from meshwright.quad.pairing import _unpair_nonconvex
+
+    xy = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2]], dtype=np.float64)
+    quads = np.array([[0, 1, 3, 2]], dtype=np.int32)  # reflex at vertex 2
+    q, t = _unpair_nonconvex(xy, quads, np.zeros((0, 3), dtype=np.int32))
+    assert len(q) == 0 and len(t) == 2
+    assert all(_cross(xy[a], xy[b], xy[c]) > 0 for a, b, c in t)
+    assert sorted(set(t.ravel().tolist())) == [0, 1, 2, 3]
+
+
+@pytest.mark.parametrize("d, split", [((0.0, 1.0), False), ((3.0, 0.05), True)])
+def test_a_flat_ear_of_the_front_is_opened(d, split):
+    from meshwright.quad.pairing import _open_ears
+
+    # Ear t = (a, b, c) on two boundary sides, 174 degrees at a; s = (c, b, d) beyond b-c
+    # (its other sides lead to triangles 2 and 3, not read).  With d above, the union is
+    # convex and b-c flips to a-d; with d far right it is not, and b-c is split.
+    xy = np.array([[0, -0.05], [1, 0], [-1, 0], d], dtype=np.float64)
+    tris = np.array([[0, 1, 2], [2, 1, 3], [0, 0, 0], [0, 0, 0]], dtype=np.int32)
+    nbr = np.array([[1, -1, -1], [2, 3, 0], [-1, -1, -1], [-1, -1, -1]], dtype=np.int32)
+    out_xy, out_t, changed = _open_ears(xy, tris, nbr)
+    assert changed == 1
+    assert len(out_xy) == 4 + split and len(out_t) == 4 + 2 * split
+    live = [0, 1] + ([4, 5] if split else [])
+    assert all(_cross(out_xy[a], out_xy[b], out_xy[c]) > 0 for a, b, c in out_t[live])
+    # Node 0 is no longer the corner of a single triangle.
+    assert sum(0 in t for t in out_t[live].tolist()) == 2
+    area = sum(float(_cross(out_xy[a], out_xy[b], out_xy[c])) for a, b, c in out_t[live])
+    assert area == pytest.approx(float(_cross(xy[0], xy[1], xy[2]) + _cross(xy[2], xy[1], xy[3])))
+
+
+def test_blocked_sides_are_never_crossed():
+    xy, tris = _strip()
+    quads, _, left, _, _, _ = pair_triangles(xy, tris, blocked=np.array([[1, 3], [1, 4], [2, 4]]), walks=0)
+    assert len(quads) == 0 and len(left) == 4
+
+
+def test_augmenting_path_repairs_a_stranding_pairing():
+    xy, tris = _strip()
+    nbr = np.full((4, 3), -1, dtype=np.int32)
+    from meshwright.core.mesh import build_neighbors
+
+    nbr[:] = build_neighbors(tris)
+    mate = np.array([-1, 2, 1, -1], dtype=np.int32)  # the middle pair strands both ends
+    gained = pk.augment(xy, tris.ravel(), nbr.ravel(), mate, 0.0, 100)
+    assert gained == 1
+    assert mate.tolist() == [1, 0, 3, 2]
+
+
+def _max_matching_brute_force(nt, adj):
+    """Size of a maximum matching by exhaustive search over vertex subsets (small graphs)."""
+    from functools import lru_cache
+
+    @lru_cache(maxsize=None)
+    def best(mask):
+        for v in range(nt):
+            if not mask >> v & 1:
+                r = best(mask | 1 << v)
+                for w in adj[v]:
+                    if not mask >> w & 1:
+                        r = max(r, 1 + best(mask | 1 << v | 1 << w))
+                return r
+        return 0
+
+    return best(0)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(6, 11))
+def test_augmenting_paths_reach_a_maximum_pairing(seed, npts):
+    from meshwright.core.mesh import build_neighbors
+
+    rng = np.random.default_rng(seed)
+    xy = rng.random((npts, 2))
+    tris = mw.delaunay(xy).triangles.astype(np.int32)
+    nbr = build_neighbors(tris).astype(np.int32)
+    nt = len(tris)
+    flat_t, flat_n = tris.ravel(), nbr.ravel()
+    adj = [
+        {int(nbr[t, k]) for k in range(3) if nbr[t, k] >= 0 and pk.pair_score(xy, flat_t, flat_n, t, k, -1.0) >= 0}
+        for t in range(nt)
+    ]
+    assert all(t in adj[s] for t in range(nt) for s in adj[t])  # an allowed pair is allowed both ways
+    mate = np.full(nt, -1, dtype=np.int32)
+    pk.augment(xy, tris.ravel(), nbr.ravel(), mate, -1.0, 10**6)
+    for t in range(nt):
+        if mate[t] >= 0:
+            assert mate[mate[t]] == t and int(mate[t]) in adj[t]
+    assert int((mate >= 0).sum()) // 2 == _max_matching_brute_force(nt, adj)
+
+
+# ------------------------------------------------------------------ enhancement
+
+
+def test_node_elimination_merges_the_two_quads_of_a_doublet():
+    xy = np.array([[0, 0], [2, 0], [2, 2], [0, 2], [0.9, 1.1]], dtype=np.float64)
+    quads = np.array([[4, 0, 1, 2], [4, 2, 3, 0]], dtype=np.int32)
+    boundary = np.array([1, 1, 1, 1, 0], dtype=bool)
+    _, out, kept, counts = enhance(xy, quads, boundary)
+    assert counts[0] == 1 and len(out) == 1
+    assert sorted(out[0].tolist()) == [0, 1, 2, 3] and _strictly_convex(xy, out[0])
+
+
+def test_element_elimination_collapses_a_diamond_between_two_valence_three_nodes():
+    #          N --- D --- N'
+    #          |   / | \   |      A and C interior, each in three quads; the diamond
+    #          W - A   C - E      ABCD disappears and A, C merge at (0, 0).
+    #          |   \ | /   |
+    #          S --- B --- S'
+    xy = np.array(
+        [[-0.5, 0], [0, -1], [0.5, 0], [0, 1], [-1.5, 0], [-1, -1], [-1, 1], [1.5, 0], [1, -1], [1, 1]],
+        dtype=np.float64,
+    )
+    A, B, C, D, W, S, N, E, S2, N2 = range(10)
+    quads = np.array(
+        [[A, B, C, D], [A, W, S, B], [A, D, N, W], [C, B, S2, E], [C, E, N2, D]], dtype=np.int32
+    )
+    boundary = np.ones(10, dtype=bool)
+    boundary[[A, C]] = False
+    out_xy, out, kept, counts = enhance(xy, quads, boundary)
+    assert counts[1] == 1 and len(out) == 4 and 0 not in kept
+    assert np.array_equal(out_xy[A], [0.0, 0.0])
+    assert C not in out
+    assert all(_strictly_convex(out_xy, q) for q in out)
+    assert all((out == A).any(axis=1))
+
+
+def test_diagonal_swap_takes_the_better_diagonal_of_the_hexagon():
+    ang = np.radians([0, 40, 100, 180, 220, 280])
+    xy = np.column_stack([np.cos(ang), 0.6 * np.sin(ang)])
+    # Hexagon u=0, c=1, d=2, v=3, a=4, b=5 split along 0-3: q1 = (u, v, a, b), q2 = (v, u, c, d).
+    splits = {r: [[r, r + 1, r + 2, (r + 3) % 6], [(r + 3) % 6, (r + 4) % 6, (r + 5) % 6, r]] for r in range(3)}
+    quality = {r: _min_scaled_jacobian(xy, q) for r, q in splits.items()}
+    worst, best = min(quality, key=quality.get), max(quality, key=quality.get)
+    assert quality[best] > quality[worst] + 0.05
+    start = np.array(splits[worst], dtype=np.int32)
+    _, out, _, counts = enhance(xy, start, np.ones(6, dtype=bool) & False)
+    assert counts[2] >= 1
+    assert _min_scaled_jacobian(xy, out) == pytest.approx(quality[best])
+    assert all(_strictly_convex(xy, q) for q in out)
+
+
+# ------------------------------------------------------------------ full meshes
+
+
+NACA = airfoil_in_farfield("0012")
+NACA_SIZE = gradation(naca_loop("0012")[0].evaluate(np.linspace(0.0, 2.0 * np.pi, 400)), 0.03, 1.3, 2.5)
+CASES = {
+    "disk uniform": (circle(), 0.1, [((0.0, 0.0), 1.0)]),
+    "disk graded": (circle(), lambda p: 0.03 + 0.1 * np.hypot(p[:, 0] - 0.5, p[:, 1]), [((0.0, 0.0), 1.0)]),
+    "square with hole": (circles(centers=[(0.5, 0.5)], radii=[0.2], box=(0, 0, 1, 1)), 0.06, [((0.5, 0.5), 0.2)]),
+    "square with square hole graded": (
+        polygon([(0, 0), (1, 0), (1, 1), (0, 1)], holes=[[(0.3, 0.3), (0.3, 0.6), (0.6, 0.6), (0.6, 0.3)]]),
+        lambda p: 0.03 + 0.05 * p[:, 0],
+        [],
+    ),
+    "naca 0012 far field graded": (NACA, NACA_SIZE, [((0.5, 0.0), 10.0)]),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_all_quad_meshes_are_valid_with_scaled_jacobian_above_0_2(name):
+    dom, size, curves = CASES[name]
+    mesh = quadrangulate(dom, size, method="pairing", smooth=5)
+    mesh.validate()
+    _check_all_quad(mesh, curves)
+    assert _min_scaled_jacobian(mesh.points, mesh.cells["quad"]) > 0.2
+    assert mesh.area() == pytest.approx(abs(dom.area()), rel=2e-2)
+
+
+@pytest.mark.parametrize("name", ["disk uniform", "naca 0012 far field graded"])
+def test_without_extra_sweeps_the_enhancement_alone_keeps_the_bound(name):
+    dom, size, curves = CASES[name]
+    mesh = quadrangulate(dom, size, method="pairing", smooth=0)
+    mesh.validate()
+    _check_all_quad(mesh, curves)
+    assert _min_scaled_jacobian(mesh.points, mesh.cells["quad"]) > 0.2
+    assert mesh.area() == pytest.approx(abs(dom.area()), rel=2e-2)
+
+
+def test_stretched_background_grid_gives_stretched_quads():
+    dom = mw.geometry.rectangle(0, 0, 2, 1)
+    bg = BackgroundGrid.uniform(dom.bbox, 0.05, stretch=3.0, direction=0.0)
+    mesh = quadrangulate(dom, bg, method="pairing", smooth=3)
+    mesh.validate()
+    _check_all_quad(mesh)
+    q = mesh.points[mesh.cells["quad"]]
+    dx = np.abs(np.diff(q[:, :, 0], axis=1, append=q[:, :1, 0])).max(axis=1)
+    dy = np.abs(np.diff(q[:, :, 1], axis=1, append=q[:, :1, 1])).max(axis=1)
+    assert np.median(dx / dy) > 1.8
+
+
+def test_quad_dominant_mesh_reports_its_triangles():
+    dom, size, _ = CASES["naca 0012 far field graded"]
+    fill, report = pair_domain(dom, as_size_field(size), all_quad=False)
+    assert report.triangles_left == len(fill.triangles) == report.left_over + 2 * report.reverted
+    assert not report.split
+    assert 2 * report.paired + report.left_over == report.triangles
+    mesh = quadrangulate(dom, size, method="pairing", all_quad=False, smooth=5)
+    assert len(mesh.cells.get("triangle", ())) == report.triangles_left
+    mesh.validate()
+
+
+def test_left_over_triangles_are_finished_by_chords_only():
+    from meshwright.core.mesh import Mesh
+    from meshwright.quad import QuadFill
+    from meshwright.quad.chords import chord_split
+
+    xy = np.array([[0, 0], [1, 0], [2, 0], [3, 0], [0, 1], [1, 1], [2, 1], [3, 1]], dtype=np.float64)
+    quads = np.array([[0, 1, 5, 4], [2, 3, 7, 6]], dtype=np.int32)
+    tris = np.array([[1, 2, 6], [1, 6, 5]], dtype=np.int32)
+    lines = np.array([[0, 1], [1, 2], [2, 3], [3, 7], [7, 6], [6, 5], [5, 4], [4, 0]], dtype=np.int32)
+    dom = polygon([(0, 0), (3, 0), (3, 1), (0, 1)])
+    curves = np.zeros(8, dtype=np.int32)  # the polygon is one closed polyline
+    fill = QuadFill(xy, quads, tris, lines, np.ones(8, dtype=np.int32), curves)
+    out = chord_split(fill, dom, 100)
+    # Quad A and B each crossed once (2 + 2), both triangles into three (3 + 3).
+    assert len(out.triangles) == 0 and len(out.quads) == 10
+    mesh = Mesh(out.points, {"quad": out.quads, "line": out.lines})
+    mesh.validate()
+    _check_all_quad(mesh)
+    # Split boundary sides: 1-2 and 6-5 (triangle sides), 3-7 and 4-0 (chord ends).
+    assert len(out.lines) == len(lines) + 4
+    assert mesh.area() == pytest.approx(3.0)
+    with pytest.raises(MeshingError, match="max_points = 12"):
+        chord_split(fill, dom, 12)
+
+
+def test_chords_keep_the_mesh_local_and_the_boundary_on_its_curves():
+    dom, size, curves = CASES["square with hole"]
+    fill, report = pair_domain(dom, as_size_field(size))
+    mixed, _ = pair_domain(dom, as_size_field(size), all_quad=False)
+    if not report.split:
+        pytest.skip("this pairing left no triangle; the chords are not exercised here")
+    assert len(fill.triangles) == 0
+    # Far fewer quads than one midpoint split of every element would give.
+    assert len(fill.quads) < 2 * (len(mixed.quads) + len(mixed.triangles))
+    from meshwright.core.mesh import Mesh
+
+    mesh = Mesh(fill.points, {"quad": fill.quads, "line": fill.lines})
+    mesh.validate()
+    _check_all_quad(mesh, curves)
+
+
+def test_enhancement_counts_and_result_stay_convex():
+    fill, report = pair_domain(circle(), as_size_field(0.1), smooth=0, all_quad=False)
+    assert sum(report.eliminated) > 0
+    assert all(_strictly_convex(fill.points, q) for q in fill.quads)
+
+
+# ------------------------------------------------------------------ caps and doors
+
+
+def test_registry_entry_declares_what_pairing_honours():
+    m = QUAD_METHODS["pairing"]
+    assert m.smooths and not m.needs_size and m.segments and m.points and not m.regions
+
+
+def test_cap_on_points_is_an_error_naming_it():
+    # A callable size escapes the door's estimate of interior points: the front hits the cap.
+    with pytest.raises(MeshingError, match="max_points = 300"):
+        quadrangulate(circle(), lambda p: np.full(len(p), 0.05), method="pairing", max_points=300)
+
+
+def test_bad_arguments_are_refused_at_the_door():
+    with pytest.raises(InputError, match="smooth"):
+        quadrangulate(circle(), 0.1, method="pairing", smooth=-1)
+    square = polygon([(0, 0), (1, 0), (1, 1), (0, 1)], regions=[(0.5, 0.5, 3)])
+    with pytest.raises(InputError, match="region"):
+        quadrangulate(square, 0.1, method="pairing")
+
+
+def test_lower_level_doors_name_the_culprit():
+    from meshwright.quad import QuadFill
+    from meshwright.quad.chords import chord_split
+
+    xy, tris = _strip()
+    with pytest.raises(InputError, match="triangle 0 .* not counter-clockwise"):
+        pair_triangles(xy, tris[:, ::-1])
+    with pytest.raises(InputError, match="triangles row 1"):
+        pair_triangles(xy, np.array([[1, 4, 3], [0, 1, 9]]))
+    with pytest.raises(InputError, match="bounds"):
+        pair_triangles(xy, tris, bounds=())
+    with pytest.raises(InputError, match="boundary"):
+        enhance(xy, np.array([[0, 1, 4, 3]]), np.zeros(3, dtype=bool))
+    with pytest.raises(InputError, match="domain"):
+        pair_domain("circle")
+    with pytest.raises(InputError, match="all_quad"):
+        pair_domain(circle(), 0.1, all_quad="yes")
+    with pytest.raises(InputError, match="fill"):
+        chord_split((xy, tris), circle(), 10)
+    empty = np.zeros((0, 2), dtype=np.int32)
+    fill = QuadFill(xy, np.zeros((0, 4), dtype=np.int32), tris, empty, np.zeros(0, np.int32), np.zeros(0, np.int32))
+    with pytest.raises(InputError, match="max_points"):
+        chord_split(fill, circle(), -1)
+
+
+def test_interior_segment_and_point_are_kept():
+    dom = polygon([(0, 0), (2, 0), (2, 1), (0, 1)], segments=[[(0.5, 0.5), (1.5, 0.5)]], points=[(1.0, 0.8)])
+    mesh = quadrangulate(dom, 0.1, method="pairing", smooth=3)
+    mesh.validate()
+    xy = mesh.points
+    assert np.any(np.all(xy == [1.0, 0.8], axis=1))
+    lines = mesh.cells["line"]
+    on_seg = np.all(np.abs(xy[lines][:, :, 1] - 0.5) < 1e-12, axis=1)
+    assert on_seg.sum() >= 10
+    assert all(_strictly_convex(xy, q) for q in mesh.cells["quad"])
