@@ -66,7 +66,7 @@ from meshwright.tri._kernel2d import (
 )
 
 __all__ = [
-    "CdtState", "grow", "short_of_room", "key_of", "encroaches", "edge_of", "link_vertices", "set_flags",
+    "CdtState", "grow", "room_of", "key_of", "encroaches", "edge_of", "link_vertices", "set_flags",
     "param_of", "split_point", "insert_points",
     "R_DONE", "R_ROOM", "R_BROKEN", "KIND_STRAIGHT", "KIND_ARC", "KIND_CURVE",
 ]
@@ -108,17 +108,17 @@ def grow(c: CdtState, rows: int, slots: int) -> CdtState:
 
 
 @njit(inline="always")
-def short_of_room(s, c, rows, slots):
-    """Whether ``rows`` vertices and ``slots`` triangle slots overflow either bundle."""
-    return (
-        3 * slots > s.tri.shape[0]
-        or 3 * slots > s.nbr.shape[0]
-        or 3 * slots > s.cons.shape[0]
-        or slots > c.treg.shape[0]
-        or rows > s.pts.shape[0]
-        or s.vmark.shape[0] <= s.pts.shape[0]
-        or rows > min(c.vtri.shape[0], c.vseg.shape[0], c.vpar.shape[0], c.vacute.shape[0])
-    )
+def room_of(s, c):
+    """``(rows, slots)``: vertices and triangle slots both bundles have room for.
+
+    Arrays never change size inside a kernel call, so a kernel computes this once and
+    compares counters with it per step (``rows`` is 0 when ``vmark`` is short).
+    """
+    rows = min(s.pts.shape[0], c.vtri.shape[0], c.vseg.shape[0], c.vpar.shape[0], c.vacute.shape[0])
+    if s.vmark.shape[0] <= s.pts.shape[0]:
+        rows = 0
+    slots = min(min(s.tri.shape[0], s.nbr.shape[0], s.cons.shape[0]) // 3, c.treg.shape[0])
+    return rows, slots
 
 
 @njit(inline="always")
@@ -317,10 +317,11 @@ def insert_points(xy, i0, out, s, c):
         ``R_BROKEN`` at point i (nothing of point i was inserted).
     """
     pts, tri, nbr, cons, meta, treg, vseg, vpar = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg, c.vseg, c.vpar
+    rows, slots = room_of(s, c)
     for i in range(i0, xy.shape[0]):
         nv = meta[M_NV]
         ntri = meta[M_NTRI]
-        if short_of_room(s, c, nv + 1, ntri + 2):
+        if nv + 1 > rows or ntri + 2 > slots:
             return i, R_ROOM
         x = xy[i, 0]
         y = xy[i, 1]

@@ -75,7 +75,7 @@ from meshwright.tri._encroach import (
     key_of,
     param_of,
     set_flags,
-    short_of_room,
+    room_of,
     split_point,
 )
 from meshwright.tri._kernel2d import (
@@ -331,15 +331,15 @@ def apply_sizes(h, s, r):
 
 
 @njit(inline="always")
-def _short(s, c, r):
-    """Whether some array lacks room for one more step (one insertion and its queue pushes)."""
-    wcap = s.work.shape[0] // 5
-    st = r.st
+def _short(rows, slots, wcap, meta, hk, sq, pend, st):
+    """Whether some array lacks room for one more step (one insertion and its queue pushes);
+    ``rows, slots`` from :func:`meshwright.tri._encroach.room_of`, ``wcap`` the cavity room."""
     return (
-        short_of_room(s, c, s.meta[M_NV] + 1, s.meta[M_NTRI] + 2)
-        or st[S_HN] + wcap + 1 > r.hk.shape[0]
-        or 2 * (st[S_QN] + 3 * wcap + 3) > r.sq.shape[0]
-        or 4 * (st[S_PN] + wcap + 1) > r.pend.shape[0]
+        meta[M_NV] + 1 > rows
+        or meta[M_NTRI] + 2 > slots
+        or st[S_HN] + wcap + 1 > hk.shape[0]
+        or 2 * (st[S_QN] + 3 * wcap + 3) > sq.shape[0]
+        or 4 * (st[S_PN] + wcap + 1) > pend.shape[0]
     )
 
 
@@ -378,10 +378,12 @@ def refine_loop(s, c, r):
         subsegment lies neither on it nor inside its two triangles).
     """
     pts, tri, nbr, cons, meta, treg = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg
-    hk, hp, sq, _, _, st, prm = r
+    hk, hp, sq, pend, _, st, prm = r
+    rows, slots = room_of(s, c)
+    wcap = s.work.shape[0] // 5
     while True:
         nv = meta[M_NV]
-        if _short(s, c, r):
+        if _short(rows, slots, wcap, meta, hk, sq, pend, st):
             return R_ROOM
         if st[S_QN] > 0:
             q = st[S_QN] - 1
