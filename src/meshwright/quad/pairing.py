@@ -78,9 +78,10 @@ front beside the first (the front makes triangles only; pairing follows their cr
 order), so the chapter's per-sub-front parity bookkeeping (steps 3, 5(a)-(c), 6) is
 replaced by the even loops of step 1 plus the alternating chains of step 3, and the
 placement of the front's nodes ignores the pairing (so a boundary fan of triangles can
-leave an unpairable one: centroid splits try first, then chords refine through it).  The chapter does not define
-its four enhancement operations; "side elimination" is read here as the removal of the
-side between two unpaired triangles (step 3) and the others as in Zhu et al.'s names.
+leave an unpairable one: centroid splits try first, then chords refine through it).
+The chapter does not define its four enhancement operations; "side elimination" is read
+here as the removal of the side between two unpaired triangles (step 3) and the others
+as in Zhu et al.'s names.
 
 Array layout: points (n, 2) float64; triangles (t, 3) and quads (q, 4) int32
 counter-clockwise; the kernel's flat arrays in :mod:`meshwright.quad._pairing_kernel`.
