@@ -307,3 +307,31 @@ def test_json_keeps_attributes_and_open_boundary(tmp_path):
         assert back.regions == dom.regions
         np.testing.assert_array_equal(back.region_attributes, dom.region_attributes)
         assert back.open_boundary == (name == "box")
+
+
+def test_region_attribute_only_when_it_says_more(tmp_path):
+    """Integral attributes equal to the markers add no cell data (ring.poly still goes
+    through Gmsh's format); la's float attributes survive a .vtu round trip."""
+    ring = mw.triangulate(read_poly(DATA / "ring.poly"))
+    assert sorted(ring.cell_data) == ["marker"]
+    ring.write(tmp_path / "ring.msh")
+    markers = mw.read(tmp_path / "ring.msh").cell_data["marker"]["triangle"]
+    np.testing.assert_array_equal(markers, ring.cell_data["marker"]["triangle"])
+    la = mw.triangulate(read_poly(triangle_data() / "la.poly"))
+    la.write(tmp_path / "la.vtu")
+    back = mw.read(tmp_path / "la.vtu").cell_data["region_attribute"]
+    np.testing.assert_array_equal(back["triangle"], la.cell_data["region_attribute"]["triangle"])
+
+
+def test_write_poly_keeps_float_attributes(tmp_path):
+    """write_poly puts each region's attribute in the attribute column, so la reads back
+    the same; box (open) is written with its hull segments, as Triangle's -c writes it."""
+    folder = triangle_data()
+    la = read_poly(folder / "la.poly")
+    mw.geometry.write_poly(tmp_path / "la.poly", la)
+    back = read_poly(tmp_path / "la.poly")
+    np.testing.assert_array_equal(back.region_attributes, LA_ATTRIBUTES)
+    assert back.regions == la.regions
+    mw.geometry.write_poly(tmp_path / "box.poly", read_poly(folder / "box.poly"))
+    box = read_poly(tmp_path / "box.poly")
+    assert not box.open_boundary and box.area() == 8

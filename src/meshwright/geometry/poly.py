@@ -344,8 +344,11 @@ def _polylines(verts, seg, marks, which, boundary_marks: bool) -> list[tuple[Pol
 def write_poly(path, domain, size=None, first_index: int = 1) -> None:
     """Write a Domain's discretisation (or a :class:`Discretization`) as a ``.poly`` file.
 
-    Vertices carry their markers, segments theirs; holes and regions follow.  Coordinates
-    are written with 17 significant digits, so :func:`read_poly` reads them back exactly.
+    Vertices carry their markers, segments theirs; holes and regions follow, each region
+    with its attribute (a Domain's ``region_attributes``, a Discretization's markers) and
+    area bound.  Coordinates are written with 17 significant digits, so :func:`read_poly`
+    reads them back exactly.  A Domain with an open boundary is written with the hull
+    segments that close it, as Triangle's ``-c`` writes its output.
 
     Parameters
     ----------
@@ -368,6 +371,9 @@ def write_poly(path, domain, size=None, first_index: int = 1) -> None:
         disc = domain
     elif isinstance(domain, Domain):
         disc = domain.discretize(size)
+        regions = disc.regions.copy()
+        regions[:, 2] = domain.region_attributes
+        disc = disc._replace(regions=regions)
     else:
         raise InputError(f"write_poly needs a Domain or a Discretization, got {type(domain).__name__}")
     write_poly_file(

@@ -28,8 +28,9 @@ What each method honours is declared in its registry entry (:class:`MeshMethod`)
 Delaunay refinement pass on their points; the advancing front, which makes its own
 triangles, not at all), ``progress`` where the method reports it, and the method's own
 options (Weatherill's ``alpha``).  A parameter a method cannot honour is an error, never
-dropped.  Region seeds' area bounds are honoured as ``max_area`` is, and their
-attributes come back per triangle (``cell_data["region_attribute"]``).  A domain whose
+dropped.  Region seeds' area bounds are honoured as ``max_area`` is, and their float
+attributes come back per triangle (``cell_data["region_attribute"]``) when they say more
+than the markers.  A domain whose
 segments close no boundary (``Domain.open_boundary``) is meshed only with
 ``convex_hull=True``, which every method declares it honours.  The work is capped:
 ``max_points`` bounds every method, and a size or area bound that would need more points
@@ -321,15 +322,23 @@ def _regions(disc: Discretization) -> list[tuple]:
 
 
 def _region_data(mesh: Mesh, dom: Domain, disc: Discretization) -> Mesh:
-    """Replace the region numbers of :func:`_regions` by the regions' markers and add their
-    attributes as ``cell_data["region_attribute"]`` (0 outside every region, as Triangle)."""
+    """Replace the region numbers of :func:`_regions` by the regions' markers and, when some
+    region's attribute is not its marker, add the attributes as
+    ``cell_data["region_attribute"]`` (0 outside every region, as Triangle; 0 on the lines
+    too, since formats such as Gmsh's need data on every cell block).  Attributes equal to
+    the markers add nothing, so such meshes keep the marker alone."""
     if not len(disc.regions):
         return mesh
     region = mesh.cell_data["marker"]["triangle"]
     cell_data = dict(mesh.cell_data)
     markers = np.concatenate([[0], disc.regions[:, 2]]).astype(np.int32)
     cell_data["marker"] = {**mesh.cell_data["marker"], "triangle": markers[region]}
-    cell_data["region_attribute"] = {"triangle": np.concatenate([[0.0], dom.region_attributes])[region]}
+    if np.array_equal(dom.region_attributes, disc.regions[:, 2]):
+        return Mesh(mesh.points, mesh.cells, point_data=mesh.point_data, cell_data=cell_data)
+    cell_data["region_attribute"] = {
+        "triangle": np.concatenate([[0.0], dom.region_attributes])[region],
+        "line": np.zeros(len(mesh.cells["line"])),
+    }
     return Mesh(mesh.points, mesh.cells, point_data=mesh.point_data, cell_data=cell_data)
 
 
@@ -456,8 +465,9 @@ def triangulate(
     -------
     Mesh
         ``"triangle"`` cells (counter-clockwise, region markers in
-        ``cell_data["marker"]["triangle"]``, and with region seeds their float attributes
-        in ``cell_data["region_attribute"]["triangle"]``, 0 outside every region),
+        ``cell_data["marker"]["triangle"]``, and when some region's attribute is not its
+        marker the attributes in ``cell_data["region_attribute"]["triangle"]``, 0 outside
+        every region and on the lines),
         ``"line"`` cells on the boundary and interior segments with their segment markers,
         ``point_data["marker"]``.
 
