@@ -916,3 +916,22 @@ def test_read_poly_open_segments_close_with_the_hull(tmp_path):
     f.write_text("3 2 0 0\n1 0 0\n2 1 0\n3 2 0\n0 0\n0\n")
     with pytest.raises(GeometryError, match="enclose no region"):
         read_poly(f)
+
+
+@settings(max_examples=40, deadline=None)
+@given(pts=st.lists(st.tuples(st.integers(-6, 6), st.integers(-6, 6)), min_size=3, max_size=25, unique=True))
+def test_read_poly_hull_of_a_point_set(tmp_path_factory, pts):
+    """A .poly with vertices only is closed by their convex hull: scipy's hull area as the
+    oracle, every vertex kept (points on a hull edge as boundary vertices)."""
+    spatial = pytest.importorskip("scipy.spatial")
+    xy = np.array(pts, dtype=np.float64)
+    f = tmp_path_factory.mktemp("hull") / "p.poly"
+    f.write_text(f"{len(xy)} 2 0 0\n" + "".join(f"{i + 1} {x} {y}\n" for i, (x, y) in enumerate(pts)) + "0 0\n0\n")
+    if np.linalg.matrix_rank(xy[1:] - xy[0]) < 2:
+        with pytest.raises(GeometryError, match="enclose no region"):
+            read_poly(f)
+        return
+    dom = read_poly(f)
+    assert dom.open_boundary
+    assert dom.area() == pytest.approx(spatial.ConvexHull(xy).volume, rel=1e-12)
+    assert len(dom.discretize().points) == len(xy)
