@@ -2,9 +2,11 @@
 
 The files in tests/data are written by hand in Triangle's formats (a letter A with a hole,
 a box with a square hole and markers, a ring whose vertices are in its .node file, a
-spiral point set); the example files that ship with the ``triangle`` package are used when
-it is installed.  Oracles: coordinates typed into the tests, exact rational areas, and
-Triangle itself (``pq30``) for the triangle counts.
+spiral point set); the example files that ship with the ``triangle`` package (every
+.poly, .node and .ele of its data folder: la.poly's float regional attributes, box.poly's
+open segments meshed with ``convex_hull=True``) are used when it is installed.  Oracles:
+coordinates typed into the tests, exact rational areas, scipy's convex hull, and Triangle
+itself (``pq30``, ``pcq30``, ``pqaA``) for areas, attributes and triangle counts.
 """
 
 from __future__ import annotations
@@ -335,3 +337,26 @@ def test_write_poly_keeps_float_attributes(tmp_path):
     mw.geometry.write_poly(tmp_path / "box.poly", read_poly(folder / "box.poly"))
     box = read_poly(tmp_path / "box.poly")
     assert not box.open_boundary and box.area() == 8
+
+
+def test_every_triangle_example_node_file_triangulates():
+    """Every .node example (inputs and Triangle's outputs) reads, and its Delaunay
+    triangulation has as many triangles as Triangle's own (no switches)."""
+    triangle = pytest.importorskip("triangle")
+    paths = sorted(triangle_data().glob("*.node"))
+    assert len(paths) >= 10
+    for path in paths:
+        points = read_node(path).points
+        ours = mw.delaunay(points).to_mesh()
+        assert len(ours.triangles) == len(triangle.triangulate({"vertices": points}, "")["triangles"]), path.name
+
+
+def test_every_triangle_example_mesh_reads():
+    """Triangle's output meshes (.node + .ele, with .poly segments where present) read
+    as valid meshes."""
+    paths = sorted(triangle_data().glob("*.ele"))
+    assert len(paths) >= 10
+    for path in paths:
+        mesh = mw.read(path.with_suffix(".node"))
+        mesh.validate()
+        assert len(mesh.cells["triangle"]) > 0, path.name
