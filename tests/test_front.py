@@ -290,3 +290,8 @@ def test_demo_writes_every_mesh_and_picture(tmp_path):
     for stem in ("naca0012-front", "three-element-frontal-delaunay", "naca0012-delaunay"):
         assert (tmp_path / f"{stem}.vtu").exists() and (tmp_path / f"{stem}.png").exists()
         mw.read(tmp_path / f"{stem}.vtu").validate()
+    for stem in ("three-element-quad-quadtree", "naca0012-quad-pairing"):
+        assert (tmp_path / f"{stem}.vtu").exists() and (tmp_path / f"{stem}.png").exists()
+        mesh = mw.read(tmp_path / f"{stem}.vtu")
+        mesh.validate()
+        assert len(mesh.cells["quad"]) > 0 and len(mesh.cells.get("triangle", ())) == 0

@@ -638,11 +638,6 @@ def test_poly_with_node_file_and_circle(tmp_path):
             FormatError,
         ),
         (
-            "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n1\n1 0.2 0.2 0.5 1\n",
-            r"x\.poly, line 11: region attribute 0\.5 is not an integer",
-            FormatError,
-        ),
-        (
             "4 2 0 0\n1 0 0\n2 1 1\n3 1 0\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n",
             "segments on lines 7 and 9 intersect",
             GeometryError,
@@ -856,3 +851,87 @@ def test_json_file_errors(tmp_path):
         load_domain(f)
     with pytest.raises(InputError, match="Parametric"):
         domain_to_dict(naca("0012"))
+
+
+def test_read_poly_keeps_float_region_attributes(tmp_path):
+    """Triangle's regional attribute is a float: kept per region (marker 0 unless it is
+    integral); a region line without its fifth field takes the attribute as area bound."""
+    f = tmp_path / "r.poly"
+    f.write_text(
+        "4 2 0 0\n1 0 0\n2 2 0\n3 2 1\n4 0 1\n5 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 2 4\n0\n"
+        "2\n1 1.5 0.1 0.25 0.5\n2 0.2 0.8 7\n"
+    )
+    dom = read_poly(f)
+    assert dom.regions == ((1.5, 0.1, 0, 0.5), (0.2, 0.8, 7, 7.0))
+    np.testing.assert_array_equal(dom.region_attributes, [0.25, 7.0])
+    assert not dom.open_boundary
+
+
+@pytest.mark.parametrize("bad, match", [([1.0], "1 entries for 2 regions"), ([1.0, float("nan")], "region 1 attribute")])
+def test_domain_region_attributes_checked(bad, match):
+    square = [(0, 0), (2, 0), (2, 1), (0, 1)]
+    regions = [(0.5, 0.5, 1), (1.5, 0.5, 2)]
+    with pytest.raises(InputError, match=match):
+        Domain(square, segments=[[(1, 0), (1, 1)]], regions=regions, region_attributes=bad)
+    np.testing.assert_array_equal(Domain(square, regions=regions).region_attributes, [1.0, 2.0])
+
+
+def test_read_poly_numbering_numbers_and_comments_agree(tmp_path):
+    """The same square with a hole written 1-based and plain, and 0-based with Fortran
+    numbers and comments on every line, reads to the same domain."""
+    plain = (
+        "8 2 0 0\n1 0 0\n2 3 0\n3 3 3\n4 0 3\n5 1 1\n6 2 1\n7 2 2\n8 1 2\n"
+        "8 1\n1 1 2 5\n2 2 3 1\n3 3 4 1\n4 4 1 1\n5 5 6 2\n6 6 7 2\n7 7 8 2\n8 8 5 2\n"
+        "1\n1 1.5 1.5\n"
+    )
+    fortran = (
+        "# vertices\n8 2 0 0 # count dim attr markers\n"
+        "0 0.000000E+00 -.000000E+00 # a\n1 0.300000E+01 0.0E0 # b\n2 .3E1 3.0 #\n3 -0. 0.3E+01\n"
+        "4 0.1E+01 1 # hole\n5 2 .1e1\n6 2. 2.\n7 1 2 # last\n"
+        "8 1 # segments\n0 0 1 5\n1 1 2 1 # x\n2 2 3 1\n3 3 0 1\n4 4 5 2\n5 5 6 2\n6 6 7 2\n7 7 4 2 #\n"
+        "1 # holes\n0 0.15E+01 1.5E0 # seed\n# end\n"
+    )
+    domains = []
+    for name, text in (("plain", plain), ("fortran", fortran)):
+        (tmp_path / f"{name}.poly").write_text(text)
+        domains.append(read_poly(tmp_path / f"{name}.poly"))
+    a, b = (d.discretize() for d in domains)
+    for field in ("points", "segments", "segment_markers", "holes"):
+        np.testing.assert_array_equal(getattr(a, field), getattr(b, field))
+    assert a.points.shape == (8, 2) and sorted(set(a.segment_markers.tolist())) == [1, 2, 5]
+
+
+def test_read_poly_open_segments_close_with_the_hull(tmp_path):
+    """No segments at all, or one lone segment: the convex hull of the vertices closes the
+    boundary (marker 1 off the given segments), hull vertices on a hull edge kept."""
+    f = tmp_path / "open.poly"
+    f.write_text("5 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n5 1 0\n1 1\n1 1 5 4\n0\n")
+    dom = read_poly(f)
+    assert dom.open_boundary and dom.area() == 4.0
+    disc = dom.discretize()
+    assert len(disc.points) == 5  # (1, 0) stays a boundary vertex
+    mid = disc.points[disc.segments].mean(axis=1)
+    np.testing.assert_array_equal(disc.segment_markers[(mid[:, 1] == 0) & (mid[:, 0] < 1)], [4])
+    assert (disc.segment_markers[(mid[:, 1] > 0) | (mid[:, 0] > 1)] == 1).all()
+    f.write_text("3 2 0 0\n1 0 0\n2 1 0\n3 2 0\n0 0\n0\n")
+    with pytest.raises(GeometryError, match="enclose no region"):
+        read_poly(f)
+
+
+@settings(max_examples=40, deadline=None)
+@given(pts=st.lists(st.tuples(st.integers(-6, 6), st.integers(-6, 6)), min_size=3, max_size=25, unique=True))
+def test_read_poly_hull_of_a_point_set(tmp_path_factory, pts):
+    """A .poly with vertices only is closed by their convex hull: scipy's hull area as the
+    oracle, every vertex kept (points on a hull edge as boundary vertices)."""
+    spatial = pytest.importorskip("scipy.spatial")
+    xy = np.array(pts, dtype=np.float64)
+    f = tmp_path_factory.mktemp("hull") / "p.poly"
+    f.write_text(f"{len(xy)} 2 0 0\n" + "".join(f"{i + 1} {x} {y}\n" for i, (x, y) in enumerate(pts)) + "0 0\n0\n")
+    if np.linalg.matrix_rank(xy[1:] - xy[0]) < 2:
+        with pytest.raises(GeometryError, match="enclose no region"):
+            read_poly(f)
+        return
+    dom = read_poly(f)
+    assert dom.open_boundary
+    assert dom.area() == pytest.approx(spatial.ConvexHull(xy).volume, rel=1e-12)
+    assert len(dom.discretize().points) == len(xy)

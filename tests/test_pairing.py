@@ -20,7 +20,8 @@ from meshwright.core.errors import InputError, MeshingError
 from meshwright.geometry import airfoil_in_farfield, circle, circles, naca_loop, polygon
 from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.quad import _pairing_kernel as pk
-from meshwright.quad.pairing import ParityError, enhance, make_loops_even, pair_domain, pair_triangles
+from meshwright.quad.enhancement import enhance
+from meshwright.quad.pairing import ParityError, make_loops_even, pair_domain, pair_triangles
 from meshwright.sizing import BackgroundGrid, gradation
 from meshwright.sizing.field import as_size_field
 
@@ -161,7 +162,7 @@ def test_a_non_convex_pair_only_in_the_relaxed_round():
 
 
 def test_a_quad_smoothing_cannot_open_is_cut_back_into_triangles():
-    from meshwright.quad.pairing import _unpair_nonconvex
+    from meshwright.quad.enhancement import unpair_nonconvex as _unpair_nonconvex
 
     xy = np.array([[0, 0], [2, 0], [1, 0.3], [1, 2]], dtype=np.float64)
     quads = np.array([[0, 1, 3, 2]], dtype=np.int32)  # reflex at vertex 2
@@ -190,6 +191,20 @@ def test_a_flat_ear_of_the_front_is_opened(d, split):
     assert sum(0 in t for t in out_t[live].tolist()) == 2
     area = sum(float(_cross(out_xy[a], out_xy[b], out_xy[c])) for a, b, c in out_t[live])
     assert area == pytest.approx(float(_cross(xy[0], xy[1], xy[2]) + _cross(xy[2], xy[1], xy[3])))
+
+
+def test_unpaired_triangles_split_at_their_centroids():
+    from meshwright.quad.pairing import _split_left_overs
+
+    xy, tris = _strip()
+    mate = np.array([1, 0, -1, -1], dtype=np.int32)
+    out_xy, out_t, out_mate, grown = _split_left_overs(xy, tris, mate)
+    assert grown == 2 and len(out_xy) == len(xy) + 2 and len(out_t) == len(tris) + 4
+    assert out_mate.tolist() == [1, 0, -1, -1, -1, -1, -1, -1]
+    assert all(_cross(out_xy[a], out_xy[b], out_xy[c]) > 0 for a, b, c in out_t)
+    area = sum(float(_cross(out_xy[a], out_xy[b], out_xy[c])) for a, b, c in out_t)
+    assert area == pytest.approx(sum(float(_cross(xy[a], xy[b], xy[c])) for a, b, c in tris))
+    assert np.allclose(out_xy[len(xy)], xy[tris[2]].mean(axis=0))
 
 
 def test_blocked_sides_are_never_crossed():
@@ -390,7 +405,7 @@ def test_left_over_triangles_are_finished_by_chords_only():
 
 
 def test_chords_keep_the_mesh_local_and_the_boundary_on_its_curves():
-    dom, size, curves = CASES["square with hole"]
+    dom, size, curves = CASES["square with square hole graded"]
     fill, report = pair_domain(dom, as_size_field(size))
     mixed, _ = pair_domain(dom, as_size_field(size), all_quad=False)
     if not report.split:

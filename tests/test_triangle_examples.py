@@ -2,9 +2,11 @@
 
 The files in tests/data are written by hand in Triangle's formats (a letter A with a hole,
 a box with a square hole and markers, a ring whose vertices are in its .node file, a
-spiral point set); the example files that ship with the ``triangle`` package are used when
-it is installed.  Oracles: coordinates typed into the tests, exact rational areas, and
-Triangle itself (``pq30``) for the triangle counts.
+spiral point set); the example files that ship with the ``triangle`` package (every
+.poly, .node and .ele of its data folder: la.poly's float regional attributes, box.poly's
+open segments meshed with ``convex_hull=True``) are used when it is installed.  Oracles:
+coordinates typed into the tests, exact rational areas, scipy's convex hull, and Triangle
+itself (``pq30``, ``pcq30``, ``pqaA``) for areas, attributes and triangle counts.
 """
 
 from __future__ import annotations
@@ -135,19 +137,144 @@ def test_spiral_node_file_triangulates():
     assert len(mesh.triangles) == 2 * len(points) - 2 - hull  # Euler, all points used
 
 
-@pytest.mark.parametrize("name", ["A", "double_hex3", "face"])
-def test_triangle_example_poly_files_mesh(name):
+def triangle_data() -> Path:
+    """The triangle package's example folder (skips without the package or its files)."""
     triangle = pytest.importorskip("triangle")
-    path = Path(triangle.__file__).parent / "data" / f"{name}.poly"
-    if not path.is_file():
+    folder = Path(triangle.__file__).parent / "data"
+    if not (folder / "la.poly").is_file():
         pytest.skip("the triangle package ships no example files")
-    mesh = mw.triangulate(read_poly(path))
-    mesh.validate()
-    ref = triangle.triangulate(triangle.load(str(path.parent), name), "pq30")
+    return folder
+
+
+def reference_areas(ref) -> np.ndarray:
     a, b, c = (ref["vertices"][ref["triangles"][:, k]] for k in range(3))
-    ref_area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])).sum()
-    assert float(exact_total_area(mesh)) == pytest.approx(ref_area, rel=1e-9)
+    return 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+@pytest.mark.parametrize(
+    "name, flags, hull",
+    [("A", "pq30", False), ("double_hex3", "pq30", False), ("face", "pq30", False), ("la", "pq30", False),
+     ("box", "pcq30", True), ("square_circle_hole", "pq30", False), ("double_hex", "pq30", False)],
+)
+def test_triangle_example_poly_files_mesh(name, flags, hull):
+    triangle = pytest.importorskip("triangle")
+    path = triangle_data() / f"{name}.poly"
+    mesh = mw.triangulate(read_poly(path), convex_hull=hull)
+    mesh.validate()
+    ref = triangle.triangulate(triangle.load(str(path.parent), name), flags)
+    assert float(exact_total_area(mesh)) == pytest.approx(reference_areas(ref).sum(), rel=1e-9)
     assert len(mesh.triangles) <= 3 * len(ref["triangles"])
+
+
+def test_every_triangle_example_poly_file_reads():
+    """Triangle's example inputs and its own outputs (``*.1.poly``: what Triangle writes,
+    meshwright reads); only box.poly's segments leave the boundary open."""
+    paths = sorted(triangle_data().glob("*.poly"))
+    assert len(paths) >= 10
+    for path in paths:
+        dom = read_poly(path)
+        assert dom.open_boundary == (path.name == "box.poly"), path.name
+        assert dom.area() > 0
+
+
+LA_ATTRIBUTES = [0.05, 0.05, 0.2, 0.4, 0.8, 3.0]  # typed from la.poly's region section
+
+
+@pytest.mark.parametrize(
+    "method",
+    [
+        "delaunay",
+        "weatherill",
+        "frontal-delaunay",
+        pytest.param(
+            "front",
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="the advancing front's closing triangles exceed the documented factor 2 of an area "
+                "bound (2.46 in la.poly's 0.05 region; 2.49 with a global max_area=0.5 too)",
+            ),
+        ),
+    ],
+)
+def test_la_regional_attributes_and_area_bounds(method):
+    """la.poly's regions (x y attribute, no fifth field: the attribute is also the area
+    bound, as Triangle reads it) carry float attributes to their triangles, and each
+    region's bound holds: exactly for the Delaunay methods, within the documented factor 2
+    for the advancing front's closing triangles."""
+    dom = read_poly(triangle_data() / "la.poly")
+    np.testing.assert_array_equal(dom.region_attributes, LA_ATTRIBUTES)
+    assert [r[3] for r in dom.regions] == LA_ATTRIBUTES
+    mesh = mw.triangulate(dom, method=method)
+    mesh.validate()
+    attribute = mesh.cell_data["region_attribute"]["triangle"]
+    assert attribute.dtype == np.float64
+    assert set(attribute.tolist()) == {0.0, *LA_ATTRIBUTES}
+    marker = mesh.cell_data["marker"]["triangle"]
+    np.testing.assert_array_equal(marker, np.where(attribute == 3.0, 3, 0))  # the one integral attribute
+    areas = np.abs(triangle_areas(mesh))
+    bounded = attribute > 0
+    slack = 2.0 if method == "front" else 1.0 + 1e-12
+    assert (areas[bounded] <= slack * attribute[bounded]).all()
+
+
+def test_la_attributes_match_triangle_pqaA():
+    """Triangle's ``pqaA`` on la.poly as the oracle: the same attributes cover the same
+    area (the regions are bounded by the same segments)."""
+    triangle = pytest.importorskip("triangle")
+    folder = triangle_data()
+    mesh = mw.triangulate(read_poly(folder / "la.poly"))
+    data = triangle.load(str(folder), "la")
+    # The package's Python loader reads a region line "x y value" as attribute 0 and area
+    # bound value; Triangle's own reader (readpoly) takes value as the attribute and copies
+    # it into the missing area bound.  Give Triangle the regions as its reader does.
+    data["regions"][:, 2] = LA_ATTRIBUTES
+    ref = triangle.triangulate(data, "pqaA")
+    ref_attribute = ref["triangle_attributes"][:, 0]
+    ref_areas = reference_areas(ref)
+    ours = mesh.cell_data["region_attribute"]["triangle"]
+    areas = np.abs(triangle_areas(mesh))
+    assert set(ours.tolist()) == set(ref_attribute.tolist())
+    for value in set(ref_attribute.tolist()):
+        assert areas[ours == value].sum() == pytest.approx(ref_areas[ref_attribute == value].sum(), rel=1e-9)
+        bound = value if value > 0 else np.inf
+        assert areas[ours == value].max() <= bound * (1 + 1e-12)
+
+
+@pytest.mark.parametrize("method", ["delaunay", "weatherill", "frontal-delaunay", "front"])
+def test_box_open_boundary_needs_convex_hull(method):
+    """box.poly: one segment (marker 5) on the outer box, a square hole: Triangle meshes
+    nothing without -c, the 3 x 3 box minus the unit square with it."""
+    dom = read_poly(triangle_data() / "box.poly")
+    with pytest.raises(mw.GeometryError, match="boundary is open.*convex_hull=True"):
+        mw.triangulate(dom, method=method)
+    mesh = mw.triangulate(dom, method=method, convex_hull=True)
+    mesh.validate()
+    assert exact_total_area(mesh) == 8
+    lines, markers = mesh.cells["line"], mesh.cell_data["marker"]["line"]
+    mid = mesh.points[lines].mean(axis=1)
+    left = mid[:, 0] == 0.0
+    assert set(markers[left].tolist()) == {5}
+    assert set(markers[(mid[:, 0] == 3.0) | (mid[:, 1] == 0.0) | (mid[:, 1] == 3.0)].tolist()) == {1}
+    assert set(markers[(mid[:, 1] == 2.0) & (mid[:, 0] > 1) & (mid[:, 0] < 2)].tolist()) == {10}  # 8 -> 6
+
+
+def test_convex_hull_on_a_given_outer_loop():
+    """A convex outer loop is its own hull (same mesh); a non-convex one would change."""
+    box = mw.triangulate(read_poly(DATA / "box_hole.poly"), convex_hull=True)
+    assert exact_total_area(box) == shoelace(BOX) - shoelace(BOX_HOLE)
+    with pytest.raises(mw.InputError, match="not convex"):
+        mw.triangulate(read_poly(DATA / "letter_a.poly"), convex_hull=True)
+
+
+def test_cli_convex_hull(tmp_path, capsys):
+    from meshwright.cli import main
+
+    box = triangle_data() / "box.poly"
+    out = tmp_path / "box.vtu"
+    assert main(["mesh", str(box), "-o", str(out)]) == 2
+    assert "--convex-hull" in capsys.readouterr().err
+    assert main(["mesh", str(box), "-o", str(out), "--convex-hull"]) == 0
+    assert exact_total_area(mw.read(out)) == 8
 
 
 def test_what_write_poly_writes_triangle_reads(tmp_path):
@@ -170,3 +297,66 @@ def test_what_write_poly_writes_triangle_reads(tmp_path):
     np.testing.assert_array_equal(back["vertices"], mesh.points)
     np.testing.assert_array_equal(back["triangles"], mesh.triangles)
     np.testing.assert_array_equal(back["segments"], mesh.cells["line"])
+
+
+def test_json_keeps_attributes_and_open_boundary(tmp_path):
+    """Saved as JSON and loaded back, la keeps its float attributes and box its open flag."""
+    folder = triangle_data()
+    for name in ("la", "box"):
+        dom = read_poly(folder / f"{name}.poly")
+        mw.geometry.save_domain(dom, tmp_path / f"{name}.json")
+        back = mw.geometry.load_domain(tmp_path / f"{name}.json")
+        assert back.regions == dom.regions
+        np.testing.assert_array_equal(back.region_attributes, dom.region_attributes)
+        assert back.open_boundary == (name == "box")
+
+
+def test_region_attribute_only_when_it_says_more(tmp_path):
+    """Integral attributes equal to the markers add no cell data (ring.poly still goes
+    through Gmsh's format); la's float attributes survive a .vtu round trip."""
+    ring = mw.triangulate(read_poly(DATA / "ring.poly"))
+    assert sorted(ring.cell_data) == ["marker"]
+    ring.write(tmp_path / "ring.msh")
+    markers = mw.read(tmp_path / "ring.msh").cell_data["marker"]["triangle"]
+    np.testing.assert_array_equal(markers, ring.cell_data["marker"]["triangle"])
+    la = mw.triangulate(read_poly(triangle_data() / "la.poly"))
+    la.write(tmp_path / "la.vtu")
+    back = mw.read(tmp_path / "la.vtu").cell_data["region_attribute"]
+    np.testing.assert_array_equal(back["triangle"], la.cell_data["region_attribute"]["triangle"])
+
+
+def test_write_poly_keeps_float_attributes(tmp_path):
+    """write_poly puts each region's attribute in the attribute column, so la reads back
+    the same; box (open) is written with its hull segments, as Triangle's -c writes it."""
+    folder = triangle_data()
+    la = read_poly(folder / "la.poly")
+    mw.geometry.write_poly(tmp_path / "la.poly", la)
+    back = read_poly(tmp_path / "la.poly")
+    np.testing.assert_array_equal(back.region_attributes, LA_ATTRIBUTES)
+    assert back.regions == la.regions
+    mw.geometry.write_poly(tmp_path / "box.poly", read_poly(folder / "box.poly"))
+    box = read_poly(tmp_path / "box.poly")
+    assert not box.open_boundary and box.area() == 8
+
+
+def test_every_triangle_example_node_file_triangulates():
+    """Every .node example (inputs and Triangle's outputs) reads, and its Delaunay
+    triangulation has as many triangles as Triangle's own (no switches)."""
+    triangle = pytest.importorskip("triangle")
+    paths = sorted(triangle_data().glob("*.node"))
+    assert len(paths) >= 10
+    for path in paths:
+        points = read_node(path).points
+        ours = mw.delaunay(points).to_mesh()
+        assert len(ours.triangles) == len(triangle.triangulate({"vertices": points}, "")["triangles"]), path.name
+
+
+def test_every_triangle_example_mesh_reads():
+    """Triangle's output meshes (.node + .ele, with .poly segments where present) read
+    as valid meshes."""
+    paths = sorted(triangle_data().glob("*.ele"))
+    assert len(paths) >= 10
+    for path in paths:
+        mesh = mw.read(path.with_suffix(".node"))
+        mesh.validate()
+        assert len(mesh.cells["triangle"]) > 0, path.name

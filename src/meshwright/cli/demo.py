@@ -5,7 +5,9 @@ and inside it, triangulated by Bowyer's and Watson's algorithms, with the Vorono
 diagram of the same points (Figure 18.1.1); then quality meshes of NACA 0012 in a far
 field by Delaunay refinement, Weatherill's point generation with smoothing (18.1.3, 18.2)
 and the advancing front (18.2), and of the three-element airfoil (Figure 18.3.1) by
-Delaunay refinement and by the frontal Delaunay method (18.3).
+Delaunay refinement and by the frontal Delaunay method (18.3); then all-quad meshes
+(18.5) of the three-element airfoil by the quadtree (Yerry and Shephard, 18.5.3) and of
+NACA 0012 by triangle pairing (Zhu et al., 18.5.1).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import numpy as np
 
 from meshwright.cli._common import Timer
 from meshwright.geometry import builtin
+from meshwright.quad import quadrangulate
 from meshwright.tri import delaunay, triangulate
 from meshwright.tri.voronoi import voronoi
 
@@ -87,6 +90,20 @@ def run(args) -> int:
             f"{name} ({method}{', smoothed' if smooth else ''}): {len(mesh.cells['triangle'])} triangles in "
             f"{t.elapsed:.3f} s, min angle {q['min_angle']['min']:.1f} deg, mean radius ratio "
             f"{q['radius_ratio']['mean']:.3f} -> {stem}.vtu, .png"
+        )
+
+    for name, method in (("three-element", "quadtree"), ("naca0012", "pairing")):
+        with Timer() as t:
+            mesh = quadrangulate(builtin(name), method=method)
+        mesh.validate()
+        stem = out / f"{name}-quad-{method}"
+        mesh.write(str(stem.with_suffix(".vtu")))
+        _plot_airfoil(mesh, stem.with_suffix(".png"))
+        q = mesh.quality().summary()["quad"]
+        print(
+            f"{name} ({method}, all-quad): {len(mesh.cells['quad'])} quads in {t.elapsed:.3f} s, min scaled "
+            f"Jacobian {q['scaled_jacobian']['min']:.3f}, angles {q['min_angle']['min']:.1f} to "
+            f"{q['max_angle']['max']:.1f} deg -> {stem}.vtu, .png"
         )
     return 0
 

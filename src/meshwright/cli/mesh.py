@@ -86,6 +86,11 @@ def add_arguments(parser) -> None:
     parser.add_argument(
         "--conforming", action="store_true", help="split segments until every triangle is Delaunay (Triangle's -D)"
     )
+    parser.add_argument(
+        "--convex-hull",
+        action="store_true",
+        help="mesh the convex hull of the input, for a .poly whose segments close no boundary (Triangle's -c)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="seed of the randomized insertion order")
     add_output_arguments(parser)
 
@@ -182,6 +187,7 @@ def run(args) -> int:
             max_area=args.max_area,
             seed=args.seed,
             conforming=args.conforming,
+            convex_hull=args.convex_hull,
             max_points=args.max_points,
             alpha=args.alpha,
             # A bar only helps a person watching a terminal; logs stay clean.  Methods that

@@ -30,7 +30,7 @@ from typing import NamedTuple
 import numpy as np
 
 from meshwright.core.errors import GeometryError, InputError, fmt_point
-from meshwright.core.predicates import orient2d
+from meshwright.core.predicates import orient2d, orient2d_batch
 from meshwright.core.validate_input import check_coordinate_range
 from meshwright.geometry._discretize import interior_seed, place_params, unique_rows
 from meshwright.geometry._kernels import (
@@ -134,6 +134,20 @@ def _region(r, i: int) -> tuple[float, float, int, float | None]:
     return x, y, marker, area
 
 
+def _region_attributes(values, regions) -> np.ndarray:
+    """(r,) float64 regional attributes, checked one per region (default: the markers)."""
+    if values is None:
+        return np.array([float(r[2]) for r in regions], dtype=np.float64)
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+        raise InputError(f"region_attributes must be a sequence of numbers, got {values!r}")
+    if len(values) != len(regions):
+        raise InputError(f"region_attributes has {len(values)} entries for {len(regions)} regions")
+    for i, v in enumerate(values):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real) or not np.isfinite(v):
+            raise InputError(f"region {i} attribute must be a finite number, got {v!r}")
+    return np.array([float(v) for v in values], dtype=np.float64)
+
+
 class Domain:
     """A region of the plane bounded by loops of curves, with optional constraints.
 
@@ -153,6 +167,15 @@ class Domain:
     size : optional
         Suggested size (anything :func:`meshwright.sizing.as_size_field` accepts) used
         when a caller gives none, e.g. from a JSON geometry file.
+    region_attributes : sequence of float, optional
+        One finite number per region (Triangle's regional attribute, copied to every
+        triangle of the region as ``cell_data["region_attribute"]``); default: each
+        region's marker.
+    open_boundary : bool
+        True when the input's segments close no boundary and ``outer`` is the convex hull
+        of its vertices, added to close it (what :func:`~meshwright.geometry.read_poly`
+        builds from such a ``.poly`` file, Triangle's ``-c``); ``triangulate`` meshes such
+        a domain only when asked for the convex hull.
 
     Attributes
     ----------
@@ -167,6 +190,8 @@ class Domain:
         Loop of each curve, -1 for constraint curves.
     points : (p, 2) float64
     regions : tuple of (x, y, marker, max_area_or_None)
+    region_attributes : (r,) float64
+    open_boundary : bool
 
     Raises
     ------
@@ -178,7 +203,10 @@ class Domain:
         (:mod:`meshwright.core.validate_input`).
     """
 
-    def __init__(self, outer, holes=(), *, segments=(), points=None, regions=(), size=None):
+    def __init__(
+        self, outer, holes=(), *, segments=(), points=None, regions=(), size=None, region_attributes=None,
+        open_boundary=False,
+    ):
         self._raw_loops = [_as_chain(outer, "outer loop")] + [
             _as_chain(h, f"hole {i}") for i, h in enumerate(holes)
         ]
@@ -196,6 +224,10 @@ class Domain:
         self.regions = tuple(_region(r, i) for i, r in enumerate(regions))
         if self.regions:
             check_coordinate_range(np.array([r[:2] for r in self.regions]), "region seeds")
+        self.region_attributes = _region_attributes(region_attributes, self.regions)
+        if not isinstance(open_boundary, (bool, np.bool_)):
+            raise InputError(f"open_boundary must be True or False, got {open_boundary!r}")
+        self.open_boundary = bool(open_boundary)
         self.size = None if size is None else as_size_field(size)
         self.validate()
 
@@ -541,6 +573,14 @@ class Domain:
             float(p[:, 0].max()),
             float(p[:, 1].max()),
         )
+
+    def outer_is_convex(self) -> bool:
+        """Whether the outer loop (its fine polyline) turns left or goes straight at every
+        vertex, exactly (``orient2d``): then it is its own convex hull."""
+        p = self._fine.points[self._fine.point_group == 0]
+        i = np.arange(len(p))
+        turns = orient2d_batch(p, np.column_stack([i - 1, i, (i + 1) % len(p)]) % len(p))
+        return bool((turns >= 0).all())
 
     def area(self) -> float:
         """Area enclosed: exact for lines, arcs and polylines, quadrature for parametric curves."""

@@ -15,8 +15,11 @@ non-domain form the loops (as :class:`~meshwright.geometry.curves.Polyline` curv
 the segment markers, 0 turned into 1 on the boundary as Triangle does), segments inside
 the domain become interior constraints and segments outside it are dropped.  Vertices on
 no segment become interior points when they lie inside the domain.  Vertex attributes and
-markers are not kept.  Regional attributes must be integers: they become the regions'
-markers.
+markers are not kept.  Regional attributes are kept as the Domain's
+``region_attributes``; an integral one is also the region's marker (non-integral ones get
+marker 0).  Segments that close no boundary (none, open chains, or every enclosed face a
+hole) are closed as Triangle's ``-c`` closes them, by the edges of the vertices' convex
+hull (marker 1 where no segment lies), and the Domain is flagged ``open_boundary``.
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshwright.core.errors import FormatError, GeometryError, InputError
+from meshwright.core.errors import GeometryError, InputError
 from meshwright.core.predicates import orient2d, orient2d_batch
 from meshwright.geometry._discretize import unique_rows
 from meshwright.geometry._kernels import (
@@ -137,17 +140,42 @@ def _faces(xy: np.ndarray, seg: np.ndarray):
     return face, area, positive, org, dst
 
 
-def _regions(data: PolyData, path: Path) -> list[tuple[float, float, int, float | None]]:
-    """Region seeds of ``data`` as :class:`Domain` regions (integer markers)."""
-    out = []
-    for (x, y, attribute, area), line in zip(data.regions, data.region_lines):
-        if attribute != round(attribute):
-            raise FormatError(
-                f"{path}, line {line}: region attribute {attribute:g} is not an integer; "
-                "a Domain's regions carry integer markers"
-            )
-        out.append((float(x), float(y), int(attribute), float(area) if area > 0 else None))
-    return out
+def _regions(data: PolyData) -> tuple[list[tuple[float, float, int, float | None]], list[float]]:
+    """Region seeds of ``data`` as :class:`Domain` regions and their regional attributes.
+
+    An integral attribute is also the region's marker; any other gets marker 0 and lives
+    on as the attribute alone.
+    """
+    out, attributes = [], []
+    for x, y, attribute, area in data.regions:
+        integral = attribute == round(attribute) and abs(attribute) <= np.iinfo(np.int32).max
+        out.append((float(x), float(y), int(attribute) if integral else 0, float(area) if area > 0 else None))
+        attributes.append(float(attribute))
+    return out, attributes
+
+
+def _hull_edges(xy: np.ndarray) -> np.ndarray:
+    """(k, 2) int64 edges of the convex hull of distinct points, counter-clockwise.
+
+    Andrew's monotone chain (A. M. Andrew, "Another efficient algorithm for convex hulls in
+    two dimensions", 1979) with exact turns (``orient2d``); a point on a hull edge stays a
+    hull vertex (only strict right turns are popped), as Triangle's ``-c`` keeps it.
+    """
+    order = np.lexsort((xy[:, 1], xy[:, 0])).tolist()
+
+    def chain(idx):
+        out = []
+        for i in idx:
+            while len(out) >= 2 and orient2d(*xy[out[-2]], *xy[out[-1]], *xy[i]) < 0:
+                out.pop()
+            out.append(i)
+        return out
+
+    loop = chain(order)[:-1] + chain(order[::-1])[:-1]
+    if len(set(loop)) < max(len(loop), 3):
+        # Collinear points: both chains run along the same line; no hull encloses area.
+        return np.zeros((0, 2), dtype=np.int64)
+    return np.column_stack([loop, np.roll(loop, -1)]).astype(np.int64)
 
 
 def read_poly(path) -> Domain:
@@ -169,11 +197,10 @@ def read_poly(path) -> Domain:
         ``path`` is not a str or path.
     FormatError
         Missing, unreadable or malformed file (message names file and line; see
-        :func:`~meshwright.geometry.poly_format.parse_poly`), or a region attribute that
-        is not an integer.
+        :func:`~meshwright.geometry.poly_format.parse_poly`).
     GeometryError
-        Crossing segments, touching loops or no enclosed region (message names the file
-        and the segments' lines).
+        Crossing segments, touching loops, or nothing enclosed even by the convex hull
+        (message names the file and the segments' lines).
     """
     if not isinstance(path, (str, PathLike)):
         raise InputError(f"read_poly needs a file path, got {type(path).__name__}")
@@ -181,7 +208,7 @@ def read_poly(path) -> Domain:
     data = parse_poly(path)
     xy, seg0, marks, holes = data.vertices, data.segments, data.segment_markers, data.holes
     slines = data.segment_lines
-    regions = _regions(data, path)
+    regions, attributes = _regions(data)
     verts, inv = unique_rows(xy)
     seg = inv[seg0]
     zero = np.flatnonzero(seg[:, 0] == seg[:, 1])
@@ -198,8 +225,51 @@ def read_poly(path) -> Domain:
     if len(bad):
         s, t = bad[0]
         raise GeometryError(f"{path}: segments on lines {slines[s]} and {slines[t]} intersect")
-    if len(seg) < 3:
-        raise GeometryError(f"{path}: segments enclose no region")
+    found = _loops(verts, seg, marks, holes, path) if len(seg) >= 3 else None
+    open_boundary = found is None
+    if open_boundary:
+        # Triangle's -c: the convex hull closes what the segments leave open; its edges
+        # that are no segment carry marker 1.
+        hull = _hull_edges(verts)
+        new = hull[~np.isin(_edge_keys(hull, len(verts)), _edge_keys(seg, len(verts)))]
+        seg = np.concatenate([seg, new])
+        if marks is not None:
+            marks = np.concatenate([marks, np.ones(len(new), dtype=marks.dtype)])
+        bad = find_bad_pairs(verts, seg, 1)
+        if len(bad):
+            s = bad[0, 0] if bad[0, 0] < len(slines) else bad[0, 1]
+            raise GeometryError(
+                f"{path}, line {slines[s]}: segment overlaps the convex hull that closes the open segments "
+                "(split it at the vertices on it)"
+            )
+        found = _loops(verts, seg, marks, holes, path) if len(hull) else None
+        if found is None:
+            raise GeometryError(f"{path}: the vertices and segments enclose no region outside the holes")
+    loops, constraints, boundary = found
+    used = np.zeros(len(verts), dtype=bool)
+    used[seg.ravel()] = True
+    iso = verts[~used]
+    if len(iso):
+        b = np.flatnonzero(boundary)
+        where = classify_points(iso, verts[seg[b, 0]], verts[seg[b, 1]])
+        iso = iso[where != 0]
+    try:
+        return Domain(
+            loops[0], loops[1:], segments=constraints, points=iso, regions=regions,
+            region_attributes=attributes, open_boundary=open_boundary,
+        )
+    except GeometryError as exc:
+        raise GeometryError(f"{path}: {exc}") from exc
+
+
+def _edge_keys(seg: np.ndarray, n: int) -> np.ndarray:
+    """(m,) int64: one key per undirected edge."""
+    return np.minimum(seg[:, 0], seg[:, 1]).astype(np.int64) * n + np.maximum(seg[:, 0], seg[:, 1])
+
+
+def _loops(verts, seg, marks, holes, path: Path):
+    """Boundary loops, interior constraints and the boundary-segment mask of a segment
+    graph, or None when the segments close no boundary (none, or open chains)."""
     m = len(seg)
     face, area, positive, org, dst = _faces(verts, seg)
     bounded = np.flatnonzero(positive)
@@ -236,7 +306,7 @@ def read_poly(path) -> Domain:
     right = inside[enclosing[face[m:]]]
     boundary = left != right
     if not boundary.any():
-        raise GeometryError(f"{path}: segments enclose no region outside the holes")
+        return None
     bverts = np.bincount(seg[boundary].ravel(), minlength=len(verts))
     touch = np.flatnonzero(bverts > 2)
     if len(touch):
@@ -244,21 +314,11 @@ def read_poly(path) -> Domain:
         raise GeometryError(f"{path}: boundary loops touch at vertex {_fmt(verts[v])}")
     chains = _polylines(verts, seg, marks, np.flatnonzero(boundary), boundary_marks=True)
     if not all(closed for _, closed in chains):
-        raise GeometryError(f"{path}: boundary segments do not form closed loops")
+        return None
     # The outer loop encloses the largest area.
     loops = sorted((c for c, _ in chains), key=lambda c: -abs(c.signed_area()))
     constraints = [c for c, _ in _polylines(verts, seg, marks, np.flatnonzero(left & right), False)]
-    used = np.zeros(len(verts), dtype=bool)
-    used[seg.ravel()] = True
-    iso = verts[~used]
-    if len(iso):
-        b = np.flatnonzero(boundary)
-        where = classify_points(iso, verts[seg[b, 0]], verts[seg[b, 1]])
-        iso = iso[where != 0]
-    try:
-        return Domain(loops[0], loops[1:], segments=constraints, points=iso, regions=regions)
-    except GeometryError as exc:
-        raise GeometryError(f"{path}: {exc}") from exc
+    return loops, constraints, boundary
 
 
 def _polylines(verts, seg, marks, which, boundary_marks: bool) -> list[tuple[Polyline, bool]]:
@@ -284,8 +344,11 @@ def _polylines(verts, seg, marks, which, boundary_marks: bool) -> list[tuple[Pol
 def write_poly(path, domain, size=None, first_index: int = 1) -> None:
     """Write a Domain's discretisation (or a :class:`Discretization`) as a ``.poly`` file.
 
-    Vertices carry their markers, segments theirs; holes and regions follow.  Coordinates
-    are written with 17 significant digits, so :func:`read_poly` reads them back exactly.
+    Vertices carry their markers, segments theirs; holes and regions follow, each region
+    with its attribute (a Domain's ``region_attributes``, a Discretization's markers) and
+    area bound.  Coordinates are written with 17 significant digits, so :func:`read_poly`
+    reads them back exactly.  A Domain with an open boundary is written with the hull
+    segments that close it, as Triangle's ``-c`` writes its output.
 
     Parameters
     ----------
@@ -308,6 +371,9 @@ def write_poly(path, domain, size=None, first_index: int = 1) -> None:
         disc = domain
     elif isinstance(domain, Domain):
         disc = domain.discretize(size)
+        regions = disc.regions.copy()
+        regions[:, 2] = domain.region_attributes
+        disc = disc._replace(regions=regions)
     else:
         raise InputError(f"write_poly needs a Domain or a Discretization, got {type(domain).__name__}")
     write_poly_file(

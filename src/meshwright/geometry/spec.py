@@ -11,8 +11,10 @@ Top level (an object)::
       "segments": [CHAIN, ...],                             optional interior constraints
       "points": [[x, y], ...],                              optional interior points
       "regions": [{"point": [x, y], "marker": 1,            optional region seeds;
-                   "max_area": 0.1}, ...],                    max_area optional
-      "size": 0.1                                           optional suggested spacing
+                   "max_area": 0.1, "attribute": 0.5}, ...],  max_area, attribute optional
+      "size": 0.1,                                          optional suggested spacing
+      "open_boundary": false                                optional: outer is the convex hull
+                                                            closing open segments (Triangle -c)
     }
 
 A LOOP (closed) or CHAIN (open unless its ends meet) is one of::
@@ -57,7 +59,7 @@ from meshwright.geometry.shapes import ellipse_loop, naca_loop
 
 __all__ = ["domain_from_dict", "domain_to_dict", "load_domain", "save_domain"]
 
-_TOP = {"version", "outer", "holes", "segments", "points", "regions", "size"}
+_TOP = {"version", "outer", "holes", "segments", "points", "regions", "size", "open_boundary"}
 
 
 def _check_keys(obj: dict, allowed: set, where: str) -> None:
@@ -272,24 +274,28 @@ def domain_from_dict(d: dict) -> Domain:
         holes = [_chain(h, f"holes[{i}]", True) for i, h in enumerate(_list(d.get("holes", []), "holes"))]
         segs = [_chain(s, f"segments[{i}]", False) for i, s in enumerate(_list(d.get("segments", []), "segments"))]
         points = _points(d["points"], "points") if d.get("points") is not None else None
-        regions = []
+        regions, attributes = [], []
         for i, r in enumerate(_list(d.get("regions", []), "regions")):
             where = f"regions[{i}]"
             if not isinstance(r, dict) or "point" not in r:
                 raise FormatError(f"{where}: expected {{'point': [x, y], 'marker': m, 'max_area': a}}")
-            _check_keys(r, {"point", "marker", "max_area"}, where)
+            _check_keys(r, {"point", "marker", "max_area", "attribute"}, where)
             x, y = _point(r["point"], where + ".point")
             area = r.get("max_area")
+            marker = _int(r.get("marker", 0), where + ".marker")
             regions.append(
-                (
-                    x,
-                    y,
-                    _int(r.get("marker", 0), where + ".marker"),
-                    None if area is None else _number(area, where + ".max_area", positive=True),
-                )
+                (x, y, marker, None if area is None else _number(area, where + ".max_area", positive=True))
             )
+            attribute = r.get("attribute")
+            attributes.append(float(marker) if attribute is None else _number(attribute, where + ".attribute"))
         size = None if d.get("size") is None else _number(d["size"], "size", positive=True)
-        return Domain(outer, holes, segments=segs, points=points, regions=regions, size=size)
+        open_boundary = d.get("open_boundary", False)
+        if not isinstance(open_boundary, bool):
+            raise FormatError(f"open_boundary: expected true or false, got {open_boundary!r}")
+        return Domain(
+            outer, holes, segments=segs, points=points, regions=regions, size=size,
+            region_attributes=attributes, open_boundary=open_boundary,
+        )
     except InputError as exc:
         raise FormatError(str(exc)) from exc
 
@@ -354,9 +360,16 @@ def domain_to_dict(domain: Domain) -> dict:
         d["points"] = domain.points.tolist()
     if domain.regions:
         d["regions"] = [
-            {"point": [x, y], "marker": m, **({} if a is None else {"max_area": a})}
-            for x, y, m, a in domain.regions
+            {
+                "point": [x, y],
+                "marker": m,
+                **({} if a is None else {"max_area": a}),
+                **({} if v == m else {"attribute": float(v)}),
+            }
+            for (x, y, m, a), v in zip(domain.regions, domain.region_attributes)
         ]
+    if domain.open_boundary:
+        d["open_boundary"] = True
     if domain.size is not None and domain.size.constant is not None:
         d["size"] = domain.size.constant
     return d

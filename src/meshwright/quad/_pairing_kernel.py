@@ -376,7 +376,8 @@ def _position(quad, q, v):
 
 @njit(cache=True)
 def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node):
-    """Interior nodes in exactly two quads (doublets): the two quads become one."""
+    """Interior nodes in exactly two quads (doublets): the two quads become one, unless it
+    would be non-convex or leave a boundary node in one quad at a flat corner."""
     done = 0
     n = xy.shape[0]
     for v in range(n):
@@ -400,7 +401,7 @@ def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node):
         if quad[q2, (j + 1) % 4] != c or quad[q2, (j + 3) % 4] != a:
             continue
         d = quad[q2, (j + 2) % 4]
-        if not quad_ok(xy, a, b, c, d):
+        if not quad_ok(xy, a, b, c, d) or _flat_boundary_corner(xy, bnd, a, b, c, d):
             continue
         _lock_star(off, idx, lock, v)
         quad[q1, 0], quad[q1, 1], quad[q1, 2], quad[q1, 3] = a, b, c, d

@@ -41,18 +41,21 @@ the order the front made them, and the pairing then walks them in that order.
    :data:`MAX_VISIT` triangles per search, Edmonds' blossoms shrunk).  Triangles still
    unpaired then *walk*: the diagonal between one and a paired neighbour is flipped, the
    two new triangles paired, the neighbour's old partner freed, and the search repeated
-   (at most :data:`MAX_WALKS` rounds, :data:`STALE_WALKS` without progress).  This is the
+   (at most :data:`MAX_WALKS` rounds, :data:`STALE_WALKS` without progress).  If triangles
+   are still left, a second attempt splits them at their centroids (:data:`CENTRE_ROUNDS`:
+   a boundary fan's nodes get a second interior side) and pairs again; it is kept when
+   it pairs everything with a scaled Jacobian of at least :data:`CENTRE_KEEP`.  This is the
    global counterpart of the chapter's sub-front parity rule (steps 3, 5(c) and 6), which
    keeps every sub-front even so that no triangle is stranded.
-4. **Shape enhancement** (:func:`~meshwright.quad._pairing_kernel.enhance_pass`, up to
-   :data:`ENHANCE_PASSES` passes): node elimination (an interior node in two quads: they
+4. **Shape enhancement** (:func:`meshwright.quad.enhancement.enhance`, up to
+   ``ENHANCE_PASSES`` passes): node elimination (an interior node in two quads: they
    become one), element elimination (a quad between two interior nodes of three quads
    each: the two nodes merge at their midpoint, the quad disappears), diagonal swapping
    (two quads sharing a side: the side moves to the hexagon diagonal with the better worst
    scaled Jacobian).  Every result is strictly convex by exact ``orient2d``.
-5. **Smoothing** (:data:`ENHANCE_SMOOTH` passes, part of the enhancement whatever
-   ``quadrangulate``'s ``smooth``, which adds the shared smoother's sweeps afterwards):
-   the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over the four corner
+5. **Smoothing** (``ENHANCE_SMOOTH`` passes, :func:`meshwright.quad.enhancement.smooth_quads`,
+   part of the enhancement whatever ``quadrangulate``'s ``smooth``, which adds the shared
+   smoother's sweeps afterwards): the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over the four corner
    triangles of every quad, so a move is accepted only if every quad stays strictly
    convex; boundary nodes slide on their true curves (``smooth_boundary=True``)
    or stay fixed; curve joints, polygon corners and interior points never move.  The
@@ -75,9 +78,10 @@ front beside the first (the front makes triangles only; pairing follows their cr
 order), so the chapter's per-sub-front parity bookkeeping (steps 3, 5(a)-(c), 6) is
 replaced by the even loops of step 1 plus the alternating chains of step 3, and the
 placement of the front's nodes ignores the pairing (so a boundary fan of triangles can
-leave an unpairable one, and then chords refine the mesh through it).  The chapter does not define
-its four enhancement operations; "side elimination" is read here as the removal of the
-side between two unpaired triangles (step 3) and the others as in Zhu et al.'s names.
+leave an unpairable one: centroid splits try first, then chords refine through it).
+The chapter does not define its four enhancement operations; "side elimination" is read
+here as the removal of the side between two unpaired triangles (step 3) and the others
+as in Zhu et al.'s names.
 
 Array layout: points (n, 2) float64; triangles (t, 3) and quads (q, 4) int32
 counter-clockwise; the kernel's flat arrays in :mod:`meshwright.quad._pairing_kernel`.
@@ -94,20 +98,21 @@ from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.mesh import build_neighbors
 from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import as_points, check_count, check_seed
-from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.chords import chord_split
+from meshwright.quad.enhancement import (
+    ENHANCE_SMOOTH, cells_of, enhance, min_scaled_jacobian, nonconvex, smooth_quads, unpair_nonconvex,
+)
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.field import as_size_field
 from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
-from meshwright.tri.smoothing import smooth as smooth_points
 
 __all__ = [
     "ParityError", "PairingReport", "pair_domain", "pairing_fill", "make_loops_even",
-    "pair_triangles", "enhance", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS",
-    "FLAT_ANGLE", "RESPACE", "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
+    "pair_triangles", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS", "CENTRE_ROUNDS",
+    "CENTRE_KEEP", "FLAT_ANGLE", "RESPACE",
 ]
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
@@ -115,12 +120,10 @@ MAX_VISIT = 4096  # triangles one alternating-chain search may enter (last round
 EARLY_VISIT = 64  # ... in the rounds before the last
 MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
 STALE_WALKS = 8  # ... stopped after this many rounds without fewer unpaired triangles
+CENTRE_ROUNDS = 2  # rounds of splitting the still unpaired triangles at their centroids (second attempt)
+CENTRE_KEEP = 0.3  # ... kept only if it pairs everything with a scaled Jacobian of at least this
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
 RESPACE = 6  # segments on each side of a parity split spaced evenly again
-ENHANCE_PASSES = 8  # cap on enhancement passes (each stops early when nothing changes)
-ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a split)
-ACCEPT = 0.4  # element elimination may lower the local worst scaled Jacobian, but not below this
-SWAP_GAIN = 0.02  # a diagonal swap must raise the pair's worst scaled Jacobian by more than this
 
 
 class ParityError(GeometryError):
@@ -163,21 +166,6 @@ class PairingReport(NamedTuple):
     eliminated: tuple
     split: bool
     triangles_left: int
-
-
-def _cells(arr, what: str, width: int, n: int) -> np.ndarray:
-    """(k, width) int32 node indices in ``[0, n)``, or InputError naming the row."""
-    a = np.asarray(arr)
-    if a.size == 0:
-        return np.zeros((0, width), dtype=np.int32)
-    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
-        raise InputError(f"{what} must be an integer array of node indices, got dtype {a.dtype}")
-    if a.ndim != 2 or a.shape[1] != width:
-        raise InputError(f"{what} must have shape (k, {width}), got {a.shape}")
-    bad = np.flatnonzero(((a < 0) | (a >= n)).any(axis=1))
-    if len(bad):
-        raise InputError(f"{what} row {bad[0]} {a[bad[0]].tolist()} refers to a node outside [0, {n})")
-    return np.ascontiguousarray(a, dtype=np.int32)
 
 
 def _flag(value, what: str) -> bool:
@@ -389,8 +377,34 @@ def _open_ears(xy, tris, nbr):
     return xy, tris, changed
 
 
+def _split_left_overs(xy, tris, mate):
+    """Split every unpaired triangle at its centroid into three (all counter-clockwise by
+    exact ``orient2d``, else left as it is): a triangle of a boundary fan, isolated because
+    every pair would leave a boundary node in one quad at a flat corner, gives its boundary
+    nodes a second interior side.  Two triangles more keep the count's parity.  Returns
+    (xy, tris, mate, number split)."""
+    left = np.flatnonzero(mate < 0)
+    t = tris[left].astype(np.int64)
+    g = len(xy) + np.arange(len(left))
+    centre = xy[t].mean(axis=1)
+    trial = np.vstack([xy, centre])
+    parts = [np.column_stack([t[:, k], t[:, (k + 1) % 3], g]) for k in range(3)]
+    ok = np.all([orient2d_batch(trial, p) > 0.0 for p in parts], axis=0)
+    if not ok.any():
+        return xy, tris, mate, 0
+    # Renumber the kept centres so the points stay contiguous.
+    keep_g = len(xy) + np.arange(int(ok.sum()))
+    parts = [np.column_stack([p[ok, 0], p[ok, 1], keep_g]) for p in parts]
+    xy = np.ascontiguousarray(np.vstack([xy, centre[ok]]))
+    tris = tris.copy()
+    tris[left[ok]] = parts[0]
+    tris = np.ascontiguousarray(np.vstack([tris, parts[1], parts[2]]).astype(np.int32))
+    mate = np.concatenate([mate, np.full(2 * int(ok.sum()), -1, dtype=np.int32)])
+    return xy, tris, mate, int(ok.sum())
+
+
 def pair_triangles(
-    points, triangles, blocked=None, bounds=PAIR_BOUNDS, max_visit=MAX_VISIT, walks=MAX_WALKS, seed=0,
+    points, triangles, blocked=None, bounds=PAIR_BOUNDS, max_visit=MAX_VISIT, walks=MAX_WALKS, seed=0, centres=0,
 ):
     """Pair triangles sharing a side into strictly convex quads, in the triangles' order.
 
@@ -411,6 +425,9 @@ def pair_triangles(
         :data:`STALE_WALKS` rounds without progress end them.
     seed : int
         Randomness of which side a walk takes.
+    centres : int
+        Rounds of splitting the triangles still unpaired at their centroids
+        (:func:`_split_left_overs`), each followed by a greedy and a chain round.
 
     Returns
     -------
@@ -437,12 +454,12 @@ def pair_triangles(
     """
     xy = as_points(points, "points")
     n = len(xy)
-    tris = _cells(triangles, "triangles", 3, n).copy()
+    tris = cells_of(triangles, "triangles", 3, n).copy()
     o = orient2d_batch(xy, tris)
     if (o <= 0.0).any():
         t = int(np.flatnonzero(o <= 0.0)[0])
         raise InputError(f"triangle {t} {tris[t].tolist()} is not counter-clockwise (exact orient2d)")
-    blocked = _cells(np.zeros((0, 2), dtype=np.int32) if blocked is None else blocked, "blocked", 2, n)
+    blocked = cells_of(np.zeros((0, 2), dtype=np.int32) if blocked is None else blocked, "blocked", 2, n)
     try:
         bounds = tuple(float(q) for q in bounds)
     except (TypeError, ValueError):
@@ -451,6 +468,7 @@ def pair_triangles(
         raise InputError(f"bounds must be a non-empty sequence of finite numbers, got {bounds!r}")
     max_visit = check_count(max_visit, "max_visit", 1)
     walks = check_count(walks, "walks")
+    centres = check_count(centres, "centres")
     bkey = np.zeros(0, dtype=np.int64)
     if len(blocked):
         key = np.sort(blocked.astype(np.int64), axis=1)
@@ -477,6 +495,15 @@ def pair_triangles(
         chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
         left = int((mate < 0).sum())
         best, stale = (left, 0) if left < best else (best, stale + 1)
+    for _ in range(centres):
+        if not (mate < 0).any():
+            break
+        xy, tris, mate, grown = _split_left_overs(xy, tris, mate)
+        if not grown:
+            break
+        nbr = _neighbours(tris, bkey, n)
+        pk.greedy_pairs(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]))
+        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
     first = np.flatnonzero((mate >= 0) & (mate > np.arange(len(tris))))
     # Quad (a, b, d, c): t = (a, b, c) with a opposite the shared side, d the partner's third vertex.
     k = np.argmax(nbr[first] == mate[first][:, None], axis=1)
@@ -486,146 +513,6 @@ def pair_triangles(
     d = tris[mate[first]].astype(np.int64).sum(axis=1) - b - c
     quads = np.column_stack([a, b, d, c]).astype(np.int32)
     return quads, first, np.flatnonzero(mate < 0), tris, chains, xy
-
-
-def _node_quads(quads: np.ndarray, alive: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """CSR node -> live quads: (off (n+1,) int64, idx int32)."""
-    live = np.flatnonzero(alive)
-    owner = quads[live].ravel().astype(np.int64)
-    order = np.argsort(owner, kind="stable")
-    off = np.zeros(n + 1, dtype=np.int64)
-    np.add.at(off, owner + 1, 1)
-    return np.cumsum(off), np.repeat(live, 4)[order].astype(np.int32)
-
-
-def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
-    """Node elimination, element elimination and diagonal swapping (step 8's enhancement).
-
-    Parameters
-    ----------
-    points : (n, 2) float64
-        Not modified.
-    quads : (q, 4) int32
-        Strictly convex, counter-clockwise.
-    boundary : (n,) bool
-        Nodes on the boundary or on interior segments: never moved or removed.
-    triangles : (t, 3) int32, optional
-        Left-over triangles; their nodes are not touched.
-    passes : int
-        Cap on passes.
-
-    Returns
-    -------
-    points : (n, 2) float64
-        A copy (element elimination moves nodes).
-    quads : (q', 4) int32
-    kept : (q',) int64
-        Row of ``quads`` (input) each output quad continues.
-    counts : tuple of int
-        Node eliminations, element eliminations, diagonal swaps.
-
-    Raises
-    ------
-    InputError
-        Points not (n, 2) finite, a quad or triangle row out of range (named),
-        ``boundary`` not an (n,) bool array, ``passes`` not a count.
-    """
-    xy = as_points(points, "points", copy=True)
-    qd = _cells(quads, "quads", 4, len(xy)).copy()
-    b = np.asarray(boundary)
-    if b.shape != (len(xy),) or b.dtype != bool:
-        raise InputError(f"boundary must be a ({len(xy)},) bool array, got {b.dtype} of shape {b.shape}")
-    passes = check_count(passes, "passes")
-    alive = np.ones(len(qd), dtype=np.int8)
-    bnd = b.astype(np.int8)
-    tri_node = np.zeros(len(xy), dtype=np.int8)
-    if triangles is not None:
-        tri_node[_cells(triangles, "triangles", 3, len(xy)).ravel()] = 1
-    total = np.zeros(3, dtype=np.int64)
-    for _ in range(passes):
-        off, idx = _node_quads(qd, alive, len(xy))
-        got = pk.enhance_pass(xy, qd, alive, bnd, off, idx, tri_node, ACCEPT, SWAP_GAIN)
-        total += np.asarray(got)
-        if sum(got) == 0:
-            break
-    kept = np.flatnonzero(alive == 1)
-    return xy, qd[kept], kept, tuple(int(c) for c in total)
-
-
-def _nonconvex(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
-    """Indices of quads with a corner that is not strictly convex (exact orient2d)."""
-    q = np.asarray(quads, dtype=np.int64)
-    bad = np.zeros(len(q), dtype=bool)
-    for k in range(4):
-        corner = np.column_stack([q[:, (k + 3) % 4], q[:, k], q[:, (k + 1) % 4]])
-        bad |= orient2d_batch(xy, corner) <= 0.0
-    return np.flatnonzero(bad)
-
-
-def _unpair_nonconvex(xy, quads, tris):
-    """Quads that enhancement and smoothing left non-convex go back to two triangles each,
-    cut along the diagonal that makes both counter-clockwise (exact ``orient2d``; a simple
-    quadrilateral always has one).  Returns (quads, triangles)."""
-    bad = _nonconvex(xy, quads)
-    if not len(bad):
-        return quads, tris
-    q = quads[bad].astype(np.int64)
-    cut02 = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
-    cut13 = np.concatenate([q[:, [1, 2, 3]], q[:, [1, 3, 0]]])
-    m = len(q)
-    o02 = orient2d_batch(xy, cut02)
-    o13 = orient2d_batch(xy, cut13)
-    use02 = (o02[:m] > 0.0) & (o02[m:] > 0.0)
-    use13 = (o13[:m] > 0.0) & (o13[m:] > 0.0)
-    if not (use02 | use13).all():
-        i = int(bad[np.flatnonzero(~(use02 | use13))[0]])
-        raise MeshingError(
-            f"pairing left quad {i} with corners {', '.join(_fmt(xy[v]) for v in quads[i])} that no diagonal splits"
-        )
-    halves = np.where(np.concatenate([use02, use02])[:, None], cut02, cut13)
-    keep = np.ones(len(quads), dtype=bool)
-    keep[bad] = False
-    return quads[keep], np.concatenate([np.asarray(tris, dtype=np.int32).reshape(-1, 3), halves.astype(np.int32)])
-
-
-def _corner_triangles(quads: np.ndarray) -> np.ndarray:
-    """The four corner triangles of every quad: all counter-clockwise iff the quad is strictly convex."""
-    q = np.asarray(quads, dtype=np.int32)
-    return np.concatenate([q[:, [k, (k + 1) % 4, (k + 2) % 4]] for k in range(4)])
-
-
-def _fixed_nodes(xy, lines, line_curve, domain: Domain, n_interior_fixed) -> np.ndarray:
-    """(n,) bool: nodes smoothing never moves: where two curves meet, polygon corners, given points."""
-    n = len(xy)
-    lo = np.full(n, np.iinfo(np.int64).max)
-    hi = np.full(n, -1)
-    np.minimum.at(lo, lines.ravel(), np.repeat(line_curve, 2))
-    np.maximum.at(hi, lines.ravel(), np.repeat(line_curve, 2))
-    fixed = (hi >= 0) & (lo != hi)
-    straight = np.array([isinstance(c, (Line, Polyline)) for c in domain.curves], dtype=bool)
-    e = lines[straight[line_curve]]
-    nxt = np.full(n, -1)
-    prv = np.full(n, -1)
-    nxt[e[:, 0]] = e[:, 1]
-    prv[e[:, 1]] = e[:, 0]
-    mid = np.flatnonzero((nxt >= 0) & (prv >= 0))
-    fixed[mid] |= orient2d_batch(xy, np.column_stack([prv[mid], mid, nxt[mid]])) != 0.0
-    fixed[n_interior_fixed] = True
-    return fixed, np.where(hi >= 0, hi, 0)
-
-
-def _smooth(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, sliding):
-    if passes == 0 or not len(lines):
-        return xy
-    fixed, vcurve = _fixed_nodes(xy, lines, line_curve, domain, fixed_pts)
-    if not sliding:
-        fixed[lines.ravel()] = True
-
-    def project(nodes, p):
-        return domain.project(vcurve[nodes], p)[1]
-
-    elems = np.concatenate([_corner_triangles(quads), np.asarray(tris, dtype=np.int32).reshape(-1, 3)])
-    return smooth_points(xy, elems, lines, passes=passes, fixed=fixed, project=project)
 
 
 def _compact(xy, blocks):
@@ -728,16 +615,28 @@ def pair_domain(
     n_free = len(domain.points)
     fixed_pts = newid[ct.index_map[len(disc.points) - n_free :]] if n_free else np.zeros(0, dtype=np.int64)
 
-    quads, first, left, t3, chains, xy = pair_triangles(xy, base.cells["triangle"], lines, seed=seed)
-    lt = t3[left]
-    bnd = np.zeros(len(xy), dtype=bool)
-    bnd[lines.ravel()] = True
-    bnd[fixed_pts] = True
-    xy, quads, _, counts = enhance(xy, quads, bnd, lt)
-    xy = _smooth(xy, quads, lt, lines, line_curve, domain, fixed_pts, passes, smooth_boundary)
-    n_quads = len(quads)
-    quads, lt = _unpair_nonconvex(xy, quads, lt)
-    reverted = n_quads - len(quads)
+    def attempt(centres):
+        """Pair, enhance, smooth and revert: (xy, quads, left-over triangles, report fields)."""
+        quads, first, left, t3, chains, pts = pair_triangles(
+            base.points, base.cells["triangle"], lines, seed=seed, centres=centres
+        )
+        lt = t3[left]
+        bnd = np.zeros(len(pts), dtype=bool)
+        bnd[lines.ravel()] = True
+        bnd[fixed_pts] = True
+        pts, quads, _, counts = enhance(pts, quads, bnd, lt)
+        pts = smooth_quads(pts, quads, lt, lines, line_curve, domain, fixed_pts, passes, smooth_boundary)
+        n_quads = len(quads)
+        quads, lt = unpair_nonconvex(pts, quads, lt)
+        return pts, quads, lt, (len(t3), len(first), chains, len(left), n_quads - len(quads), counts)
+
+    xy, quads, lt, stats = attempt(0)
+    if all_quad and len(lt):
+        # Left-overs (mostly boundary fans): try again with them split at their centroids,
+        # and keep that pairing if it needs no chords and stays well shaped.
+        xy2, quads2, lt2, stats2 = attempt(CENTRE_ROUNDS)
+        if not len(lt2) and len(quads2) and min_scaled_jacobian(xy2, quads2) >= CENTRE_KEEP:
+            xy, quads, lt, stats = xy2, quads2, lt2, stats2
     xy, (quads, lt, lines), remap = _compact(xy, [quads, lt, lines])
     fixed_pts = remap[fixed_pts]
     fill = QuadFill(xy, quads, lt, lines, line_marker, line_curve)
@@ -745,22 +644,21 @@ def pair_domain(
     if split:
         fill = chord_split(fill, domain, cap)
         # The refinement appends its nodes: the old indices, interior points included, stay valid.
-        moved = _smooth(
+        moved = smooth_quads(
             fill.points, fill.quads, fill.triangles, fill.lines, fill.line_curves, domain, fixed_pts, passes,
             smooth_boundary,
         )
         fill = fill._replace(points=np.ascontiguousarray(moved))
     _check(fill.points, fill.quads, fill.triangles)
-    report = PairingReport(
-        added, len(t3), len(first), chains, len(left), reverted, counts, split, len(fill.triangles)
-    )
+    n_tri, n_pairs, chains, n_left, reverted, counts = stats
+    report = PairingReport(added, n_tri, n_pairs, chains, n_left, reverted, counts, split, len(fill.triangles))
     return fill, report
 
 
 def pairing_fill(job):
     """``QUAD_METHODS["pairing"].build``: :func:`pair_domain` on a checked :class:`QuadJob`.
 
-    The method's own smoothing (:data:`ENHANCE_SMOOTH` passes, boundary nodes sliding on
+    The method's own smoothing (``ENHANCE_SMOOTH`` passes, boundary nodes sliding on
     their curves) is part of its shape enhancement and always runs, since the relaxed
     pairs need it to open; ``job.smooth`` sweeps of the shared smoother follow in the
     mesher (:func:`meshwright.quadrangulate`).
@@ -773,7 +671,7 @@ def pairing_fill(job):
 
 def _check(xy, quads, tris) -> None:
     """Exact last check: every quad strictly convex, every triangle counter-clockwise."""
-    bad = _nonconvex(xy, quads)
+    bad = nonconvex(xy, quads)
     if len(bad):
         q = int(bad[0])
         raise MeshingError(

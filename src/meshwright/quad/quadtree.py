@@ -33,11 +33,12 @@ positions, eight sons) later.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from meshwright.core.errors import MeshingError
+from meshwright.core.errors import InputError, MeshingError
 from meshwright.geometry.curves import Polyline
 from meshwright.geometry.domain import Domain
 from meshwright.geometry._kernels import trace_chains
@@ -45,7 +46,10 @@ from meshwright.quad.subdivide import curve_midpoints
 from meshwright.sizing.boundary import gradation
 from meshwright.sizing.field import as_size_field
 
-__all__ = ["quadtree_fill", "build_tree", "balance", "CLEARANCE", "GAP_MIN_ANGLE", "MAX_LEVEL"]
+__all__ = [
+    "quadtree_fill", "quadtree_stages", "QuadtreeStages", "build_tree", "balance", "CLEARANCE", "GAP_MIN_ANGLE",
+    "MAX_LEVEL",
+]
 
 MAX_LEVEL = 30  # integer positions stay exact in int64 keys (2 * 30 bits)
 CLEARANCE = 0.5  # kept cells are at least this many cell sizes from the boundary
@@ -520,6 +524,120 @@ def _fans(pid, owner, extra_id, centres, xy):
     return plain, np.column_stack([centre_id, ring_vert, ring_vert[nxt]]), fan_rows
 
 
+class QuadtreeStages(NamedTuple):
+    """The quadtree before its boundary gap is meshed (the chapter's Figure 18.5.4 b, c).
+
+    Attributes
+    ----------
+    root : tuple of float
+        ``(x0, y0, L)``: lower-left corner and side of the root box.
+    lev, ci, cj, child : (n,) int64
+        The refined, 2:1 balanced tree (module docstring); node ``k`` covers the square of
+        side ``L / 2**lev[k]`` with lower-left corner ``(x0, y0) + (ci[k], cj[k]) * side``.
+    leaves : (k,) int64
+        The leaf nodes (the grid laid over the domain).
+    inside : (k,) bool
+        Whether each leaf's centre lies inside the domain.
+    core : (c,) int64
+        The kept leaves: inside, at least ``CLEARANCE`` sizes from every boundary, segment
+        and interior point, no cell touching the rest only by a corner; the method's quads
+        and transition fans are made of these.
+    """
+
+    root: tuple
+    lev: np.ndarray
+    ci: np.ndarray
+    cj: np.ndarray
+    child: np.ndarray
+    leaves: np.ndarray
+    inside: np.ndarray
+    core: np.ndarray
+
+
+def _stages(dom: Domain, field, factor: float, max_nodes: int):
+    """Tree, exterior removal and core of :func:`quadtree_fill`.
+
+    Returns
+    -------
+    stages : QuadtreeStages
+    disc : Discretization
+        The domain's boundary at ``field``.
+    keep : (n,) bool
+        The core's nodes, as a mask over the tree.
+    poly, outline : see :func:`_core_cells`
+    top : int
+        The finest level.
+    """
+    disc = dom.discretize(field)
+    # Interior points are zero-length segments: the core keeps clear of them and the gap
+    # triangulation makes them vertices.
+    seg_a = np.ascontiguousarray(np.vstack([disc.points[disc.segments[:, 0]], dom.points]))
+    seg_b = np.ascontiguousarray(np.vstack([disc.points[disc.segments[:, 1]], dom.points]))
+    x0, y0, x1, y1 = dom.bbox
+    extent = max(x1 - x0, y1 - y0)
+    side = 2.0 ** math.ceil(math.log2(extent * (1.0 + 1.0 / 64.0)))
+    root = (0.5 * (x0 + x1) - 0.5 * side, 0.5 * (y0 + y1) - 0.5 * side, side)
+    lev, ci, cj, child = build_tree(root, _target(dom, field, factor, seg_a, seg_b), max_nodes)
+    top = int(lev.max())
+    leaves = np.flatnonzero(child < 0)
+    s = side / 2.0 ** lev[leaves]
+    cx = root[0] + (ci[leaves] + 0.5) * s
+    cy = root[1] + (cj[leaves] + 0.5) * s
+    inside = dom.contains(np.column_stack([cx, cy]))
+    clear = ~_near(cx, cy, (math.sqrt(0.5) + CLEARANCE) * s, seg_a, seg_b)
+    keep = np.zeros(len(lev), dtype=np.bool_)
+    keep[leaves[inside & clear]] = True
+    cells, poly, outline = _core(lev, ci, cj, child, keep, top)
+    stages = QuadtreeStages(root, lev, ci, cj, child, leaves, inside, cells)
+    return stages, disc, keep, poly, outline, top
+
+
+def quadtree_stages(domain, size=None, *, all_quad: bool = True, max_points: int | None = None) -> QuadtreeStages:
+    """The intermediate stages of the quadtree method, for pictures and inspection.
+
+    Builds exactly what ``quadrangulate(domain, size, method="quadtree", all_quad=...)``
+    builds before it meshes the boundary gap: the balanced tree over the domain's box,
+    which leaves lie inside, and the core of kept cells.
+
+    Parameters
+    ----------
+    domain : Domain, str, path or (n, 2) array_like
+        As for :func:`meshwright.quadrangulate`.
+    size : number, callable or SizeField, optional
+        Target quad size; default the domain's own.
+    all_quad : bool
+        As for :func:`meshwright.quadrangulate`: True builds the tree at twice the size
+        (the midpoint split halves it afterwards).
+    max_points : int, optional
+        Cap on tree nodes (default :data:`meshwright.tri.mesher.DEFAULT_MAX_POINTS`).
+
+    Returns
+    -------
+    QuadtreeStages
+
+    Raises
+    ------
+    InputError
+        Not a domain, a flag that is not a bool, a bad ``max_points``, or no size.
+    SizeError
+        A size that is zero, negative or not finite.
+    MeshingError
+        The tree needs more than ``max_points`` nodes.
+    """
+    from meshwright.core.validate_input import check_count
+    from meshwright.tri.mesher import DEFAULT_MAX_POINTS, _as_domain
+
+    if not isinstance(all_quad, (bool, np.bool_)):
+        raise InputError(f"all_quad must be True or False, got {all_quad!r}")
+    cap = DEFAULT_MAX_POINTS if max_points is None else check_count(max_points, "max_points", 4)
+    field = None if size is None else as_size_field(size)
+    dom = _as_domain(domain)
+    field = dom.size if field is None else field
+    if field is None:
+        raise InputError("quadtree_stages needs a size: give size=... (the domain carries none)")
+    return _stages(dom, field, 2.0 if all_quad else 1.0, cap)[0]
+
+
 def quadtree_fill(job):
     """The quadtree method of :func:`meshwright.quadrangulate` (see the module docstring).
 
@@ -542,26 +660,9 @@ def quadtree_fill(job):
 
     dom, field = job.domain, job.field
     factor = 2.0 if job.all_quad else 1.0
-    disc = dom.discretize(field)
-    # Interior points are zero-length segments: the core keeps clear of them and the gap
-    # triangulation makes them vertices.
-    seg_a = np.ascontiguousarray(np.vstack([disc.points[disc.segments[:, 0]], dom.points]))
-    seg_b = np.ascontiguousarray(np.vstack([disc.points[disc.segments[:, 1]], dom.points]))
-    x0, y0, x1, y1 = dom.bbox
-    extent = max(x1 - x0, y1 - y0)
-    side = 2.0 ** math.ceil(math.log2(extent * (1.0 + 1.0 / 64.0)))
-    root = (0.5 * (x0 + x1) - 0.5 * side, 0.5 * (y0 + y1) - 0.5 * side, side)
-    lev, ci, cj, child = build_tree(root, _target(dom, field, factor, seg_a, seg_b), job.max_points)
-    top = int(lev.max())
-    leaves = np.flatnonzero(child < 0)
-    s = side / 2.0 ** lev[leaves]
-    cx = root[0] + (ci[leaves] + 0.5) * s
-    cy = root[1] + (cj[leaves] + 0.5) * s
-    inside = dom.contains(np.column_stack([cx, cy]))
-    clear = ~_near(cx, cy, (math.sqrt(0.5) + CLEARANCE) * s, seg_a, seg_b)
-    keep = np.zeros(len(lev), dtype=np.bool_)
-    keep[leaves[inside & clear]] = True
-    cells, poly, outline = _core(lev, ci, cj, child, keep, top)
+    stages, disc, keep, poly, outline, top = _stages(dom, field, factor, job.max_points)
+    root, lev, ci, cj, child, cells = stages.root, stages.lev, stages.ci, stages.cj, stages.child, stages.core
+    side = root[2]
 
     # Core vertices: integer keys -> coordinates.
     unit = side / 2.0**top

@@ -28,8 +28,13 @@ What each method honours is declared in its registry entry (:class:`MeshMethod`)
 Delaunay refinement pass on their points; the advancing front, which makes its own
 triangles, not at all), ``progress`` where the method reports it, and the method's own
 options (Weatherill's ``alpha``).  A parameter a method cannot honour is an error, never
-dropped.  The work is capped: ``max_points`` bounds every method, and a size or area bound
-that would need more points than the cap is refused before the boundary is discretised.
+dropped.  Region seeds' area bounds are honoured as ``max_area`` is, and their float
+attributes come back per triangle (``cell_data["region_attribute"]``) when they say more
+than the markers.  A domain whose
+segments close no boundary (``Domain.open_boundary``) is meshed only with
+``convex_hull=True``, which every method declares it honours.  The work is capped:
+``max_points`` bounds every method, and a size or area bound that would need more points
+than the cap is refused before the boundary is discretised.
 
 Smoothing keeps boundary nodes on their true curves: each boundary node slides along the
 curve of its segments (projected with :meth:`Domain.project`); nodes where two curves meet
@@ -47,7 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshwright.core.errors import InputError, SizeError
+from meshwright.core.errors import GeometryError, InputError, SizeError
 from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import check_count, check_positive, check_seed
@@ -103,6 +108,9 @@ class MeshMethod(NamedTuple):
         Whether ``progress=True`` shows a bar for this method.
     options : tuple of str
         Keyword options of :func:`triangulate` only this method takes (``"alpha"``).
+    convex_hull : bool
+        Whether the method meshes the convex hull of an open set of segments
+        (``convex_hull=True``, Triangle's ``-c``).
     """
 
     name: str
@@ -112,6 +120,7 @@ class MeshMethod(NamedTuple):
     default_min_angle: float
     reports_progress: bool
     options: tuple[str, ...] = ()
+    convex_hull: bool = True
 
 
 def _place_delaunay(job: _Job) -> None:
@@ -130,9 +139,10 @@ def _place_delaunay(job: _Job) -> None:
 
 
 def _finish(job: _Job) -> None:
-    """The angle and area bounds of a point-placement method without its own: a Delaunay
-    refinement pass on its points (by angle and area only; its spacing already holds)."""
-    if job.min_angle > 0.0 or job.max_area is not None:
+    """The angle and area bounds (global and regional) of a point-placement method without
+    its own: a Delaunay refinement pass on its points (by angle and area only; its spacing
+    already holds)."""
+    if job.min_angle > 0.0 or job.max_area is not None or (job.disc.regions[:, 3] > 0).any():
         refine(job.ct, min_angle=job.min_angle, max_area=job.max_area, max_points=job.max_points)
 
 
@@ -303,10 +313,33 @@ def _check_work(dom: Domain, field: SizeField | None, max_area: float | None, ca
 
 
 def _regions(disc: Discretization) -> list[tuple]:
+    """Region seeds for ``classify``, region i marked i + 1 so that every triangle names
+    its region (see :func:`_region_data`)."""
     out = []
-    for x, y, marker, area in disc.regions:
-        out.append((x, y, int(marker)) if area <= 0 else (x, y, int(marker), float(area)))
+    for i, (x, y, _, area) in enumerate(disc.regions):
+        out.append((x, y, i + 1) if area <= 0 else (x, y, i + 1, float(area)))
     return out
+
+
+def _region_data(mesh: Mesh, dom: Domain, disc: Discretization) -> Mesh:
+    """Replace the region numbers of :func:`_regions` by the regions' markers and, when some
+    region's attribute is not its marker, add the attributes as
+    ``cell_data["region_attribute"]`` (0 outside every region, as Triangle; 0 on the lines
+    too, since formats such as Gmsh's need data on every cell block).  Attributes equal to
+    the markers add nothing, so such meshes keep the marker alone."""
+    if not len(disc.regions):
+        return mesh
+    region = mesh.cell_data["marker"]["triangle"]
+    cell_data = dict(mesh.cell_data)
+    markers = np.concatenate([[0], disc.regions[:, 2]]).astype(np.int32)
+    cell_data["marker"] = {**mesh.cell_data["marker"], "triangle": markers[region]}
+    if np.array_equal(dom.region_attributes, disc.regions[:, 2]):
+        return Mesh(mesh.points, mesh.cells, point_data=mesh.point_data, cell_data=cell_data)
+    cell_data["region_attribute"] = {
+        "triangle": np.concatenate([[0.0], dom.region_attributes])[region],
+        "line": np.zeros(len(mesh.cells["line"])),
+    }
+    return Mesh(mesh.points, mesh.cells, point_data=mesh.point_data, cell_data=cell_data)
 
 
 def _polyline_corners(points: np.ndarray, edges: np.ndarray, curve: np.ndarray, domain: Domain) -> np.ndarray:
@@ -365,6 +398,7 @@ def triangulate(
     conforming: bool = False,
     max_points: int | None = None,
     alpha: float | None = None,
+    convex_hull: bool = False,
 ) -> Mesh:
     """Boundary-conforming quality triangle mesh of a 2-D domain.
 
@@ -420,18 +454,28 @@ def triangulate(
         Weatherill's density coefficient (``method="weatherill"`` only; default
         :data:`meshwright.tri.weatherill.DEFAULT_ALPHA` = 0.6): a candidate closer than
         ``alpha dP`` to a node is rejected, so smaller values give more points.
+    convex_hull : bool
+        Mesh the convex hull of the input (Triangle's ``-c``): needed for a domain whose
+        segments close no boundary (``Domain.open_boundary``, e.g. a ``.poly`` file with a
+        lone segment on its outer box), whose outer loop is that hull; its segments,
+        holes and points are kept.  For a domain with a given outer loop it is accepted
+        only when that loop is convex (its own hull).
 
     Returns
     -------
     Mesh
         ``"triangle"`` cells (counter-clockwise, region markers in
-        ``cell_data["marker"]["triangle"]``), ``"line"`` cells on the boundary and interior
-        segments with their segment markers, ``point_data["marker"]``.
+        ``cell_data["marker"]["triangle"]``, and when some region's attribute is not its
+        marker the attributes in ``cell_data["region_attribute"]["triangle"]``, 0 outside
+        every region and on the lines),
+        ``"line"`` cells on the boundary and interior segments with their segment markers,
+        ``point_data["marker"]``.
 
     Raises
     ------
     GeometryError
-        Invalid geometry (named loops, segments, coordinates).
+        Invalid geometry (named loops, segments, coordinates), or an open boundary
+        without ``convex_hull=True``.
     InputError
         Not a domain (its type named), unknown method, a parameter of the wrong type or
         range, or one the method cannot honour (named).
@@ -454,14 +498,26 @@ def triangulate(
     if alpha is not None and "alpha" not in m.options:
         raise InputError(f"alpha is an option of method 'weatherill' only; method {method!r} has no use for it")
     alpha = DEFAULT_ALPHA if alpha is None else check_positive(alpha, "alpha", InputError)
-    for name, flag in (("progress", progress), ("conforming", conforming)):
+    for name, flag in (("progress", progress), ("conforming", conforming), ("convex_hull", convex_hull)):
         if not isinstance(flag, (bool, np.bool_)):
             raise InputError(f"{name} must be True or False, got {flag!r}")
     if progress and not m.reports_progress:
         raise InputError(f"method {method!r} reports no progress; call it with progress=False")
+    if convex_hull and not m.convex_hull:
+        raise InputError(f"method {method!r} cannot mesh the convex hull; call it with convex_hull=False")
     seed = check_seed(seed)
     field = None if size is None else as_size_field(size)
     dom = _as_domain(domain)
+    if dom.open_boundary and not convex_hull:
+        raise GeometryError(
+            "the boundary is open: the segments enclose no region (Triangle returns no triangles here); "
+            "pass convex_hull=True (CLI --convex-hull) to mesh the convex hull of the input, as Triangle's -c"
+        )
+    if convex_hull and not dom.open_boundary and not dom.outer_is_convex():
+        raise InputError(
+            "convex_hull=True meshes the convex hull of an open set of segments; this domain's outer loop is "
+            "given and not convex, so its hull would change the domain: call it with convex_hull=False"
+        )
     if field is None:
         field = dom.size
     _check_work(dom, field, max_area, cap)
@@ -477,7 +533,7 @@ def triangulate(
         fill = None
     if conforming:
         conform(ct)
-    mesh = ct.to_mesh(segment_markers=disc.segment_markers, fill=fill)
+    mesh = _region_data(ct.to_mesh(segment_markers=disc.segment_markers, fill=fill), dom, disc)
     if passes:
         mesh = _smooth_mesh(mesh, ct, dom, disc, passes)
     return mesh

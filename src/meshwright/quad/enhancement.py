@@ -1,0 +1,249 @@
+"""Shape enhancement of paired quads (Zhu et al. 1991, chapter 18.5.1) and their smoothing.
+
+Source: J. Z. Zhu, O. C. Zienkiewicz, E. Hinton and J. Wu, "A new approach to the
+development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32,
+1991: node elimination, element elimination and diagonal swapping (the kernels in
+:mod:`meshwright.quad._pairing_kernel`), followed by the chapter's Laplacian smoothing
+(18.2, :func:`meshwright.tri.smoothing.smooth`) run over the four corner triangles of
+every quad, so that a move is accepted only if every quad stays strictly convex.
+
+Invariants: every quad an operation or a move produces is strictly convex by exact
+``orient2d``; boundary nodes (and segment and interior-point nodes) are never removed, and
+move only along their true curves; a quad that stays non-convex is cut back into two
+counter-clockwise triangles (:func:`unpair_nonconvex`).
+
+Array layout: points (n, 2) float64; quads (q, 4) and triangles (t, 3) int32
+counter-clockwise; lines (k, 2) int32 with (k,) curve indices into ``Domain.curves``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from meshwright.core.errors import InputError, MeshingError
+from meshwright.core.errors import fmt_point as _fmt
+from meshwright.core.predicates import orient2d_batch
+from meshwright.core.validate_input import as_points, check_count
+from meshwright.geometry.curves import Line, Polyline
+from meshwright.geometry.domain import Domain
+from meshwright.quad import _pairing_kernel as pk
+from meshwright.tri.smoothing import smooth as smooth_points
+
+__all__ = [
+    "enhance", "smooth_quads", "unpair_nonconvex", "nonconvex", "min_scaled_jacobian", "cells_of",
+    "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
+]
+
+ENHANCE_PASSES = 8  # cap on enhancement passes (each stops early when nothing changes)
+ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a split)
+ACCEPT = 0.4  # element elimination may lower the local worst scaled Jacobian, but not below this
+SWAP_GAIN = 0.02  # a diagonal swap must raise the pair's worst scaled Jacobian by more than this
+
+
+def cells_of(arr, what: str, width: int, n: int) -> np.ndarray:
+    """(k, width) int32 node indices in ``[0, n)``, or InputError naming the row."""
+    a = np.asarray(arr)
+    if a.size == 0:
+        return np.zeros((0, width), dtype=np.int32)
+    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
+        raise InputError(f"{what} must be an integer array of node indices, got dtype {a.dtype}")
+    if a.ndim != 2 or a.shape[1] != width:
+        raise InputError(f"{what} must have shape (k, {width}), got {a.shape}")
+    bad = np.flatnonzero(((a < 0) | (a >= n)).any(axis=1))
+    if len(bad):
+        raise InputError(f"{what} row {bad[0]} {a[bad[0]].tolist()} refers to a node outside [0, {n})")
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _node_quads(quads: np.ndarray, alive: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """CSR node -> live quads: (off (n+1,) int64, idx int32)."""
+    live = np.flatnonzero(alive)
+    owner = quads[live].ravel().astype(np.int64)
+    order = np.argsort(owner, kind="stable")
+    off = np.zeros(n + 1, dtype=np.int64)
+    np.add.at(off, owner + 1, 1)
+    return np.cumsum(off), np.repeat(live, 4)[order].astype(np.int32)
+
+
+def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
+    """Node elimination, element elimination and diagonal swapping (step 8's enhancement).
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+        Not modified.
+    quads : (q, 4) int32
+        Strictly convex, counter-clockwise.
+    boundary : (n,) bool
+        Nodes on the boundary or on interior segments: never moved or removed.
+    triangles : (t, 3) int32, optional
+        Left-over triangles; their nodes are not touched.
+    passes : int
+        Cap on passes.
+
+    Returns
+    -------
+    points : (n, 2) float64
+        A copy (element elimination moves nodes).
+    quads : (q', 4) int32
+    kept : (q',) int64
+        Row of ``quads`` (input) each output quad continues.
+    counts : tuple of int
+        Node eliminations, element eliminations, diagonal swaps.
+
+    Raises
+    ------
+    InputError
+        Points not (n, 2) finite, a quad or triangle row out of range (named),
+        ``boundary`` not an (n,) bool array, ``passes`` not a count.
+    """
+    xy = as_points(points, "points", copy=True)
+    qd = cells_of(quads, "quads", 4, len(xy)).copy()
+    b = np.asarray(boundary)
+    if b.shape != (len(xy),) or b.dtype != bool:
+        raise InputError(f"boundary must be a ({len(xy)},) bool array, got {b.dtype} of shape {b.shape}")
+    passes = check_count(passes, "passes")
+    alive = np.ones(len(qd), dtype=np.int8)
+    bnd = b.astype(np.int8)
+    tri_node = np.zeros(len(xy), dtype=np.int8)
+    if triangles is not None:
+        tri_node[cells_of(triangles, "triangles", 3, len(xy)).ravel()] = 1
+    total = np.zeros(3, dtype=np.int64)
+    for _ in range(passes):
+        off, idx = _node_quads(qd, alive, len(xy))
+        got = pk.enhance_pass(xy, qd, alive, bnd, off, idx, tri_node, ACCEPT, SWAP_GAIN)
+        total += np.asarray(got)
+        if sum(got) == 0:
+            break
+    kept = np.flatnonzero(alive == 1)
+    return xy, qd[kept], kept, tuple(int(c) for c in total)
+
+
+def nonconvex(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
+    """Indices of quads with a corner that is not strictly convex (exact orient2d)."""
+    q = np.asarray(quads, dtype=np.int64)
+    bad = np.zeros(len(q), dtype=bool)
+    for k in range(4):
+        corner = np.column_stack([q[:, (k + 3) % 4], q[:, k], q[:, (k + 1) % 4]])
+        bad |= orient2d_batch(xy, corner) <= 0.0
+    return np.flatnonzero(bad)
+
+
+def unpair_nonconvex(xy, quads, tris):
+    """Quads that enhancement and smoothing left non-convex go back to two triangles each,
+    cut along the diagonal that makes both counter-clockwise (exact ``orient2d``; a simple
+    quadrilateral always has one).  Returns (quads, triangles)."""
+    bad = nonconvex(xy, quads)
+    if not len(bad):
+        return quads, tris
+    q = quads[bad].astype(np.int64)
+    cut02 = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
+    cut13 = np.concatenate([q[:, [1, 2, 3]], q[:, [1, 3, 0]]])
+    m = len(q)
+    o02 = orient2d_batch(xy, cut02)
+    o13 = orient2d_batch(xy, cut13)
+    use02 = (o02[:m] > 0.0) & (o02[m:] > 0.0)
+    use13 = (o13[:m] > 0.0) & (o13[m:] > 0.0)
+    if not (use02 | use13).all():
+        i = int(bad[np.flatnonzero(~(use02 | use13))[0]])
+        raise MeshingError(
+            f"pairing left quad {i} with corners {', '.join(_fmt(xy[v]) for v in quads[i])} that no diagonal splits"
+        )
+    halves = np.where(np.concatenate([use02, use02])[:, None], cut02, cut13)
+    keep = np.ones(len(quads), dtype=bool)
+    keep[bad] = False
+    return quads[keep], np.concatenate([np.asarray(tris, dtype=np.int32).reshape(-1, 3), halves.astype(np.int32)])
+
+
+def min_scaled_jacobian(xy, quads) -> float:
+    """Smallest scaled Jacobian over ``quads`` (a quality rule, floating point)."""
+    q = np.asarray(quads, dtype=np.int64)
+    worst = 1.0
+    for k in range(4):
+        p, c, n = xy[q[:, (k + 3) % 4]], xy[q[:, k]], xy[q[:, (k + 1) % 4]]
+        u, w = n - c, p - c
+        sine = (u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / (np.hypot(*u.T) * np.hypot(*w.T))
+        worst = min(worst, float(sine.min()))
+    return worst
+
+
+def _corner_triangles(quads: np.ndarray) -> np.ndarray:
+    """The four corner triangles of every quad: all counter-clockwise iff the quad is strictly convex."""
+    q = np.asarray(quads, dtype=np.int32)
+    return np.concatenate([q[:, [k, (k + 1) % 4, (k + 2) % 4]] for k in range(4)])
+
+
+def _fixed_nodes(xy, lines, line_curve, domain: Domain, n_interior_fixed) -> np.ndarray:
+    """(n,) bool: nodes smoothing never moves: where two curves meet, polygon corners, given points."""
+    n = len(xy)
+    lo = np.full(n, np.iinfo(np.int64).max)
+    hi = np.full(n, -1)
+    np.minimum.at(lo, lines.ravel(), np.repeat(line_curve, 2))
+    np.maximum.at(hi, lines.ravel(), np.repeat(line_curve, 2))
+    fixed = (hi >= 0) & (lo != hi)
+    straight = np.array([isinstance(c, (Line, Polyline)) for c in domain.curves], dtype=bool)
+    e = lines[straight[line_curve]]
+    nxt = np.full(n, -1)
+    prv = np.full(n, -1)
+    nxt[e[:, 0]] = e[:, 1]
+    prv[e[:, 1]] = e[:, 0]
+    mid = np.flatnonzero((nxt >= 0) & (prv >= 0))
+    fixed[mid] |= orient2d_batch(xy, np.column_stack([prv[mid], mid, nxt[mid]])) != 0.0
+    fixed[n_interior_fixed] = True
+    return fixed, np.where(hi >= 0, hi, 0)
+
+
+def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, sliding=True):
+    """Laplacian smoothing of a quad-dominant mesh that keeps every quad strictly convex.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64
+        Not modified.
+    quads : (q, 4) int32
+    tris : (t, 3) int32
+    lines : (k, 2) int32
+        Boundary and interior-segment edges.
+    line_curve : (k,) int
+        Curve of each line in ``domain.curves``: its nodes slide on it.
+    domain : Domain
+    fixed_pts : (j,) int
+        Nodes that never move (the domain's interior points); curve joints and polygon
+        corners are fixed as well.
+    passes : int
+    sliding : bool
+        False keeps every line node fixed.
+
+    Returns
+    -------
+    (n, 2) float64
+        New coordinates (``xy`` itself when there is nothing to do).
+
+    Raises
+    ------
+    InputError
+        ``domain`` not a Domain, ``passes`` not a count, connectivity out of range.
+    """
+    if not isinstance(domain, Domain):
+        raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
+    passes = check_count(passes, "passes")
+    xy = as_points(xy, "xy")
+    lines = cells_of(lines, "lines", 2, len(xy))
+    quads = cells_of(quads, "quads", 4, len(xy))
+    tris = cells_of(tris, "tris", 3, len(xy))
+    line_curve = np.asarray(line_curve, dtype=np.int64)
+    if line_curve.shape != (len(lines),) or (len(lines) and not 0 <= line_curve.min() <= line_curve.max() < len(
+        domain.curves
+    )):
+        raise InputError(f"line_curve must give one curve of the domain per line, got shape {line_curve.shape}")
+    if passes == 0 or not len(lines):
+        return xy
+    fixed, vcurve = _fixed_nodes(xy, lines, line_curve, domain, fixed_pts)
+    if not sliding:
+        fixed[lines.ravel()] = True
+
+    def project(nodes, p):
+        return domain.project(vcurve[nodes], p)[1]
+
+    elems = np.concatenate([_corner_triangles(quads), np.asarray(tris, dtype=np.int32).reshape(-1, 3)])
+    return smooth_points(xy, elems, lines, passes=passes, fixed=fixed, project=project)
