@@ -447,6 +447,12 @@ def cavity(v, t0, s):
     """
     if _short_of_space(s):
         return NEED_SPACE
+    return _cavity(v, t0, s)
+
+
+@njit(inline="always")
+def _cavity(v, t0, s):
+    """:func:`cavity` once the room is known (:func:`insert_vertex` checked it already)."""
     pts, tri = s.pts, s.tri
     s.meta[M_SPLIT_C] = 0
     seed1 = -1
@@ -554,7 +560,7 @@ def insert_vertex(v, t, s):
     if _short_of_space(s):
         return NEED_SPACE
     t0, _ = walk(s, t, s.pts[v, 0], s.pts[v, 1], False)
-    ncav = cavity(v, t0, s)
+    ncav = _cavity(v, t0, s)
     if ncav < 0:
         return ncav
     return fan(v, ncav, s)
