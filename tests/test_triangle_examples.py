@@ -258,6 +258,24 @@ def test_box_open_boundary_needs_convex_hull(method):
     assert set(markers[(mid[:, 1] == 2.0) & (mid[:, 0] > 1) & (mid[:, 0] < 2)].tolist()) == {10}  # 8 -> 6
 
 
+@pytest.mark.parametrize("method", ["quadtree", "pairing"])
+def test_box_open_boundary_quads_need_convex_hull(method):
+    """quadrangulate refuses an open boundary as triangulate does, and meshes the hull with it."""
+    dom = read_poly(triangle_data() / "box.poly")
+    with pytest.raises(mw.GeometryError, match="boundary is open.*convex_hull=True"):
+        mw.quadrangulate(dom, 0.25, method=method)
+    mesh = mw.quadrangulate(dom, 0.25, method=method, convex_hull=True)
+    mesh.validate()
+    assert len(mesh.quads) and not len(mesh.triangles)
+    p = [(Fraction(x), Fraction(y)) for x, y in mesh.points.tolist()]
+    area = sum(
+        (p[q[k]][0] * p[q[(k + 1) % 4]][1] - p[q[(k + 1) % 4]][0] * p[q[k]][1]) / 2
+        for q in mesh.quads.tolist()
+        for k in range(4)
+    )
+    assert area == 8
+
+
 def test_convex_hull_on_a_given_outer_loop():
     """A convex outer loop is its own hull (same mesh); a non-convex one would change."""
     box = mw.triangulate(read_poly(DATA / "box_hole.poly"), convex_hull=True)

@@ -53,6 +53,11 @@ def add_arguments(parser) -> None:
         help=f"cap on the mesh's vertices (default {DEFAULT_MAX_POINTS}); a size needing more is refused at once",
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of the methods' randomness")
+    parser.add_argument(
+        "--convex-hull",
+        action="store_true",
+        help="mesh the convex hull of the input, for a .poly whose segments close no boundary (Triangle's -c)",
+    )
     add_output_arguments(parser)
 
 
@@ -67,6 +72,7 @@ def run(args) -> int:
             smooth=args.smooth,
             max_points=args.max_points,
             seed=args.seed,
+            convex_hull=args.convex_hull,
             progress=sys.stderr.isatty() and QUAD_METHODS[args.method].reports_progress,
         )
     tris = len(mesh.triangles)

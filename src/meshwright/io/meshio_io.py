@@ -17,11 +17,17 @@ Data mapping between :class:`~meshwright.core.mesh.Mesh` and ``meshio.Mesh``:
 * XDMF is written with ``data_format="XML"`` (no h5py needed) unless asked otherwise.
 * ``.msh`` is written as Gmsh 2.2 ASCII by default (per-element physical tags); ask
   ``file_format="gmsh"`` for 4.1, where each (cell type, marker) pair becomes one entity
-  and cells are therefore grouped by marker (point order is kept).
+  and cells are therefore grouped by marker (point order is kept).  Other cell data
+  (e.g. ``region_attribute``, float64) is Gmsh ``ElementData`` in both versions.
+* Only VTU, VTK, Gmsh (2.2 and 4.1) and XDMF keep arbitrary cell data; Medit keeps the
+  marker alone.  Writing cell data that the format cannot hold emits a
+  :class:`DataLossWarning` naming the arrays left out (the file is still written).
 """
 
 from __future__ import annotations
 
+import types
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +35,12 @@ import numpy as np
 from meshwright.core.errors import FormatError, InputError
 from meshwright.core.mesh import CELL_DIMS, CELL_NODES, Mesh
 
-__all__ = ["read", "write", "to_meshio", "from_meshio"]
+__all__ = ["read", "write", "to_meshio", "from_meshio", "DataLossWarning"]
+
+
+class DataLossWarning(UserWarning):
+    """A file format cannot hold some of the mesh's data; the file is written without it."""
+
 
 # Cell-data names under which formats keep what meshwright calls "marker".
 _MARKER_KEYS = {"gmsh": "gmsh:physical", "gmsh22": "gmsh:physical", "medit": "medit:ref"}
@@ -37,6 +48,10 @@ _MARKER_ALIASES = ("gmsh:physical", "medit:ref")
 _DROPPED_CELL_DATA = ("gmsh:geometrical",)
 _DROPPED_POINT_DATA = ("gmsh:dim_tags",)
 _GMSH_FORMATS = ("gmsh", "gmsh22")
+# Writers that keep every cell data array (any name, integer or float), checked by
+# tests/test_io.py; the others keep the marker at most (_MARKER_ONLY_FORMATS).
+_CELL_DATA_FORMATS = ("vtu", "vtk", "gmsh", "gmsh22", "xdmf")
+_MARKER_ONLY_FORMATS = ("medit",)
 
 
 def _format_from_path(path: Path) -> str:
@@ -243,6 +258,12 @@ def write(mesh: Mesh, path, file_format: str | None = None, **kwargs) -> None:
     ------
     FormatError
         Unknown extension, or meshio cannot store this mesh in this format.
+
+    Warns
+    -----
+    DataLossWarning
+        The format cannot hold some of the cell data (any but VTU, VTK, Gmsh and XDMF; Medit
+        keeps the marker); the file is written without it.
     """
     import meshio
 
@@ -260,8 +281,26 @@ def write(mesh: Mesh, path, file_format: str | None = None, **kwargs) -> None:
         meshio.write(path, m, file_format=fmt, **kwargs)
     except ImportError as exc:
         raise FormatError(f"{path}: writing {fmt} needs the optional package {exc.name!r}") from exc
-    except (meshio.WriteError, ValueError, KeyError, TypeError, IndexError) as exc:
-        raise FormatError(f"{path}: cannot write as {fmt}: {exc}") from exc
+    except (meshio.WriteError, ValueError, KeyError, TypeError, IndexError, AttributeError, AssertionError) as exc:
+        # meshio's writers fail on meshes they do not expect with any of these (AssertionError
+        # and AttributeError from the Nastran, FLAC3D and UGRID writers on mixed line/triangle meshes).
+        raise FormatError(f"{path}: cannot write as {fmt}: {str(exc) or type(exc).__name__}") from exc
+    _warn_dropped(mesh, path, fmt)
+
+
+def _warn_dropped(mesh: Mesh, path: Path, fmt: str) -> None:
+    """Emit a :class:`DataLossWarning` naming the cell data ``fmt`` does not store."""
+    if fmt in _CELL_DATA_FORMATS:
+        return
+    kept = ("marker",) if fmt in _MARKER_ONLY_FORMATS else ()
+    dropped = sorted(name for name, per_type in mesh.cell_data.items() if per_type and name not in kept)
+    if dropped:
+        warnings.warn(
+            f"{path}: the {fmt} format cannot store cell data {', '.join(dropped)}; written without it "
+            f"(.vtu, .vtk, .msh and .xdmf keep it)",
+            DataLossWarning,
+            stacklevel=3,
+        )
 
 
 def _reader_formats(path: Path, file_format: str | None) -> list[str]:
@@ -277,6 +316,35 @@ def _reader_formats(path: Path, file_format: str | None) -> list[str]:
     formats = list(meshio.extension_to_filetypes[max(matches, key=len)])
     # .msh is far more often Gmsh than ANSYS.
     return sorted(formats, key=lambda f: f != "gmsh")
+
+
+def _split_by_blocks(cells, cell_data_raw: dict) -> dict:
+    """Split each file-wide ElementData array at the cell counts of the (type, array) blocks."""
+    ends = np.cumsum([len(block[1]) for block in cells])[:-1]
+    return {name: np.split(data, ends) for name, data in cell_data_raw.items()}
+
+
+def _read_gmsh(path: Path):
+    """meshio's Gmsh reader, with the ElementData of Gmsh 2.2 files split correctly.
+
+    meshio 5.3's 2.2 reader keeps its cells as ``(type, array)`` pairs and splits the
+    ElementData arrays at the cumulative ``len`` of those pairs (2 each) instead of the
+    blocks' cell counts, so every 2.2 file with element data (``region_attribute``) and
+    more than one cell block fails to read.  The same reader runs here with that one
+    function replaced in a copy of its globals; meshio's modules are left untouched.
+    """
+    from meshio.gmsh import _gmsh22, main
+
+    code = _gmsh22.read_buffer.__code__
+    if "cell_data_from_raw" not in code.co_names:  # a meshio that no longer splits this way
+        return main.read(str(path))
+    gmsh22 = types.SimpleNamespace(
+        read_buffer=types.FunctionType(code, {**vars(_gmsh22), "cell_data_from_raw": _split_by_blocks})
+    )
+    readers = {version: gmsh22 if reader is _gmsh22 else reader for version, reader in main._readers.items()}
+    read_buffer = types.FunctionType(main.read_buffer.__code__, {**vars(main), "_readers": readers})
+    with open(path, "rb") as fh:
+        return read_buffer(fh)
 
 
 def _ends_inside_header(path: Path, fmt: str) -> bool:
@@ -335,7 +403,7 @@ def read(path, file_format: str | None = None, dim: int | None = None) -> Mesh:
             if _ends_inside_header(path, fmt):
                 errors.append(f"as {fmt}: the file ends inside the header")
                 continue
-            m = reader_map[fmt](str(path))
+            m = _read_gmsh(path) if fmt == "gmsh" else reader_map[fmt](str(path))
         except ImportError as exc:
             raise FormatError(f"{path}: reading {fmt} needs the optional package {exc.name!r}") from exc
         except OSError as exc:

@@ -35,6 +35,7 @@ are ``line`` cells with ``cell_data["marker"]["line"]`` (0 when the file has non
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import NamedTuple
 
@@ -45,6 +46,7 @@ from meshwright.core.mesh import Mesh
 from meshwright.geometry.poly_format import NodeData, PolyData, Records, write_node_file, write_poly_file
 from meshwright.geometry.poly_format import parse_node as read_node
 from meshwright.geometry.poly_format import parse_poly as read_poly
+from meshwright.io.meshio_io import DataLossWarning
 
 __all__ = [
     "NodeData",
@@ -417,7 +419,13 @@ def write_triangle(mesh: Mesh, path, first_index: int = 1) -> list[Path]:
     list of Path
         The files written: ``.node`` always; ``.ele`` when there are elements; ``.poly``
         for 2-D meshes, listing the ``line`` cells (or, without any, the boundary edges
-        with marker 1) as segments, no holes, and one region point per region marker.
+        with marker 1) as segments, no holes, and one region point per region attribute.
+        The ``.ele`` attribute column and the region points hold, as Triangle's ``-A``
+        writes them, ``cell_data["region_attribute"]`` when the mesh has it (float64),
+        else the region markers, else ``cell_data["attributes"]``; markers that the float
+        attributes do not imply (integral attribute = marker, else 0) are left out with a
+        :class:`~meshwright.io.meshio_io.DataLossWarning`.  Read back, a single float
+        column is ``cell_data["attributes"]`` (m, 1).
 
     Raises
     ------
@@ -458,16 +466,42 @@ def write_triangle(mesh: Mesh, path, first_index: int = 1) -> list[Path]:
     return written
 
 
+def _region_attribute(mesh: Mesh, path: Path) -> np.ndarray | None:
+    """The triangles' float region attributes, or None; warns when the markers they leave out
+    are not those the attributes imply (integral attribute = marker, else 0, as read_poly)."""
+    attribute = mesh.cell_data.get("region_attribute", {}).get("triangle")
+    if attribute is None:
+        return None
+    attribute = np.asarray(attribute, dtype=np.float64).reshape(-1)
+    marker = mesh.cell_data.get("marker", {}).get("triangle")
+    implied = np.where(attribute == np.round(attribute), attribute, 0.0)
+    if marker is not None and not np.array_equal(np.asarray(marker), implied):
+        warnings.warn(
+            f"{path}: the .ele and .poly hold one region attribute per triangle, written from "
+            f'cell_data["region_attribute"]; the triangle markers, not implied by it, are left out',
+            DataLossWarning,
+            stacklevel=4,
+        )
+    return attribute
+
+
 def _write_ele(mesh: Mesh, element_type: str, path: Path, first_index: int) -> Path:
     elements = mesh.cells_of(element_type)
     m, k = elements.shape
-    marker = mesh.cell_data.get("marker", {}).get(element_type)
-    attr = marker if marker is not None else mesh.cell_data.get("attributes", {}).get(element_type)
+    # Triangle's -A writes the regional attribute: a float region attribute comes first,
+    # then the region marker, then any other attributes.
+    attr = _region_attribute(mesh, path) if element_type == "triangle" else None
+    integral = False
+    if attr is None:
+        attr = mesh.cell_data.get("marker", {}).get(element_type)
+        integral = attr is not None
+    if attr is None:
+        attr = mesh.cell_data.get("attributes", {}).get(element_type)
     attr = np.zeros((m, 0)) if attr is None else np.asarray(attr, dtype=np.float64).reshape(m, -1)
     numbers = np.arange(first_index, first_index + m)
     rows = np.column_stack([numbers, elements + first_index, attr]).astype(np.float64)
     # Integers stay exact through float64: every one is below 2**31.
-    fmt = ["%d"] * (1 + k) + ["%d" if marker is not None else "%.17g"] * attr.shape[1]
+    fmt = ["%d"] * (1 + k) + ["%d" if integral else "%.17g"] * attr.shape[1]
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(f"# {element_type} elements: index vertices [attributes]\n{m} {k} {attr.shape[1]}\n")
         np.savetxt(fh, rows, fmt=fmt, delimiter=" ")
@@ -483,12 +517,64 @@ def _write_poly(mesh: Mesh, path: Path, first_index: int) -> Path:
         seg_markers = np.ones(len(segments), np.int32)
     if seg_markers is None:
         seg_markers = np.zeros(len(segments), np.int32)
-    # One region point (a triangle centroid) per region marker, so that re-meshing the
-    # .poly with Triangle's -A restores the region attributes.
+    # One region point (a triangle's centroid) per piece that Triangle's -A floods from
+    # one point, with its attribute (the float one when present, else the marker), so that
+    # re-meshing the .poly with -A restores them; two separate regions of one value each
+    # need a point.
     regions = np.zeros((0, 4))
-    region_marker = mesh.cell_data.get("marker", {}).get("triangle")
-    if region_marker is not None and len(region_marker):
-        values, first = np.unique(region_marker, return_index=True)
+    region_value = mesh.cell_data.get("region_attribute", {}).get("triangle")
+    if region_value is None:
+        region_value = mesh.cell_data.get("marker", {}).get("triangle")
+    if region_value is not None and len(region_value):
+        region_value = np.asarray(region_value, dtype=np.float64).reshape(-1)
+        piece = _region_pieces(mesh.triangles, region_value, segments, len(mesh.points), path)
+        first = np.unique(piece, return_index=True)[1]
         centroids = mesh.points[mesh.triangles[first]].mean(axis=1)
-        regions = np.column_stack([centroids, values, -np.ones(len(values))])
+        regions = np.column_stack([centroids, region_value[first], -np.ones(len(first))])
     return write_poly_file(path, segments, seg_markers, None, regions, first_index=first_index)
+
+
+def _region_pieces(triangles: np.ndarray, values: np.ndarray, segments: np.ndarray, n_points: int, path) -> np.ndarray:
+    """Label the triangles by connected piece: triangles sharing an edge that is no segment
+    and carrying equal values are in one piece.
+
+    Parameters
+    ----------
+    triangles : (m, 3) int
+    values : (m,) float64
+    segments : (s, 2) int
+        Edges that separate pieces.
+    n_points : int
+    path : Path
+        The file being written, for the error message.
+
+    Returns
+    -------
+    (m,) int64
+        The smallest triangle index of each triangle's piece.
+    """
+    m = len(triangles)
+    edges = np.sort(np.asarray(triangles)[:, [1, 2, 2, 0, 0, 1]].reshape(-1, 2), axis=1).astype(np.int64)
+    keys = edges[:, 0] * n_points + edges[:, 1]
+    order = np.argsort(keys, kind="stable")
+    keys, owner = keys[order], np.repeat(np.arange(m), 3)[order]
+    shared = np.flatnonzero(keys[1:] == keys[:-1])
+    a, b = owner[shared], owner[shared + 1]
+    seg = np.sort(np.asarray(segments, dtype=np.int64).reshape(-1, 2), axis=1)
+    keep = ~np.isin(keys[shared], seg[:, 0] * n_points + seg[:, 1]) & (values[a] == values[b])
+    a, b = a[keep], b[keep]
+    label = np.arange(m)
+    # Hook the larger root of every edge whose ends differ to the smaller, then jump the
+    # pointers to their roots; each round removes a root, so m rounds suffice, and
+    # pointers only point to smaller indices, so log2(m) + 1 jumps reach the roots.
+    for _ in range(m + 1):
+        la, lb = label[a], label[b]
+        if np.array_equal(la, lb):
+            return label
+        np.minimum.at(label, np.maximum(la, lb), np.minimum(la, lb))
+        for _ in range(m.bit_length() + 1):
+            jumped = label[label]
+            if np.array_equal(jumped, label):
+                break
+            label = jumped
+    raise FormatError(f"{path}: labelling the regions of {m} triangles did not converge")

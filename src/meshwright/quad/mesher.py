@@ -76,7 +76,7 @@ from meshwright.core.mesh import Mesh
 from meshwright.core.validate_input import check_count, check_seed
 from meshwright.geometry.domain import Domain
 from meshwright.sizing.field import SizeField, as_size_field
-from meshwright.tri.mesher import DEFAULT_MAX_POINTS, _as_domain, _check_work
+from meshwright.tri.mesher import DEFAULT_MAX_POINTS, _as_domain, _check_open, _check_work
 
 __all__ = ["QUAD_METHODS", "QuadMethod", "QuadJob", "QuadFill", "quadrangulate"]
 
@@ -231,6 +231,7 @@ def quadrangulate(
     max_points: int | None = None,
     seed: int = 0,
     progress: bool = False,
+    convex_hull: bool = False,
 ) -> Mesh:
     """Boundary-conforming quadrilateral mesh of a 2-D domain.
 
@@ -263,6 +264,10 @@ def quadrangulate(
         Randomness of the methods that use any (reproducible for a seed).
     progress : bool
         Show a progress bar; only for methods whose ``reports_progress`` is set.
+    convex_hull : bool
+        Mesh the convex hull of a domain whose segments close no boundary
+        (``Domain.open_boundary``, e.g. Triangle's ``box.poly``), as
+        :func:`meshwright.triangulate` does; such a domain is refused without it.
 
     Returns
     -------
@@ -292,6 +297,7 @@ def quadrangulate(
     m = QUAD_METHODS[method]
     all_quad = _flag(all_quad, "all_quad")
     progress = _flag(progress, "progress")
+    convex_hull = _flag(convex_hull, "convex_hull")
     passes = check_count(smooth, "smooth (passes)")
     if passes and not m.smooths:
         raise InputError(f"method {method!r} does not smooth; call it with smooth=0")
@@ -301,6 +307,7 @@ def quadrangulate(
     seed = check_seed(seed)
     field = None if size is None else as_size_field(size)
     dom = _as_domain(domain)
+    _check_open(dom, convex_hull)
     if field is None:
         field = dom.size
     if field is None and m.needs_size:

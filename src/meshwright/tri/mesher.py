@@ -385,6 +385,25 @@ def _smooth_mesh(mesh: Mesh, ct: ConstrainedTriangulation, domain: Domain, disc:
     return Mesh(xy, mesh.cells, point_data=mesh.point_data, cell_data=mesh.cell_data)
 
 
+
+def _check_open(dom: Domain, convex_hull: bool) -> None:
+    """Refuse an open boundary without ``convex_hull``, and ``convex_hull`` on a non-convex loop.
+
+    A domain whose segments close no boundary (``Domain.open_boundary``) carries the convex
+    hull of its vertices as its outer loop; meshing it is what Triangle's ``-c`` does, so it
+    is done only when asked for.
+    """
+    if dom.open_boundary and not convex_hull:
+        raise GeometryError(
+            "the boundary is open: the segments enclose no region (Triangle returns no triangles here); "
+            "pass convex_hull=True (CLI --convex-hull) to mesh the convex hull of the input, as Triangle's -c"
+        )
+    if convex_hull and not dom.open_boundary and not dom.outer_is_convex():
+        raise InputError(
+            "convex_hull=True meshes the convex hull of an open set of segments; this domain's outer loop is "
+            "given and not convex, so its hull would change the domain: call it with convex_hull=False"
+        )
+
 def triangulate(
     domain,
     size=None,
@@ -508,16 +527,7 @@ def triangulate(
     seed = check_seed(seed)
     field = None if size is None else as_size_field(size)
     dom = _as_domain(domain)
-    if dom.open_boundary and not convex_hull:
-        raise GeometryError(
-            "the boundary is open: the segments enclose no region (Triangle returns no triangles here); "
-            "pass convex_hull=True (CLI --convex-hull) to mesh the convex hull of the input, as Triangle's -c"
-        )
-    if convex_hull and not dom.open_boundary and not dom.outer_is_convex():
-        raise InputError(
-            "convex_hull=True meshes the convex hull of an open set of segments; this domain's outer loop is "
-            "given and not convex, so its hull would change the domain: call it with convex_hull=False"
-        )
+    _check_open(dom, convex_hull)
     if field is None:
         field = dom.size
     _check_work(dom, field, max_area, cap)
