@@ -58,11 +58,6 @@ def test_classify_reversed_segment_names_the_segment():
     assert any(np.allclose(where, c, rtol=0, atol=1e-15) for c in _centroids_with_edge(ct, 2, 3))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="cdt._classify_sides' flood clash stores a triangle index in info[0], which "
-    "_raise_flood reads as a segment piece: the message names a wrong segment (issue 9)",
-)
 def test_classify_hole_oriented_like_the_outer_loop_names_a_hole_segment():
     pts = np.vstack([SQUARE, INNER])
     seg = np.vstack([LOOP, LOOP + 4])  # the hole runs counter-clockwise, like the outer loop

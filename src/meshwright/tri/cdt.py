@@ -38,8 +38,9 @@ kernel respects on every later insertion (a cavity never crosses a constrained e
 Exterior removal (chapter 18.1.2 of the reference text): boundary loops run with the domain
 on their left (outer loops counter-clockwise, holes clockwise), so the triangle on the domain
 side of a boundary segment is known from the sign of the cross product of the segment
-direction with the vector to its apex.  ``classify`` seeds those triangles and floods across
-free edges (and across interior constraints without a side); anything not reached, the
+direction with the vector to its apex.  ``classify`` (kernels in :mod:`meshwright.tri._classify`)
+seeds those triangles and floods across free edges (and across interior constraints without a
+side); anything not reached, the
 superstructure (ghost triangles) included, is exterior.  Without sides, the flood starts from
 the ghost triangles instead (Triangle's convention) and hole seeds eat inwards.  Region seeds
 ``(x, y, marker[, max_area])`` flood their region.  Triangles are flagged, never deleted::
@@ -62,22 +63,19 @@ finite and ghost slots interleaved), and ``constraints``, the constrained layer'
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.flat import GHOST
 from meshwright.tri import _encroach as enc
 from meshwright.tri._build2d import locate_points
+from meshwright.tri._classify import FLOOD_LEAK, FLOOD_OK, classify_sides, flood
 from meshwright.tri._kernel2d import M_NTRI, M_NV, grow
 from meshwright.tri.sloan import recover_segments
 from meshwright.tri.triangulation import Triangulation
 
 __all__ = ["ConstrainedTriangulation", "SegmentCurves", "cdt_build"]
 
-_FLOOD_OK = 0
-_FLOOD_LEAK = 1  # the domain side of a segment reaches a ghost: open boundary
-_FLOOD_CLASH = 2  # the domain side of one segment is the exterior side of another
 
 
 # ---------------------------------------------------------------------------- curves
@@ -135,107 +133,6 @@ class SegmentCurves:
         c = self.curves[self.segment_curve[row]]
         lo, hi = sorted(self.segment_params[row])
         return float(np.clip(c.project(np.reshape(xy, (1, 2)))[0], lo, hi))
-
-
-# ---------------------------------------------------------------------------- floods
-@njit(cache=True)
-def _free(h, cons, pside, cross_unsided):
-    """Whether a flood may cross half-edge h."""
-    c = cons[h]
-    return c == 0 or (cross_unsided and pside[c - 1] == 0)
-
-
-@njit(cache=True)
-def _flood(stack, top, value, accept_lo, s, c, pside, cross_unsided):
-    """Spread ``value`` from ``stack[:top]`` over triangles with ``treg >= accept_lo`` != value."""
-    tri, nbr, cons, treg = s.tri, s.nbr, s.cons, c.treg
-    while top > 0:
-        top -= 1
-        t = stack[top]
-        for k in range(3):
-            n = nbr[3 * t + k]
-            if _free(3 * t + k, cons, pside, cross_unsided) and tri[3 * n + 2] != GHOST:
-                if treg[n] >= accept_lo and treg[n] != value:
-                    treg[n] = value
-                    stack[top] = n
-                    top += 1
-
-
-@njit(cache=True)
-def _classify_sides(s, c, pside, ntri, stack, info):
-    """Exterior removal by segment sides; returns a ``_FLOOD_*`` code (culprit in ``info``).
-
-    ``c.treg``: -2 unknown, -3 exterior side of a sided segment, 0 inside; on return -1 / 0.
-    Without any sided segment, every triangle reachable from a ghost is exterior.
-    """
-    pts, tri, nbr, cons, seg, treg = s.pts, s.tri, s.nbr, s.cons, c.seg, c.treg
-    top = 0
-    for t in range(ntri):
-        treg[t] = -1 if tri[3 * t + 2] == GHOST else -2
-    for t in range(ntri):
-        if tri[3 * t + 2] == GHOST:
-            continue
-        for k in range(3):
-            c = cons[3 * t + k]
-            if c == 0 or pside[c - 1] == 0:
-                continue
-            p = c - 1
-            u = tri[3 * t + (k + 1) % 3]
-            w = tri[3 * t + (k + 2) % 3]
-            # t lies left of u -> w; the piece's domain side is left of its a -> b when
-            # pside > 0.  Subsegments of a curved piece are near-parallel to its chord.
-            dot = (pts[w, 0] - pts[u, 0]) * (pts[seg[p, 1], 0] - pts[seg[p, 0], 0]) + (
-                pts[w, 1] - pts[u, 1]
-            ) * (pts[seg[p, 1], 1] - pts[seg[p, 0], 1])
-            inside = (dot > 0.0) == (pside[p] > 0)
-            if (inside and treg[t] == -3) or (not inside and treg[t] == 0):
-                info[0] = p
-                info[1] = t
-                return _FLOOD_CLASH
-            if inside and treg[t] != 0:
-                treg[t] = 0
-                stack[top] = t
-                top += 1
-            elif not inside:
-                treg[t] = -3
-    if top == 0:
-        # Triangle's convention: eat from the convex hull up to the segments.
-        for t in range(ntri):
-            if tri[3 * t + 2] == GHOST:
-                stack[top] = t
-                top += 1
-        while top > 0:
-            top -= 1
-            t = stack[top]
-            for k in range(3):
-                n = nbr[3 * t + k]
-                if cons[3 * t + k] == 0 and treg[n] == -2:
-                    treg[n] = -1
-                    stack[top] = n
-                    top += 1
-        for t in range(ntri):
-            if treg[t] == -2:
-                treg[t] = 0
-        return _FLOOD_OK
-    while top > 0:
-        top -= 1
-        t = stack[top]
-        for k in range(3):
-            if not _free(3 * t + k, cons, pside, True):
-                continue
-            n = nbr[3 * t + k]
-            if tri[3 * n + 2] == GHOST or treg[n] == -3:
-                info[0] = -1 if tri[3 * n + 2] == GHOST else n
-                info[1] = t
-                return _FLOOD_LEAK if tri[3 * n + 2] == GHOST else _FLOOD_CLASH
-            if treg[n] == -2:
-                treg[n] = 0
-                stack[top] = n
-                top += 1
-    for t in range(ntri):
-        if treg[t] < 0:
-            treg[t] = -1
-    return _FLOOD_OK
 
 
 # ---------------------------------------------------------------------------- the class
@@ -437,8 +334,8 @@ class ConstrainedTriangulation:
         ntri = int(self.state.meta[M_NTRI])
         stack = np.empty(ntri, dtype=np.int32)
         info = np.zeros(2, dtype=np.int64)
-        code = _classify_sides(self.state, self.constraints, pside, ntri, stack, info)
-        if code != _FLOOD_OK:
+        code = classify_sides(self.state, self.constraints, pside, ntri, stack, info)
+        if code != FLOOD_OK:
             self._raise_flood(code, info)
         self.constraints = self.constraints._replace(rarea=np.array([np.inf]))
         self._rmarker = np.zeros(1, dtype=np.int32)
@@ -447,7 +344,7 @@ class ConstrainedTriangulation:
                 if t >= 0 and self.constraints.treg[t] >= 0:
                     self.constraints.treg[t] = -1
                     stack[0] = t
-                    _flood(stack, 1, -1, 0, self.state, self.constraints, pside, False)
+                    flood(stack, 1, -1, 0, self.state, self.constraints, pside, False)
         if regions is not None and len(regions):
             self._regions(regions, stack, pside)
         self.classified = True
@@ -457,7 +354,7 @@ class ConstrainedTriangulation:
         p, t = int(info[0]), int(info[1])
         tri = self.state.tri[3 * t : 3 * t + 3]
         where = _fmt(self.state.pts[tri[tri >= 0]].mean(axis=0))
-        if code == _FLOOD_LEAK:
+        if code == FLOOD_LEAK:
             raise GeometryError(
                 f"the domain is not closed: its inside reaches the convex hull near {where} "
                 "without crossing a boundary segment (an open loop, or segment_sides missing)"
@@ -511,7 +408,7 @@ class ConstrainedTriangulation:
                 raise GeometryError(f"region {i} seed {_fmt(xy[i])} lies outside the domain")
             self.constraints.treg[t] = i + 1
             stack[0] = t
-            _flood(stack, 1, i + 1, 0, self.state, self.constraints, pside, False)
+            flood(stack, 1, i + 1, 0, self.state, self.constraints, pside, False)
 
     def close_hull(self, segment_id: int = -1) -> ConstrainedTriangulation:
         """Constrain every free convex-hull edge as a new segment piece with id ``segment_id``.
