@@ -659,7 +659,8 @@ def refine(
         Cap on the number of vertices; default ``nv + 50 nv + 4 * estimate + 1000`` with the
         estimate from ``size`` / ``max_area``.
     max_steps : int, optional
-        Cap on loop steps (default ``20 * max_points``).
+        Cap on loop steps (default ``20 * min(max_points, nv + 50 nv + 4 * estimate + 1000)``,
+        so a stalled loop stops early even under a large ``max_points``).
     offcenters : bool
         Insert Üngör's off-centres instead of circumcentres where nearer (fewer vertices).
     curves : SegmentCurves or callable, optional
@@ -697,10 +698,14 @@ def refine(
     off = 0.475 * np.sqrt((1.0 + np.cos(theta)) / (1.0 - np.cos(theta))) if offcenters and theta > 0 else 0.0
     est = _estimate(ct, amax, field)
     nv = ct.n_points
+    # The estimate-based bound is the default point cap and, whatever cap the caller gives,
+    # bounds the steps: a caller's generous max_points (triangulate passes 10**8) must not
+    # turn a stalled loop into billions of steps.
+    expected = int(min(nv + 50 * nv + 4 * est + 1000, 2**31 - 16))
     if max_points is None:
-        max_points = int(min(nv + 50 * nv + 4 * est + 1000, 2**31 - 16))
+        max_points = expected
     if max_steps is None:
-        max_steps = 20 * int(max_points)
+        max_steps = 20 * min(int(max_points), expected)
     sized = field is not None and field.constant is None
     run = _Run(ct, MODE_RUPPERT, sin2, amax, off, sized, int(max_points), int(max_steps))
     run.seed()
