@@ -268,7 +268,8 @@ def advancing_front(
     max_area : float, optional
         Area bound, honoured with the regions' own bounds through the spacing (see
         :func:`area_cap`); subsegments longer than that spacing are split first.  Closing
-        triangles may still exceed it, by less than twice.
+        triangles may still exceed it: there is no proven factor (2.49x measured on
+        Triangle's la.poly, a strict xfail in tests/test_triangle_examples.py).
     max_points : int, optional
         Cap on the number of nodes.
     max_backoff : int, optional
