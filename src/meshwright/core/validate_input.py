@@ -1,5 +1,5 @@
 """Argument checks shared by the public doors: point arrays, the predicates' coordinate range,
-counts, seeds and positive numbers.
+connectivity arrays, counts, seeds and positive numbers.
 
 Every public function checks all its arguments before any work (docs/ARCHITECTURE.md); the
 checks that several doors need live here, so each is written once and every door names the
@@ -34,6 +34,7 @@ __all__ = [
     "COORD_MIN",
     "COORD_MAX",
     "as_points",
+    "as_cells",
     "check_coordinate_range",
     "check_count",
     "check_positive",
@@ -79,6 +80,44 @@ def as_points(points, what: str = "points", dim: int = 2, *, copy: bool = False)
     if bad.size:
         raise InputError(f"{what}: point {bad[0]} is not finite: {fmt_point(arr[bad[0]])}")
     return arr
+
+
+def as_cells(arr, what: str, width: int, n: int) -> np.ndarray:
+    """Connectivity argument: a (k, width) integer array of node indices in ``[0, n)``.
+
+    Parameters
+    ----------
+    arr : (k, width) array_like of int
+        The cells (triangles, quads, edges ...); an empty array gives ``(0, width)``.
+    what : str
+        The argument's name, for the message.
+    width : int
+        Nodes per cell.
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    (k, width) int32 ndarray
+        C-contiguous; a copy only where the input was not already int32 and contiguous.
+
+    Raises
+    ------
+    InputError
+        Naming ``what``: a non-integer dtype (bool included), a wrong shape, or the first row
+        that refers to a node outside ``[0, n)``.
+    """
+    a = np.asarray(arr)
+    if a.size == 0:
+        return np.zeros((0, width), dtype=np.int32)
+    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
+        raise InputError(f"{what} must be an integer array of node indices, got dtype {a.dtype}")
+    if a.ndim != 2 or a.shape[1] != width:
+        raise InputError(f"{what} must have shape (k, {width}), got {a.shape}")
+    bad = np.flatnonzero(((a < 0) | (a >= n)).any(axis=1))
+    if len(bad):
+        raise InputError(f"{what} row {bad[0]} {a[bad[0]].tolist()} refers to a node outside [0, {n})")
+    return np.ascontiguousarray(a, dtype=np.int32)
 
 
 def check_coordinate_range(points: np.ndarray, what: str = "points") -> None:

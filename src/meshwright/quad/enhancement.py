@@ -23,6 +23,7 @@ import numpy as np
 from meshwright.core.errors import InputError, MeshingError
 from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.predicates import orient2d_batch
+from meshwright.core.validate_input import as_cells as cells_of
 from meshwright.core.validate_input import as_points, check_count
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Domain
@@ -38,21 +39,6 @@ ENHANCE_PASSES = 8  # cap on enhancement passes (each stops early when nothing c
 ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a split)
 ACCEPT = 0.4  # element elimination may lower the local worst scaled Jacobian, but not below this
 SWAP_GAIN = 0.02  # a diagonal swap must raise the pair's worst scaled Jacobian by more than this
-
-
-def cells_of(arr, what: str, width: int, n: int) -> np.ndarray:
-    """(k, width) int32 node indices in ``[0, n)``, or InputError naming the row."""
-    a = np.asarray(arr)
-    if a.size == 0:
-        return np.zeros((0, width), dtype=np.int32)
-    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
-        raise InputError(f"{what} must be an integer array of node indices, got dtype {a.dtype}")
-    if a.ndim != 2 or a.shape[1] != width:
-        raise InputError(f"{what} must have shape (k, {width}), got {a.shape}")
-    bad = np.flatnonzero(((a < 0) | (a >= n)).any(axis=1))
-    if len(bad):
-        raise InputError(f"{what} row {bad[0]} {a[bad[0]].tolist()} refers to a node outside [0, {n})")
-    return np.ascontiguousarray(a, dtype=np.int32)
 
 
 def _node_quads(quads: np.ndarray, alive: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:

@@ -43,7 +43,7 @@ from numba import njit
 from meshwright.core.errors import InputError
 from meshwright.core.predicates import orient2d
 from meshwright.core.topology import boundary_edges_of
-from meshwright.core.validate_input import as_points, check_coordinate_range, check_count
+from meshwright.core.validate_input import as_cells, as_points, check_coordinate_range, check_count
 
 __all__ = ["smooth", "node_adjacency"]
 
@@ -240,21 +240,6 @@ def _boundary_tangents(points: np.ndarray, bnbr: np.ndarray, on_boundary: np.nda
     return kind, tangent
 
 
-def _indices(arr, what: str, width: int, n: int) -> np.ndarray:
-    """(k, width) int64 node indices in ``[0, n)`` from an integer array, or InputError naming the entry."""
-    a = np.asarray(arr)
-    if a.size == 0:
-        return np.zeros((0, width), dtype=np.int64)
-    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
-        raise InputError(f"{what} must be an integer array of node indices, got dtype {a.dtype}")
-    if a.ndim != 2 or a.shape[1] != width:
-        raise InputError(f"{what} must have shape (k, {width}), got {a.shape}")
-    bad = np.flatnonzero(((a < 0) | (a >= n)).any(axis=1))
-    if len(bad):
-        raise InputError(f"{what} row {bad[0]} {a[bad[0]].tolist()} refers to a node outside [0, {n})")
-    return a.astype(np.int64)
-
-
 def _fixed_nodes(fixed, n: int) -> np.ndarray:
     """Node indices of ``fixed`` (indices or an (n,) mask), checked against ``n``."""
     if fixed is None:
@@ -325,7 +310,7 @@ def smooth(
     xy = as_points(points, "points", copy=True)
     check_coordinate_range(xy, "points")
     n = len(xy)
-    tris = _indices(triangles, "triangles", 3, n).astype(np.int32)
+    tris = as_cells(triangles, "triangles", 3, n)
     passes = check_count(passes, "passes")
     if isinstance(relax, bool) or not isinstance(relax, numbers.Real) or not 0.0 < float(relax) <= 1.0:
         raise InputError(f"relax = c*dt must be a number in (0, 1], got {relax!r}")
@@ -335,7 +320,7 @@ def smooth(
     fixed_nodes = _fixed_nodes(fixed, n)
     if boundary_edges is None:
         boundary_edges = boundary_edges_of(tris)
-    boundary_edges = _indices(boundary_edges, "boundary_edges", 2, n)
+    boundary_edges = as_cells(boundary_edges, "boundary_edges", 2, n)
     bnbr = _boundary_neighbours(boundary_edges, n)
     on_boundary = np.zeros(n, dtype=bool)
     on_boundary[boundary_edges.ravel()] = True
