@@ -1,9 +1,40 @@
-"""Small helpers shared by the subcommand modules (output, quality table, plotting)."""
+"""Small helpers shared by the subcommand modules (input and cap options, output, quality table,
+plotting)."""
 
 from __future__ import annotations
 
 import time
 from pathlib import Path
+
+from meshwright.geometry import BUILTIN_DOMAINS
+from meshwright.tri.mesher import DEFAULT_MAX_POINTS
+
+
+def add_input_argument(parser) -> None:
+    """Attach the positional INPUT (a .poly, a .json geometry or a built-in domain's name)."""
+    parser.add_argument(
+        "input",
+        help=f"a .poly file, a .json geometry file, or a built-in domain: {', '.join(sorted(BUILTIN_DOMAINS))}",
+    )
+
+
+def add_max_points_argument(parser) -> None:
+    """Attach ``--max-points``, the cap on a mesh's vertices the 2-D meshers share."""
+    parser.add_argument(
+        "--max-points",
+        type=int,
+        metavar="N",
+        help=f"cap on the mesh's vertices (default {DEFAULT_MAX_POINTS}); a size needing more is refused at once",
+    )
+
+
+def add_convex_hull_argument(parser) -> None:
+    """Attach ``--convex-hull`` (Triangle's -c) the 2-D meshers share."""
+    parser.add_argument(
+        "--convex-hull",
+        action="store_true",
+        help="mesh the convex hull of the input, for a .poly whose segments close no boundary (Triangle's -c)",
+    )
 
 
 def add_output_arguments(parser, default_output: str | None = None) -> None:

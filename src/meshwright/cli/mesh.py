@@ -17,12 +17,18 @@ import math
 import sys
 from pathlib import Path
 
-from meshwright.cli._common import Timer, add_output_arguments, emit_mesh
+from meshwright.cli._common import (
+    Timer,
+    add_convex_hull_argument,
+    add_input_argument,
+    add_max_points_argument,
+    add_output_arguments,
+    emit_mesh,
+)
 from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
 from meshwright.sizing import BackgroundGrid
 from meshwright.tri import MESH_METHODS, triangulate
-from meshwright.tri.mesher import DEFAULT_MAX_POINTS
 from meshwright.tri.weatherill import DEFAULT_ALPHA
 
 NAME = "mesh"
@@ -30,10 +36,7 @@ HELP = "quality triangle mesh of a .poly file, a JSON geometry file or a built-i
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument(
-        "input",
-        help=f"a .poly file, a .json geometry file, or a built-in domain: {', '.join(sorted(BUILTIN_DOMAINS))}",
-    )
+    add_input_argument(parser)
     parser.add_argument("--size", type=float, metavar="H", help="target edge length (default: the domain's own)")
     parser.add_argument(
         "--background",
@@ -71,12 +74,7 @@ def add_arguments(parser) -> None:
     )
     parser.add_argument("--smooth", type=int, default=0, metavar="N", help="spring-analogy smoothing passes")
     parser.add_argument("--max-area", type=float, metavar="A", help="largest triangle area")
-    parser.add_argument(
-        "--max-points",
-        type=int,
-        metavar="N",
-        help=f"cap on the mesh's vertices (default {DEFAULT_MAX_POINTS}); a size needing more is refused at once",
-    )
+    add_max_points_argument(parser)
     parser.add_argument(
         "--alpha",
         type=float,
@@ -86,11 +84,7 @@ def add_arguments(parser) -> None:
     parser.add_argument(
         "--conforming", action="store_true", help="split segments until every triangle is Delaunay (Triangle's -D)"
     )
-    parser.add_argument(
-        "--convex-hull",
-        action="store_true",
-        help="mesh the convex hull of the input, for a .poly whose segments close no boundary (Triangle's -c)",
-    )
+    add_convex_hull_argument(parser)
     parser.add_argument("--seed", type=int, default=0, help="seed of the randomized insertion order")
     add_output_arguments(parser)
 

@@ -10,21 +10,23 @@ from __future__ import annotations
 
 import sys
 
-from meshwright.cli._common import Timer, add_output_arguments, emit_mesh
+from meshwright.cli._common import (
+    Timer,
+    add_convex_hull_argument,
+    add_input_argument,
+    add_max_points_argument,
+    add_output_arguments,
+    emit_mesh,
+)
 from meshwright.cli.mesh import load_input
-from meshwright.geometry import BUILTIN_DOMAINS
 from meshwright.quad import QUAD_METHODS, quadrangulate
-from meshwright.tri.mesher import DEFAULT_MAX_POINTS
 
 NAME = "quad"
 HELP = "quadrilateral mesh (all-quad by default) of a .poly file, a JSON geometry file or a built-in domain"
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument(
-        "input",
-        help=f"a .poly file, a .json geometry file, or a built-in domain: {', '.join(sorted(BUILTIN_DOMAINS))}",
-    )
+    add_input_argument(parser)
     parser.add_argument("--size", type=float, metavar="H", help="target quad edge length (default: the domain's own)")
     parser.add_argument(
         "--method",
@@ -46,18 +48,9 @@ def add_arguments(parser) -> None:
         + (", ".join(m.name for m in QUAD_METHODS.values() if m.smooths) or "none yet")
         + ")",
     )
-    parser.add_argument(
-        "--max-points",
-        type=int,
-        metavar="N",
-        help=f"cap on the mesh's vertices (default {DEFAULT_MAX_POINTS}); a size needing more is refused at once",
-    )
+    add_max_points_argument(parser)
     parser.add_argument("--seed", type=int, default=0, help="seed of the methods' randomness")
-    parser.add_argument(
-        "--convex-hull",
-        action="store_true",
-        help="mesh the convex hull of the input, for a .poly whose segments close no boundary (Triangle's -c)",
-    )
+    add_convex_hull_argument(parser)
     add_output_arguments(parser)
 
 
