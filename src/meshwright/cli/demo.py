@@ -81,11 +81,8 @@ def run(args) -> int:
     ):
         with Timer() as t:
             mesh = triangulate(builtin(name), method=method, smooth=smooth)
-        mesh.validate()
         stem = out / f"{name}-{method}"
-        mesh.write(str(stem.with_suffix(".vtu")))
-        _plot_airfoil(mesh, stem.with_suffix(".png"))
-        q = mesh.quality().summary()["triangle"]
+        q = _save_airfoil(mesh, stem, "triangle")
         print(
             f"{name} ({method}{', smoothed' if smooth else ''}): {len(mesh.cells['triangle'])} triangles in "
             f"{t.elapsed:.3f} s, min angle {q['min_angle']['min']:.1f} deg, mean radius ratio "
@@ -95,17 +92,22 @@ def run(args) -> int:
     for name, method in (("three-element", "quadtree"), ("naca0012", "pairing")):
         with Timer() as t:
             mesh = quadrangulate(builtin(name), method=method)
-        mesh.validate()
         stem = out / f"{name}-quad-{method}"
-        mesh.write(str(stem.with_suffix(".vtu")))
-        _plot_airfoil(mesh, stem.with_suffix(".png"))
-        q = mesh.quality().summary()["quad"]
+        q = _save_airfoil(mesh, stem, "quad")
         print(
             f"{name} ({method}, all-quad): {len(mesh.cells['quad'])} quads in {t.elapsed:.3f} s, min scaled "
             f"Jacobian {q['scaled_jacobian']['min']:.3f}, angles {q['min_angle']['min']:.1f} to "
             f"{q['max_angle']['max']:.1f} deg -> {stem}.vtu, .png"
         )
     return 0
+
+
+def _save_airfoil(mesh, stem: Path, cell_type: str) -> dict:
+    """Validate ``mesh``, write ``stem``.vtu and ``stem``.png; the quality summary of ``cell_type``."""
+    mesh.validate()
+    mesh.write(str(stem.with_suffix(".vtu")))
+    _plot_airfoil(mesh, stem.with_suffix(".png"))
+    return mesh.quality().summary()[cell_type]
 
 
 def _plot_airfoil(mesh, path: Path) -> None:
