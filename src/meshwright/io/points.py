@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -92,7 +93,10 @@ def _read_table(path: Path) -> np.ndarray:
             raise FormatError(f"{path}: only a header line ({first!r}), no points")
     text = "\n".join(line.replace(",", " ") for _, line in data_lines)
     try:
-        arr = np.loadtxt(text.splitlines(), dtype=np.float64, ndmin=2)
+        with warnings.catch_warnings():
+            # a line of separators only (",") leaves no data: the shape check below names it
+            warnings.simplefilter("ignore", UserWarning)
+            arr = np.loadtxt(text.splitlines(), dtype=np.float64, ndmin=2)
     except ValueError:
         arr = None
     if arr is None or arr.shape[1] not in (2, 3):
