@@ -34,6 +34,7 @@ __all__ = [
     "COORD_MIN",
     "COORD_MAX",
     "as_points",
+    "as_exact_points",
     "as_cells",
     "check_coordinate_range",
     "check_count",
@@ -79,6 +80,35 @@ def as_points(points, what: str = "points", dim: int = 2, *, copy: bool = False)
     bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
     if bad.size:
         raise InputError(f"{what}: point {bad[0]} is not finite: {fmt_point(arr[bad[0]])}")
+    return arr
+
+
+def as_exact_points(points, what: str = "points", dim: int = 2, *, copy: bool = False) -> np.ndarray:
+    """:func:`as_points` followed by :func:`check_coordinate_range`: the coercer of the doors
+    whose points feed the exact predicates.
+
+    Parameters
+    ----------
+    points : (n, dim) array_like of float
+    what : str
+        Name of the argument in error messages.
+    dim : int
+        Required number of columns.
+    copy : bool
+        Always return a new array (otherwise not copied when already C-contiguous float64).
+
+    Returns
+    -------
+    (n, dim) float64 ndarray
+        C-contiguous, finite, every nonzero coordinate's magnitude in ``[COORD_MIN, COORD_MAX]``.
+
+    Raises
+    ------
+    InputError
+        As :func:`as_points` and :func:`check_coordinate_range`, naming the first bad point.
+    """
+    arr = as_points(points, what, dim, copy=copy)
+    check_coordinate_range(arr, what)
     return arr
 
 

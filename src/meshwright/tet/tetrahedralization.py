@@ -51,7 +51,7 @@ from meshwright.core.errors import DegenerateInputError, DuplicatePointError, In
 from meshwright.core.flat import TET_FACES, grown
 from meshwright.core.rng import seed_state
 from meshwright.core.spatial_sort import brio_order
-from meshwright.core.validate_input import as_points, check_coordinate_range, check_seed
+from meshwright.core.validate_input import as_exact_points, check_coordinate_range, check_seed
 from meshwright.tet import bowyer, watson
 from meshwright.tet._build3d import compact, find_start, first_repeat, init_tets, input_order_maps, relabel, scatter_rows
 from meshwright.tet._kernel3d import (
@@ -102,13 +102,6 @@ SUPERSTRUCTURES = ("ghost", "box")
 # (corner i has coordinates (i & 1, (i >> 1) & 1, (i >> 2) & 1) of the box).
 BOX_TETS = np.array([[0, 3, 5, 6], [1, 0, 3, 5], [2, 0, 3, 6], [4, 0, 5, 6], [7, 3, 5, 6]])
 _SCRATCH = 64  # initial cavity / face / local-vertex capacity
-
-
-def coerce_points(points, what: str) -> np.ndarray:
-    """(n, 3) float64 finite points inside the predicates' exact range, or raise naming the first bad one."""
-    arr = as_points(points, what, dim=3)
-    check_coordinate_range(arr, what)
-    return arr
 
 
 def grow(s: TetState) -> TetState:
@@ -193,7 +186,7 @@ class Tetrahedralization:
         if superstructure not in SUPERSTRUCTURES:
             raise InputError(f"superstructure must be 'ghost' or 'box', got {superstructure!r}")
         seed = check_seed(seed)
-        pts = coerce_points(points, "points")
+        pts = as_exact_points(points, "points", dim=3)
         n = pts.shape[0]
         if n < 4:
             raise DegenerateInputError(f"a tetrahedralization needs at least 4 points, got {n}")
@@ -403,7 +396,7 @@ class Tetrahedralization:
             Vertex of each point; a point equal to an existing vertex (or to an earlier point
             of this call) maps to that vertex and adds nothing.
         """
-        new = coerce_points(np.reshape(points, (-1, 3)) if np.size(points) == 3 else points, "points")
+        new = as_exact_points(np.reshape(points, (-1, 3)) if np.size(points) == 3 else points, "points", dim=3)
         k = new.shape[0]
         if k == 0:
             return np.empty(0, dtype=np.int32)
@@ -458,7 +451,7 @@ class Tetrahedralization:
         except (TypeError, ValueError) as exc:
             raise InputError(f"xyz must be a (3,) or (m, 3) array of numbers: {exc}") from exc
         single = arr.shape == (3,)
-        q = coerce_points(arr.reshape(1, 3) if single else arr, "xyz")
+        q = as_exact_points(arr.reshape(1, 3) if single else arr, "xyz", dim=3)
         slots = locate_points(self._s._replace(meta=self._s.meta.copy()), q)
         if np.any(slots < -(1 << 39)):
             bad = int(np.flatnonzero(slots < -(1 << 39))[0])

@@ -43,7 +43,7 @@ from numba import njit
 from meshwright.core.errors import InputError
 from meshwright.core.predicates import orient2d
 from meshwright.core.topology import boundary_edges_of
-from meshwright.core.validate_input import as_cells, as_points, check_coordinate_range, check_count
+from meshwright.core.validate_input import as_cells, as_exact_points, check_count
 
 __all__ = ["smooth", "node_adjacency"]
 
@@ -307,8 +307,7 @@ def smooth(
         ``[0, n)`` (the row is named); ``passes`` not a non-negative int; ``relax`` outside
         (0, 1]; ``project`` not callable.
     """
-    xy = as_points(points, "points", copy=True)
-    check_coordinate_range(xy, "points")
+    xy = as_exact_points(points, "points", copy=True)
     n = len(xy)
     tris = as_cells(triangles, "triangles", 3, n)
     passes = check_count(passes, "passes")

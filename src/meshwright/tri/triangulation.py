@@ -46,7 +46,7 @@ import numpy as np
 
 from meshwright.core.errors import DegenerateInputError, DuplicatePointError, InputError, MeshingError
 from meshwright.core.spatial_sort import brio_order
-from meshwright.core.validate_input import as_points, check_coordinate_range, check_seed
+from meshwright.core.validate_input import as_exact_points, check_seed
 from meshwright.tri import bowyer, watson
 from meshwright.tri._build2d import (
     compact, find_start, hull_loop, init_triangle, insert_batch, locate_points, promote, relabel, scatter_rows,
@@ -78,13 +78,6 @@ DELAUNAY_ALGORITHMS = {
     "bowyer": DelaunayAlgorithm("bowyer", bowyer, False),
     "watson": DelaunayAlgorithm("watson", watson, True),
 }
-
-
-def _coerce_points(points, what: str) -> np.ndarray:
-    """C-contiguous (n, 2) float64 (not copied if already so) inside the predicates' exact range."""
-    arr = as_points(points, what)
-    check_coordinate_range(arr, what)
-    return arr
 
 
 def _duplicate_message(vmap: np.ndarray, pts: np.ndarray) -> str:
@@ -139,7 +132,7 @@ class Triangulation:
         self._rng = np.random.default_rng(seed)
         self._cache: dict = {}
         self._exported = False
-        pts = _coerce_points(points, "points")
+        pts = as_exact_points(points, "points")
         n = pts.shape[0]
         if n < 3:
             raise DegenerateInputError(f"a triangulation needs at least 3 points, got {n}")
@@ -297,7 +290,7 @@ class Triangulation:
             Vertex of each point; a point equal to an existing vertex (or to an earlier point
             of this call) maps to that vertex and adds nothing.
         """
-        new = _coerce_points(np.reshape(points, (-1, 2)) if np.size(points) == 2 else points, "points")
+        new = as_exact_points(np.reshape(points, (-1, 2)) if np.size(points) == 2 else points, "points")
         k = new.shape[0]
         if k == 0:
             return np.empty(0, dtype=np.int32)
@@ -331,7 +324,7 @@ class Triangulation:
         """
         arr = np.asarray(xy, dtype=np.float64)
         single = arr.shape == (2,)
-        q = _coerce_points(arr.reshape(1, 2) if single else arr, "xy")
+        q = as_exact_points(arr.reshape(1, 2) if single else arr, "xy")
         out = locate_points(self.state._replace(meta=self.state.meta.copy()), q)
         return int(out[0]) if single else out
 

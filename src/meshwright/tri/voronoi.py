@@ -65,7 +65,7 @@ from numba import njit
 
 from meshwright.core.errors import DegenerateInputError, InputError, fmt_point
 from meshwright.core.predicates import orient2d
-from meshwright.core.validate_input import as_points, check_coordinate_range, check_seed
+from meshwright.core.validate_input import as_exact_points, check_seed
 from meshwright.tri.triangulation import delaunay
 from meshwright.tri.voronoi_clip import clip_diagram, clip_region
 
@@ -254,20 +254,13 @@ def voronoi(points_or_triangulation, clip=None, seed: int = 0) -> Voronoi:
 # --------------------------------------------------------------------------- input checks
 
 
-def _as_points(obj) -> np.ndarray:
-    """Return a C-contiguous (n, 2) float64 copy of ``obj`` inside the predicates' range."""
-    points = as_points(obj, copy=True)
-    check_coordinate_range(points)
-    return points
-
-
 def _delaunay_arrays(obj, seed: int):
     """Return ``points`` (n, 2) float64, ``triangles`` and ``neighbors`` (nt, 3) int32."""
     supplied = hasattr(obj, "triangles") and hasattr(obj, "neighbors")
     if supplied:
-        points, tri = _as_points(obj.points), np.ascontiguousarray(obj.triangles, dtype=np.int32)
+        points, tri = as_exact_points(obj.points, copy=True), np.ascontiguousarray(obj.triangles, dtype=np.int32)
     else:
-        points = _as_points(obj)
+        points = as_exact_points(obj, copy=True)
         obj = delaunay(points, seed=seed)
         # Keep the caller's numbering: a vertex stands for the first of the points merged
         # into it, so the other duplicates are in no triangle and get empty cells.
