@@ -266,7 +266,15 @@ def examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, 
     sin2, area, su, sw = quality(t, pts, tri)
     bad_area = area > prm[P_AMAX] or area > rarea[treg[t]]
     bad_angle = sin2 < prm[P_SIN2]
-    if bad_angle and not bad_area and _small_angle_apex(su, sw, pts, tri, nbr, cons, vtri, vseg, seg):
+    # Shewchuk's small-angle rule is for a shortest edge between two segments; a shortest edge
+    # that is a subsegment itself is split as usual (Triangle's testtriangle does the same).
+    kx = 0
+    while tri[b3 + kx] == su or tri[b3 + kx] == sw:
+        kx += 1
+    own = cons[b3 + kx] != 0
+    if bad_angle and not bad_area and not own and _small_angle_apex(
+        su, sw, pts, tri, nbr, cons, vtri, vseg, seg
+    ):
         st[S_SKIPPED] += 1
         bad_angle = False
     if bad_angle or bad_area:
