@@ -181,8 +181,8 @@ LA_ATTRIBUTES = [0.05, 0.05, 0.2, 0.4, 0.8, 3.0]  # typed from la.poly's region 
             "front",
             marks=pytest.mark.xfail(
                 strict=True,
-                reason="the advancing front's closing triangles exceed the documented factor 2 of an area "
-                "bound (2.46 in la.poly's 0.05 region; 2.49 with a global max_area=0.5 too)",
+                reason="the advancing front bounds areas through its spacing only, with no proven factor "
+                "(2.46x in la.poly's 0.05 region; 2.49x with a global max_area=0.5 too; README known limits)",
             ),
         ),
     ],
