@@ -81,6 +81,9 @@ __all__ = [
     "incircle",
     "orient3d",
     "insphere",
+    "incircle_stage_a",
+    "orient3d_stage_a",
+    "insphere_stage_a",
     "incircle_sos",
     "insphere_sos",
     "orient2d_batch",
@@ -225,23 +228,14 @@ def _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     return estimate(w, acc, n)
 
 
-@nb.njit(cache=True)
-def incircle(ax, ay, bx, by, cx, cy, dx, dy):
-    """In-circle test with exact sign.
+@nb.njit(inline="always")
+def incircle_stage_a(ax, ay, bx, by, cx, cy, dx, dy):
+    """Shewchuk's stage-A in-circle filter: ``(det, err)``, the floating-point determinant
+    (the sign of :func:`incircle`) and its a-priori error bound.
 
-    Parameters
-    ----------
-    ax, ay, bx, by, cx, cy : float
-        Three points defining a circle.
-    dx, dy : float
-        Query point.
-
-    Returns
-    -------
-    float
-        Positive if d is strictly inside the circle through a, b, c and a, b, c are
-        counter-clockwise (negative if outside); the sign flips if a, b, c are clockwise.
-        Exactly 0.0 if the four points are cocircular (or a, b, c collinear and d on the line).
+    ``|det| > err`` proves the sign of ``det``; otherwise only the exact predicate decides.
+    Inlined into :func:`incircle` and the kernels that filter before the perturbed
+    predicate, so all of them evaluate the one proven expression.
     """
     adx = ax - dx
     bdx = bx - dx
@@ -268,7 +262,28 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
         + (abs(cdxady) + abs(adxcdy)) * blift
         + (abs(adxbdy) + abs(bdxady)) * clift
     )
-    errbound = ICC_ERRBOUND_A * permanent
+    return det, ICC_ERRBOUND_A * permanent
+
+
+@nb.njit(cache=True)
+def incircle(ax, ay, bx, by, cx, cy, dx, dy):
+    """In-circle test with exact sign.
+
+    Parameters
+    ----------
+    ax, ay, bx, by, cx, cy : float
+        Three points defining a circle.
+    dx, dy : float
+        Query point.
+
+    Returns
+    -------
+    float
+        Positive if d is strictly inside the circle through a, b, c and a, b, c are
+        counter-clockwise (negative if outside); the sign flips if a, b, c are clockwise.
+        Exactly 0.0 if the four points are cocircular (or a, b, c collinear and d on the line).
+    """
+    det, errbound = incircle_stage_a(ax, ay, bx, by, cx, cy, dx, dy)
     if det > errbound or -det > errbound:
         return det
     return _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
@@ -316,22 +331,13 @@ def _orient3d_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     return estimate(w, acc, n)
 
 
-@nb.njit(cache=True)
-def orient3d(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
-    """Orientation of four points in space, with exact sign (CGAL convention).
+@nb.njit(inline="always")
+def orient3d_stage_a(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+    """Shewchuk's stage-A orient3d filter: ``(det, err)``, the floating-point determinant in
+    Shewchuk's sign (the negative of :func:`orient3d`) and its a-priori error bound.
 
-    Parameters
-    ----------
-    ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz : float
-        Coordinates of a, b, c, d.
-
-    Returns
-    -------
-    float
-        Positive iff ``det[b - a, c - a, d - a] > 0``: the tetrahedron abcd has positive
-        volume, i.e. d lies on the side of plane abc from which a, b, c look
-        counter-clockwise.  Exactly 0.0 if coplanar.  The magnitude approximates six times
-        the signed volume.  NOTE: this is the negative of Shewchuk's C ``orient3d``.
+    ``|det| > err`` proves the sign of ``det``; otherwise only the exact predicate decides.
+    Inlined into :func:`orient3d` and the 3-D kernels, so all evaluate the one proven expression.
     """
     adx = ax - dx
     bdx = bx - dx
@@ -358,7 +364,27 @@ def orient3d(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
         + (abs(cdxady) + abs(adxcdy)) * abs(bdz)
         + (abs(adxbdy) + abs(bdxady)) * abs(cdz)
     )
-    errbound = O3D_ERRBOUND_A * permanent
+    return det, O3D_ERRBOUND_A * permanent
+
+
+@nb.njit(cache=True)
+def orient3d(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+    """Orientation of four points in space, with exact sign (CGAL convention).
+
+    Parameters
+    ----------
+    ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz : float
+        Coordinates of a, b, c, d.
+
+    Returns
+    -------
+    float
+        Positive iff ``det[b - a, c - a, d - a] > 0``: the tetrahedron abcd has positive
+        volume, i.e. d lies on the side of plane abc from which a, b, c look
+        counter-clockwise.  Exactly 0.0 if coplanar.  The magnitude approximates six times
+        the signed volume.  NOTE: this is the negative of Shewchuk's C ``orient3d``.
+    """
+    det, errbound = orient3d_stage_a(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
     if det > errbound or -det > errbound:
         return -det
     return _orient3d_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
@@ -444,25 +470,13 @@ def _insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
     return estimate(w, acc, n)
 
 
-@nb.njit(cache=True)
-def insphere(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
-    """In-sphere test with exact sign (CGAL convention, matching :func:`orient3d`).
+@nb.njit(inline="always")
+def insphere_stage_a(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
+    """Shewchuk's stage-A in-sphere filter: ``(det, err)``, the floating-point determinant in
+    Shewchuk's sign (the negative of :func:`insphere`) and its a-priori error bound.
 
-    Parameters
-    ----------
-    ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz : float
-        Four points defining a sphere.
-    ex, ey, ez : float
-        Query point.
-
-    Returns
-    -------
-    float
-        Positive if e is strictly inside the sphere through a, b, c, d and
-        ``orient3d(a, b, c, d) > 0`` (negative if outside); the sign flips when
-        ``orient3d(a, b, c, d) < 0``.  Exactly 0.0 if the five points are cospherical (or
-        a, b, c, d coplanar and e on their circle).  NOTE: the negative of Shewchuk's C
-        ``insphere``.
+    ``|det| > err`` proves the sign of ``det``; otherwise only the exact predicate decides.
+    Inlined into :func:`insphere` and the 3-D kernels, so all evaluate the one proven expression.
     """
     aex = ax - ex
     bex = bx - ex
@@ -525,7 +539,30 @@ def insphere(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
         + (p_ab * dezp + p_bd * aezp + p_da * bezp) * clift
         + (p_bc * aezp + p_ac * bezp + p_ab * cezp) * dlift
     )
-    errbound = ISP_ERRBOUND_A * permanent
+    return det, ISP_ERRBOUND_A * permanent
+
+
+@nb.njit(cache=True)
+def insphere(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
+    """In-sphere test with exact sign (CGAL convention, matching :func:`orient3d`).
+
+    Parameters
+    ----------
+    ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz : float
+        Four points defining a sphere.
+    ex, ey, ez : float
+        Query point.
+
+    Returns
+    -------
+    float
+        Positive if e is strictly inside the sphere through a, b, c, d and
+        ``orient3d(a, b, c, d) > 0`` (negative if outside); the sign flips when
+        ``orient3d(a, b, c, d) < 0``.  Exactly 0.0 if the five points are cospherical (or
+        a, b, c, d coplanar and e on their circle).  NOTE: the negative of Shewchuk's C
+        ``insphere``.
+    """
+    det, errbound = insphere_stage_a(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez)
     if det > errbound or -det > errbound:
         return -det
     return _insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez)

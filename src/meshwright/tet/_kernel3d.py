@@ -81,7 +81,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.flat import GHOST, TET_FACES
-from meshwright.core.predicates import O3D_ERRBOUND_A, orient3d
+from meshwright.core.predicates import orient3d, orient3d_stage_a
 from meshwright.core.rng import xorshift32
 from meshwright.tet import bowyer, watson
 
@@ -163,28 +163,7 @@ def new_meta(rng_state: int) -> np.ndarray:
 @njit(inline="always")
 def _orient(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """``orient3d`` with Shewchuk's stage-A filter inlined; the exact predicate only if unsure."""
-    adx = ax - dx
-    bdx = bx - dx
-    cdx = cx - dx
-    ady = ay - dy
-    bdy = by - dy
-    cdy = cy - dy
-    adz = az - dz
-    bdz = bz - dz
-    cdz = cz - dz
-    bdxcdy = bdx * cdy
-    cdxbdy = cdx * bdy
-    cdxady = cdx * ady
-    adxcdy = adx * cdy
-    adxbdy = adx * bdy
-    bdxady = bdx * ady
-    det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady)
-    perm = (
-        (abs(bdxcdy) + abs(cdxbdy)) * abs(adz)
-        + (abs(cdxady) + abs(adxcdy)) * abs(bdz)
-        + (abs(adxbdy) + abs(bdxady)) * abs(cdz)
-    )
-    err = O3D_ERRBOUND_A * perm
+    det, err = orient3d_stage_a(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
     if det > err or -det > err:
         return -det
     return orient3d(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)

@@ -42,7 +42,7 @@ from __future__ import annotations
 from numba import njit
 
 from meshwright.core.flat import GHOST
-from meshwright.core.predicates import ISP_ERRBOUND_A, insphere_sos, orient3d
+from meshwright.core.predicates import insphere_sos, insphere_stage_a, orient3d
 
 __all__ = ["conflict", "finite_conflict", "key"]
 
@@ -98,62 +98,7 @@ def finite_conflict(pts, tet, rank, t, v, px, py, pz):
     dy = pts[d, 1]
     dz = pts[d, 2]
     # Shewchuk's stage-A filter of the in-sphere determinant (his sign; ours is its negative).
-    aex = ax - px
-    bex = bx - px
-    cex = cx - px
-    dex = dx - px
-    aey = ay - py
-    bey = by - py
-    cey = cy - py
-    dey = dy - py
-    aez = az - pz
-    bez = bz - pz
-    cez = cz - pz
-    dez = dz - pz
-    aexbey = aex * bey
-    bexaey = bex * aey
-    bexcey = bex * cey
-    cexbey = cex * bey
-    cexdey = cex * dey
-    dexcey = dex * cey
-    dexaey = dex * aey
-    aexdey = aex * dey
-    aexcey = aex * cey
-    cexaey = cex * aey
-    bexdey = bex * dey
-    dexbey = dex * bey
-    ab = aexbey - bexaey
-    bc = bexcey - cexbey
-    cd = cexdey - dexcey
-    da = dexaey - aexdey
-    ac = aexcey - cexaey
-    bd = bexdey - dexbey
-    abc = aez * bc - bez * ac + cez * ab
-    bcd = bez * cd - cez * bd + dez * bc
-    cda = cez * da + dez * ac + aez * cd
-    dab = dez * ab + aez * bd + bez * da
-    alift = aex * aex + aey * aey + aez * aez
-    blift = bex * bex + bey * bey + bez * bez
-    clift = cex * cex + cey * cey + cez * cez
-    dlift = dex * dex + dey * dey + dez * dez
-    det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd)
-    aezp = abs(aez)
-    bezp = abs(bez)
-    cezp = abs(cez)
-    dezp = abs(dez)
-    p_ab = abs(aexbey) + abs(bexaey)
-    p_bc = abs(bexcey) + abs(cexbey)
-    p_cd = abs(cexdey) + abs(dexcey)
-    p_da = abs(dexaey) + abs(aexdey)
-    p_ac = abs(aexcey) + abs(cexaey)
-    p_bd = abs(bexdey) + abs(dexbey)
-    permanent = (
-        (p_cd * bezp + p_bd * cezp + p_bc * dezp) * alift
-        + (p_da * cezp + p_ac * dezp + p_cd * aezp) * blift
-        + (p_ab * dezp + p_bd * aezp + p_da * bezp) * clift
-        + (p_bc * aezp + p_ac * bezp + p_ab * cezp) * dlift
-    )
-    err = ISP_ERRBOUND_A * permanent
+    det, err = insphere_stage_a(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, px, py, pz)
     if det > err:
         return False
     if -det > err:

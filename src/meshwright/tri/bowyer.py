@@ -43,7 +43,7 @@ from __future__ import annotations
 from numba import njit
 
 from meshwright.core.flat import GHOST
-from meshwright.core.predicates import ICC_ERRBOUND_A, incircle_sos, orient2d
+from meshwright.core.predicates import incircle_sos, incircle_stage_a, orient2d
 
 __all__ = ["ghost_conflict", "conflict"]
 
@@ -117,23 +117,7 @@ def conflict(pts, tri, rank, t, v, px, py):
     cx = pts[c, 0]
     cy = pts[c, 1]
     # Shewchuk's stage-A filter of the in-circle determinant, inlined; exact only if unsure.
-    adx = ax - px
-    ady = ay - py
-    bdx = bx - px
-    bdy = by - py
-    cdx = cx - px
-    cdy = cy - py
-    bc = bdx * cdy
-    cb = cdx * bdy
-    ca = cdx * ady
-    ac = adx * cdy
-    ab = adx * bdy
-    ba = bdx * ady
-    alift = adx * adx + ady * ady
-    blift = bdx * bdx + bdy * bdy
-    clift = cdx * cdx + cdy * cdy
-    det = alift * (bc - cb) + blift * (ca - ac) + clift * (ab - ba)
-    err = ICC_ERRBOUND_A * ((abs(bc) + abs(cb)) * alift + (abs(ca) + abs(ac)) * blift + (abs(ab) + abs(ba)) * clift)
+    det, err = incircle_stage_a(ax, ay, bx, by, cx, cy, px, py)
     if det > err:
         return True
     if -det > err:
