@@ -17,14 +17,8 @@ import math
 import sys
 from pathlib import Path
 
-from meshwright.cli._common import (
-    Timer,
-    add_convex_hull_argument,
-    add_input_argument,
-    add_max_points_argument,
-    add_output_arguments,
-    emit_mesh,
-)
+from meshwright.cli._common import Timer, add_convex_hull_argument, add_input_argument, add_max_points_argument
+from meshwright.cli._common import add_output_arguments, emit_mesh
 from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
 from meshwright.sizing import BackgroundGrid

@@ -10,14 +10,8 @@ from __future__ import annotations
 
 import sys
 
-from meshwright.cli._common import (
-    Timer,
-    add_convex_hull_argument,
-    add_input_argument,
-    add_max_points_argument,
-    add_output_arguments,
-    emit_mesh,
-)
+from meshwright.cli._common import Timer, add_convex_hull_argument, add_input_argument, add_max_points_argument
+from meshwright.cli._common import add_output_arguments, emit_mesh
 from meshwright.cli.mesh import load_input
 from meshwright.quad import QUAD_METHODS, quadrangulate
 

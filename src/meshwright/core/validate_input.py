@@ -84,23 +84,8 @@ def as_points(points, what: str = "points", dim: int = 2, *, copy: bool = False)
 
 
 def as_exact_points(points, what: str = "points", dim: int = 2, *, copy: bool = False) -> np.ndarray:
-    """:func:`as_points` followed by :func:`check_coordinate_range`: the coercer of the doors
-    whose points feed the exact predicates.
-
-    Parameters
-    ----------
-    points : (n, dim) array_like of float
-    what : str
-        Name of the argument in error messages.
-    dim : int
-        Required number of columns.
-    copy : bool
-        Always return a new array (otherwise not copied when already C-contiguous float64).
-
-    Returns
-    -------
-    (n, dim) float64 ndarray
-        C-contiguous, finite, every nonzero coordinate's magnitude in ``[COORD_MIN, COORD_MAX]``.
+    """:func:`as_points` (same arguments, same result) followed by :func:`check_coordinate_range`:
+    the coercer of the doors whose points feed the exact predicates.
 
     Raises
     ------
