@@ -38,6 +38,7 @@ __all__ = [
     "as_cells",
     "check_coordinate_range",
     "check_count",
+    "check_flag",
     "check_positive",
     "check_seed",
 ]
@@ -178,6 +179,19 @@ def check_count(value, what: str, minimum: int = 0) -> int:
     if int(value) < minimum:
         raise InputError(f"{what} must be an integer >= {minimum}, got {int(value)}")
     return int(value)
+
+
+def check_flag(value, what: str) -> bool:
+    """A boolean argument: ``True``/``False`` or a NumPy bool (not 0/1, not None); returns it as bool.
+
+    Raises
+    ------
+    InputError
+        Naming ``what`` and the value given.
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{what} must be True or False, got {value!r}")
+    return bool(value)
 
 
 def check_seed(seed, what: str = "seed"):

@@ -73,10 +73,10 @@ import numpy as np
 
 from meshwright.core.errors import InputError, MeshingError
 from meshwright.core.mesh import Mesh
-from meshwright.core.validate_input import check_count, check_seed
+from meshwright.core.validate_input import check_count, check_flag, check_seed
 from meshwright.geometry.domain import Domain
-from meshwright.sizing.field import SizeField, as_size_field
-from meshwright.tri.mesher import DEFAULT_MAX_POINTS, _as_domain, _check_open, _check_work
+from meshwright.sizing.field import SizeField
+from meshwright.tri.mesher import DEFAULT_MAX_POINTS, _check_work, _domain_and_field
 
 __all__ = ["QUAD_METHODS", "QuadMethod", "QuadJob", "QuadFill", "quadrangulate"]
 
@@ -170,12 +170,6 @@ QUAD_METHODS: dict[str, QuadMethod] = {
         ),
     )
 }
-
-
-def _flag(value, name: str) -> bool:
-    if not isinstance(value, (bool, np.bool_)):
-        raise InputError(f"{name} must be True or False, got {value!r}")
-    return bool(value)
 
 
 def _check_domain(m: QuadMethod, dom: Domain) -> None:
@@ -295,9 +289,9 @@ def quadrangulate(
     if not isinstance(method, str) or method not in QUAD_METHODS:
         raise InputError(f"unknown quad method {method!r}; choose one of {', '.join(sorted(QUAD_METHODS))}")
     m = QUAD_METHODS[method]
-    all_quad = _flag(all_quad, "all_quad")
-    progress = _flag(progress, "progress")
-    convex_hull = _flag(convex_hull, "convex_hull")
+    all_quad = check_flag(all_quad, "all_quad")
+    progress = check_flag(progress, "progress")
+    convex_hull = check_flag(convex_hull, "convex_hull")
     passes = check_count(smooth, "smooth (passes)")
     if passes and not m.smooths:
         raise InputError(f"method {method!r} does not smooth; call it with smooth=0")
@@ -305,11 +299,7 @@ def quadrangulate(
         raise InputError(f"method {method!r} reports no progress; call it with progress=False")
     cap = DEFAULT_MAX_POINTS if max_points is None else check_count(max_points, "max_points", 4)
     seed = check_seed(seed)
-    field = None if size is None else as_size_field(size)
-    dom = _as_domain(domain)
-    _check_open(dom, convex_hull)
-    if field is None:
-        field = dom.size
+    dom, field = _domain_and_field(domain, size, convex_hull)
     if field is None and m.needs_size:
         raise InputError(f"method {method!r} needs a size: give size=... (the domain carries none)")
     _check_domain(m, dom)

@@ -97,7 +97,7 @@ from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.errors import fmt_point as _fmt
 from meshwright.core.mesh import build_neighbors
 from meshwright.core.predicates import orient2d_batch
-from meshwright.core.validate_input import as_points, check_count, check_seed
+from meshwright.core.validate_input import as_points, check_count, check_flag, check_seed
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.chords import chord_split
@@ -166,12 +166,6 @@ class PairingReport(NamedTuple):
     eliminated: tuple
     split: bool
     triangles_left: int
-
-
-def _flag(value, what: str) -> bool:
-    if not isinstance(value, (bool, np.bool_)):
-        raise InputError(f"{what} must be True or False, got {value!r}")
-    return bool(value)
 
 
 def _loop_name(li: int) -> str:
@@ -255,7 +249,7 @@ def make_loops_even(domain: Domain, disc, fixed_boundary: bool = False):
         raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
     if not isinstance(disc, Discretization):
         raise InputError(f"disc must be the Discretization of domain.discretize(), got {type(disc).__name__}")
-    fixed_boundary = _flag(fixed_boundary, "fixed_boundary")
+    fixed_boundary = check_flag(fixed_boundary, "fixed_boundary")
     added = []
     for li in range(len(domain.loops)):
         rows = np.flatnonzero(domain.curve_loop[disc.segment_curve] == li)
@@ -578,9 +572,9 @@ def pair_domain(
     if not isinstance(domain, Domain):
         raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
     field = None if field is None else as_size_field(field)
-    all_quad = _flag(all_quad, "all_quad")
-    smooth_boundary = _flag(smooth_boundary, "smooth_boundary")
-    fixed_boundary = _flag(fixed_boundary, "fixed_boundary")
+    all_quad = check_flag(all_quad, "all_quad")
+    smooth_boundary = check_flag(smooth_boundary, "smooth_boundary")
+    fixed_boundary = check_flag(fixed_boundary, "fixed_boundary")
     passes = check_count(smooth, "smooth (passes)")
     seed = check_seed(seed)
     cap = np.iinfo(np.int32).max if max_points is None else check_count(max_points, "max_points", 4)

@@ -55,7 +55,7 @@ import numpy as np
 from meshwright.core.errors import GeometryError, InputError, SizeError
 from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d_batch
-from meshwright.core.validate_input import check_count, check_positive, check_seed
+from meshwright.core.validate_input import check_count, check_flag, check_positive, check_seed
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.shapes import BUILTIN_DOMAINS, builtin, polygon
@@ -386,6 +386,17 @@ def _smooth_mesh(mesh: Mesh, ct: ConstrainedTriangulation, domain: Domain, disc:
 
 
 
+def _domain_and_field(domain, size, convex_hull: bool) -> tuple[Domain, SizeField | None]:
+    """The domain argument as a :class:`Domain` and the size field to mesh it with: ``size``
+    when given, else the domain's own (``None`` if it carries none); raises as
+    :func:`_as_domain`, :func:`~meshwright.sizing.field.as_size_field` and :func:`_check_open`.
+    """
+    field = None if size is None else as_size_field(size)
+    dom = _as_domain(domain)
+    _check_open(dom, convex_hull)
+    return dom, dom.size if field is None else field
+
+
 def _check_open(dom: Domain, convex_hull: bool) -> None:
     """Refuse an open boundary without ``convex_hull``, and ``convex_hull`` on a non-convex loop.
 
@@ -517,19 +528,15 @@ def triangulate(
     if alpha is not None and "alpha" not in m.options:
         raise InputError(f"alpha is an option of method 'weatherill' only; method {method!r} has no use for it")
     alpha = DEFAULT_ALPHA if alpha is None else check_positive(alpha, "alpha", InputError)
-    for name, flag in (("progress", progress), ("conforming", conforming), ("convex_hull", convex_hull)):
-        if not isinstance(flag, (bool, np.bool_)):
-            raise InputError(f"{name} must be True or False, got {flag!r}")
+    progress = check_flag(progress, "progress")
+    conforming = check_flag(conforming, "conforming")
+    convex_hull = check_flag(convex_hull, "convex_hull")
     if progress and not m.reports_progress:
         raise InputError(f"method {method!r} reports no progress; call it with progress=False")
     if convex_hull and not m.convex_hull:
         raise InputError(f"method {method!r} cannot mesh the convex hull; call it with convex_hull=False")
     seed = check_seed(seed)
-    field = None if size is None else as_size_field(size)
-    dom = _as_domain(domain)
-    _check_open(dom, convex_hull)
-    if field is None:
-        field = dom.size
+    dom, field = _domain_and_field(domain, size, convex_hull)
     _check_work(dom, field, max_area, cap)
     disc = dom.discretize(field)
     curves = SegmentCurves.from_domain(dom, disc)
