@@ -123,6 +123,17 @@ def _sphere(pts, tet, sph, t):
 
 
 @njit(inline="always")
+def _repoint(nbr, t, skip, old, new):
+    """In every neighbour of tet t other than ``skip``, turn the link ``old`` into ``new``."""
+    for k in range(4):
+        nb = nbr[4 * t + k]
+        if nb != skip:
+            for m in range(4):
+                if nbr[4 * nb + m] == old:
+                    nbr[4 * nb + m] = new
+
+
+@njit(inline="always")
 def _swap_slots(tet, nbr, sph, meta, i, j, live_i, live_j):
     """Exchange the tets in slots i and j and repair every link to them.
 
@@ -149,26 +160,11 @@ def _swap_slots(tet, nbr, sph, meta, i, j, live_i, live_j):
         if live_i and nbr[4 * j + k] == j:
             nbr[4 * j + k] = i
     if live_j:
-        for k in range(4):
-            nb = nbr[4 * i + k]
-            if nb != j:
-                for m in range(4):
-                    if nbr[4 * nb + m] == j:
-                        nbr[4 * nb + m] = _MARK
+        _repoint(nbr, i, j, j, _MARK)
     if live_i:
-        for k in range(4):
-            nb = nbr[4 * j + k]
-            if nb != i:
-                for m in range(4):
-                    if nbr[4 * nb + m] == i:
-                        nbr[4 * nb + m] = j
+        _repoint(nbr, j, i, i, j)
     if live_j:
-        for k in range(4):
-            nb = nbr[4 * i + k]
-            if nb != j:
-                for m in range(4):
-                    if nbr[4 * nb + m] == _MARK:
-                        nbr[4 * nb + m] = i
+        _repoint(nbr, i, j, _MARK, i)
     if meta[M_LAST] == i:
         meta[M_LAST] = j
     elif meta[M_LAST] == j:
