@@ -106,3 +106,43 @@ def print_table(headers: list[str], rows: list[list[str]]) -> None:
     print("|" + "|".join("-" * (w + 2) for w in widths) + "|")
     for r in rows:
         print("| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |")
+
+
+def add_memory_arguments(ap) -> None:
+    """``--repeat``, ``--no-memory`` and the hidden ``--memory-child CASE N METHOD`` entry."""
+    import argparse
+
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--no-memory", action="store_true", help="skip the child-process memory runs")
+    ap.add_argument("--memory-child", nargs=3, metavar=("CASE", "N", "METHOD"), help=argparse.SUPPRESS)
+
+
+def memory_child(make_case, methods, case: str, n: int, method: str) -> None:
+    """Child-process entry: run one method once and print its peak-RSS growth per point.
+
+    ``make_case(name, n)`` gives the points, ``methods()`` the name -> callable table.
+    """
+    pts = make_case(case, n)
+    fn = methods()[method]
+    fn(make_case("random", 1000))  # JIT warm-up so compile memory is not charged to the case
+    base = reset_peak_rss()
+    fn(pts)
+    print(json.dumps({"bytes_per_point": (peak_rss_bytes() - base) / len(pts)}))
+
+
+def timed_cases(cases, make_case, found: dict, skip: dict, skip_why: dict, repeat: int, once_from: int):
+    """Yield ``(case, n, points, {name: (seconds, result)})`` per case, skipping what ``skip`` says.
+
+    A method ``name`` is skipped on a case when ``n > skip[case][name]`` (reason
+    ``skip_why[name]`` printed); cases of ``once_from`` points or more are timed once.
+    """
+    for case, n in cases:
+        pts = make_case(case, n)
+        timed = {}
+        for name, fn in found.items():
+            if name in skip.get(case, {}) and n > skip[case][name]:
+                print(f"skip {name} on {case} {n:,}: {skip_why[name]}", file=sys.stderr)
+                continue
+            timed[name] = best_time(lambda: fn(pts), 1 if len(pts) >= once_from else repeat)
+        yield case, n, pts, timed
+

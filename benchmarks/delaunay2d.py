@@ -15,12 +15,11 @@ per (case, method).  JIT compile time (cold and cached) is reported separately.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 import numpy as np
 
-from _harness import best_time, child_json, jit_compile_times, peak_rss_bytes, print_table, reset_peak_rss
+from _harness import add_memory_arguments, child_json, jit_compile_times, memory_child, print_table, timed_cases
 
 
 def make_case(name: str, n: int, seed: int = 1) -> np.ndarray:
@@ -61,16 +60,6 @@ def methods() -> dict:
     return found
 
 
-def memory_child(case: str, n: int, method: str) -> None:
-    """Child-process entry: run one method once and print its peak-RSS growth per point."""
-    pts = make_case(case, n)
-    fn = methods()[method]
-    fn(make_case("random", 1000))  # JIT warm-up so compile memory is not charged to the case
-    base = reset_peak_rss()
-    fn(pts)
-    print(json.dumps({"bytes_per_point": (peak_rss_bytes() - base) / len(pts)}))
-
-
 CASES_FULL = [("random", 100_000), ("random", 1_000_000), ("random", 4_000_000), ("grid", 1_000_000), ("circle", 100_000)]
 # Qhull (scipy) needs O(n^2.3) time on cocircular points: 9.5 s for 10,000 on a circle here.
 SKIP = {"circle": {"scipy": 10_000}}
@@ -81,13 +70,11 @@ CASES_QUICK = [("random", 20_000), ("grid", 10_000), ("circle", 5_000)]
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes only")
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--no-memory", action="store_true", help="skip the child-process memory runs")
-    ap.add_argument("--memory-child", nargs=3, metavar=("CASE", "N", "METHOD"), help=argparse.SUPPRESS)
+    add_memory_arguments(ap)
     args = ap.parse_args(argv)
     if args.memory_child:
         case, n, method = args.memory_child
-        memory_child(case, int(n), method)
+        memory_child(make_case, methods, case, int(n), method)
         return 0
 
     cold, cached = jit_compile_times(
@@ -102,16 +89,10 @@ def main(argv=None) -> int:
     for fn in found.values():
         fn(warm)
     rows = []
-    for case, n in CASES_QUICK if args.quick else CASES_FULL:
-        pts = make_case(case, n)
-        times = {}
-        for name, fn in found.items():
-            if name in SKIP.get(case, {}) and n > SKIP[case][name]:
-                print(f"skip {name} on {case} {n:,}: {SKIP_WHY[name]}", file=sys.stderr)
-                continue
-            times[name], nt = best_time(lambda: fn(pts), 1 if n >= 4_000_000 else args.repeat)
-        ref = times.get("triangle")
-        for name, t in times.items():
+    cases = CASES_QUICK if args.quick else CASES_FULL
+    for case, n, _, timed in timed_cases(cases, make_case, found, SKIP, SKIP_WHY, args.repeat, 4_000_000):
+        ref = timed["triangle"][0] if "triangle" in timed else None
+        for name, (t, _) in timed.items():
             mem = "-"
             if not args.no_memory:
                 mem = "%.0f" % child_json("delaunay2d.py", "--memory-child", case, str(n), name)["bytes_per_point"]

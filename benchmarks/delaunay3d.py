@@ -17,12 +17,11 @@ and cached) is reported separately.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 import numpy as np
 
-from _harness import best_time, child_json, jit_compile_times, peak_rss_bytes, print_table, reset_peak_rss
+from _harness import add_memory_arguments, child_json, jit_compile_times, memory_child, print_table, timed_cases
 
 
 def make_case(name: str, n: int, seed: int = 1) -> np.ndarray:
@@ -64,16 +63,6 @@ def methods() -> dict:
     return found
 
 
-def memory_child(case: str, n: int, method: str) -> None:
-    """Child-process entry: run one method once and print its peak-RSS growth per point."""
-    pts = make_case(case, n)
-    fn = methods()[method]
-    fn(make_case("random", 1000))  # JIT warm-up so compile memory is not charged to the case
-    base = reset_peak_rss()
-    fn(pts)
-    print(json.dumps({"bytes_per_point": (peak_rss_bytes() - base) / len(pts)}))
-
-
 CASES_FULL = [("random", 100_000), ("random", 1_000_000), ("grid", 1_000_000)]
 # Qhull (scipy) on the lattice: 13.5 s and 4.8 kB per point for 40^3 here, superlinear.
 SKIP = {"grid": {"scipy": 100_000}}
@@ -93,13 +82,11 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="1e5 random and a 30^3 grid only")
     ap.add_argument("--cases", nargs="+", metavar="NAME:N", help="cases to run, e.g. random:1e6 grid:1e6")
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--no-memory", action="store_true", help="skip the child-process memory runs")
-    ap.add_argument("--memory-child", nargs=3, metavar=("CASE", "N", "METHOD"), help=argparse.SUPPRESS)
+    add_memory_arguments(ap)
     args = ap.parse_args(argv)
     if args.memory_child:
         case, n, method = args.memory_child
-        memory_child(case, int(n), method)
+        memory_child(make_case, methods, case, int(n), method)
         return 0
 
     cold, cached = jit_compile_times(
@@ -115,15 +102,9 @@ def main(argv=None) -> int:
         fn(warm)
     cases = _parse_cases(args.cases) if args.cases else (CASES_QUICK if args.quick else CASES_FULL)
     rows = []
-    for case, n in cases:
-        pts = make_case(case, n)
-        times = {}
-        counts = {}
-        for name, fn in found.items():
-            if name in SKIP.get(case, {}) and n > SKIP[case][name]:
-                print(f"skip {name} on {case} {n:,}: {SKIP_WHY[name]}", file=sys.stderr)
-                continue
-            times[name], counts[name] = best_time(lambda: fn(pts), 1 if len(pts) >= 1_000_000 else args.repeat)
+    for case, n, pts, timed in timed_cases(cases, make_case, found, SKIP, SKIP_WHY, args.repeat, 1_000_000):
+        times = {name: t for name, (t, _) in timed.items()}
+        counts = {name: c for name, (_, c) in timed.items()}
         ref = times.get("tetgen")
         for name, t in times.items():
             mem = "-"
