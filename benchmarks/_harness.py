@@ -1,4 +1,5 @@
-"""Shared benchmark helpers: best-of timing, peak memory in a child process, JIT compile time.
+"""Shared benchmark helpers: best-of timing, peak memory in a child process, JIT compile time,
+and the Gmsh plane surface the 2-D quality benchmarks build from a discretised boundary.
 
 Timings run meshwright and its peers on the same input in one process.  Peak memory is
 measured in a fresh child process per (case, method) because Numba's allocations are
@@ -145,4 +146,44 @@ def timed_cases(cases, make_case, found: dict, skip: dict, skip_why: dict, repea
                 continue
             timed[name] = best_time(lambda: fn(pts), 1 if len(pts) >= once_from else repeat)
         yield case, n, pts, timed
+
+
+def _boundary_loops(segments) -> list[list[tuple[int, int]]]:
+    """Split closed boundary segments (each vertex on two) into loops of (a, b) pairs."""
+    nxt = {int(a): int(b) for a, b in segments}
+    seen: set[int] = set()
+    loops = []
+    for a0 in nxt:
+        if a0 in seen:
+            continue
+        lp, a = [], a0
+        while a not in seen:
+            seen.add(a)
+            lp.append((a, nxt[a]))
+            a = nxt[a]
+        loops.append(lp)
+    return loops
+
+
+def gmsh_plane_surface(gmsh, points, segments, sizes=None) -> list[int]:
+    """Add to the current Gmsh model the plane surface bounded by closed segment loops.
+
+    ``points`` (n, 2) float64, ``segments`` (m, 2) int; ``sizes`` (n,) optional point sizes.
+    The loop with the largest bounding box is the outer one, the others are holes.  Returns
+    the Gmsh curve tags of the holes' lines (walls for a distance size field).
+    """
+    import numpy as np
+
+    if sizes is None:
+        tags = [gmsh.model.geo.addPoint(x, y, 0.0) for x, y in points]
+    else:
+        tags = [gmsh.model.geo.addPoint(x, y, 0.0, s) for (x, y), s in zip(points, sizes)]
+    lines = {(int(a), int(b)): gmsh.model.geo.addLine(tags[a], tags[b]) for a, b in segments}
+    loops = _boundary_loops(segments)
+    curve_loops = [gmsh.model.geo.addCurveLoop([lines[e] for e in lp]) for lp in loops]
+    ext = [np.ptp(points[[a for a, _ in lp]], axis=0).prod() for lp in loops]
+    outer = int(np.argmax(ext))
+    gmsh.model.geo.addPlaneSurface([curve_loops[outer]] + [c for i, c in enumerate(curve_loops) if i != outer])
+    gmsh.model.geo.synchronize()
+    return [lines[e] for i, lp in enumerate(loops) if i != outer for e in lp]
 

@@ -49,7 +49,7 @@ import sys
 
 import numpy as np
 
-from _harness import best_time, jit_compile_times, print_table
+from _harness import best_time, gmsh_plane_surface, jit_compile_times, print_table
 
 GMSH_BLOSSOM = "gmsh 8 + blossom"
 GMSH_SUBDIV = "gmsh 8 + blossom + subdivision"
@@ -78,22 +78,6 @@ def cases(quick: bool) -> list[tuple[str, object, object, tuple]]:
         out.append((f"{name} x{scale:g}", dom, field, (scale * H_WALL, scale * SLOPE, scale * HMAX)))
     return out
 
-
-def _loops(segments) -> list[list[tuple[int, int]]]:
-    """Split closed boundary segments (each vertex on two) into loops of (a, b) pairs."""
-    nxt = {int(a): int(b) for a, b in segments}
-    seen: set[int] = set()
-    loops = []
-    for a0 in nxt:
-        if a0 in seen:
-            continue
-        lp, a = [], a0
-        while a not in seen:
-            seen.add(a)
-            lp.append((a, nxt[a]))
-            a = nxt[a]
-        loops.append(lp)
-    return loops
 
 
 def run_gmsh(domain, size, grading, subdivide: bool):
@@ -125,18 +109,9 @@ def run_gmsh(domain, size, grading, subdivide: bool):
         gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
         gmsh.model.add("bench")
-        tags = [gmsh.model.geo.addPoint(x, y, 0.0) for x, y in points]
-        lines = {(int(a), int(b)): gmsh.model.geo.addLine(tags[a], tags[b]) for a, b in segments}
-        loops = _loops(segments)
-        curve_loops = [gmsh.model.geo.addCurveLoop([lines[e] for e in lp]) for lp in loops]
-        # The outer loop is the one with the largest bounding box; the others are holes.
-        ext = [np.ptp(points[[a for a, _ in lp]], axis=0).prod() for lp in loops]
-        outer = int(np.argmax(ext))
-        gmsh.model.geo.addPlaneSurface([curve_loops[outer]] + [c for i, c in enumerate(curve_loops) if i != outer])
-        gmsh.model.geo.synchronize()
+        hole_lines = gmsh_plane_surface(gmsh, points, segments)
         if slope > 0.0:
             dist = gmsh.model.mesh.field.add("Distance")
-            hole_lines = [lines[e] for i, lp in enumerate(loops) if i != outer for e in lp]
             gmsh.model.mesh.field.setNumbers(dist, "CurvesList", hole_lines)
             gmsh.model.mesh.field.setNumber(dist, "Sampling", 4)
             grade = gmsh.model.mesh.field.add("Threshold")

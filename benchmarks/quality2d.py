@@ -32,7 +32,7 @@ import sys
 
 import numpy as np
 
-from _harness import best_time, jit_compile_times, print_table
+from _harness import best_time, gmsh_plane_surface, jit_compile_times, print_table
 
 
 def disk_case(n: int):
@@ -88,15 +88,7 @@ def run_gmsh(points, segments, holes, algorithm: int):
         gmsh.option.setNumber("General.NumThreads", 1)
         gmsh.option.setNumber("Mesh.Algorithm", algorithm)
         gmsh.model.add("bench")
-        tags = [gmsh.model.geo.addPoint(x, y, 0.0, s) for (x, y), s in zip(points, dp)]
-        lines = {(int(a), int(b)): gmsh.model.geo.addLine(tags[a], tags[b]) for a, b in segments}
-        loops = _loops(segments)
-        curve_loops = [gmsh.model.geo.addCurveLoop([lines[e] for e in lp]) for lp in loops]
-        # The outer loop is the one with the largest bounding box; the others are holes.
-        ext = [np.ptp(points[[a for a, _ in lp]], axis=0).prod() for lp in loops]
-        outer = int(np.argmax(ext))
-        gmsh.model.geo.addPlaneSurface([curve_loops[outer]] + [c for i, c in enumerate(curve_loops) if i != outer])
-        gmsh.model.geo.synchronize()
+        gmsh_plane_surface(gmsh, points, segments, dp)
         gmsh.model.mesh.generate(2)
         node_tags, xyz, _ = gmsh.model.mesh.getNodes()
         _, elem_nodes = gmsh.model.mesh.getElementsByType(2)
@@ -106,22 +98,6 @@ def run_gmsh(points, segments, holes, algorithm: int):
     finally:
         gmsh.finalize()
 
-
-def _loops(segments) -> list[list[tuple[int, int]]]:
-    """Split closed boundary segments (each vertex on two) into loops of (a, b) pairs."""
-    nxt = {int(a): int(b) for a, b in segments}
-    seen: set[int] = set()
-    loops = []
-    for a0 in nxt:
-        if a0 in seen:
-            continue
-        lp, a = [], a0
-        while a not in seen:
-            seen.add(a)
-            lp.append((a, nxt[a]))
-            a = nxt[a]
-        loops.append(lp)
-    return loops
 
 
 def quality(points, triangles) -> dict:
