@@ -7,23 +7,12 @@ import pytest
 from meshwright.core.errors import InputError, ValidationError
 from meshwright.core.mesh import Mesh
 from meshwright.core.validate3d import check_closed_surface, check_enclosed_volume
+from test_mesh import CUBE, positive
+from test_mesh import CUBE_5 as CUBE_5_RAW
 
 spatial = pytest.importorskip("scipy.spatial")
 
-CUBE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)
-CUBE_5_RAW = np.array([[0, 1, 3, 4], [1, 2, 3, 6], [1, 5, 4, 6], [3, 6, 4, 7], [1, 3, 4, 6]])
-
-
-def positive(points, tets):
-    """Swap two vertices of the negatively oriented tets (numpy determinant, not the predicates)."""
-    p = points[tets]
-    neg = np.linalg.det(p[:, 1:] - p[:, :1]) < 0
-    tets = tets.copy()
-    tets[neg, 0], tets[neg, 1] = tets[neg, 1], tets[neg, 0].copy()
-    return tets
-
-
-CUBE_5 = positive(CUBE, CUBE_5_RAW)
+CUBE_5 = positive(CUBE, CUBE_5_RAW)  # the cube split in five, positively oriented
 
 
 def scipy_mesh(n=150, seed=0):
