@@ -37,8 +37,7 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
-from meshwright.core.errors import GeometryError, InputError
-from meshwright.core.errors import fmt_point as _fmt
+from meshwright.core.errors import GeometryError, InputError, fmt_point
 from meshwright.geometry._kernels import nearest_segment
 
 __all__ = ["Curve", "Line", "Arc", "Polyline", "Parametric", "Spline"]
@@ -68,7 +67,7 @@ def _point(p, what: str) -> np.ndarray:
     if a.shape != (2,):
         raise InputError(f"{what} must be a 2-D point, got {p!r}")
     if not np.all(np.isfinite(a)):
-        raise GeometryError(f"{what} has non-finite coordinates {_fmt(a)}")
+        raise GeometryError(f"{what} has non-finite coordinates {fmt_point(a)}")
     return a
 
 
@@ -215,12 +214,12 @@ class Line(Curve):
         self.p0 = _point(p0, "Line start")
         self.p1 = _point(p1, "Line end")
         if np.array_equal(self.p0, self.p1):
-            raise GeometryError(f"Line has zero length at {_fmt(self.p0)}")
+            raise GeometryError(f"Line has zero length at {fmt_point(self.p0)}")
         self.t0, self.t1 = 0.0, 1.0
         self.marker = None if marker is None else int(marker)
 
     def __repr__(self) -> str:
-        return f"Line({_fmt(self.p0)}, {_fmt(self.p1)}, marker={self.marker})"
+        return f"Line({fmt_point(self.p0)}, {fmt_point(self.p1)}, marker={self.marker})"
 
     def evaluate(self, t) -> np.ndarray:
         t = _params(t)[:, None]
@@ -280,11 +279,11 @@ class Arc(Curve):
         self.radius = float(radius)
         self.t0, self.t1 = float(theta0), float(theta1)
         if not (np.isfinite(self.radius) and self.radius > 0.0):
-            raise GeometryError(f"Arc at {_fmt(self.center)} needs a positive radius, got {radius}")
+            raise GeometryError(f"Arc at {fmt_point(self.center)} needs a positive radius, got {radius}")
         sweep = self.t1 - self.t0
         if not np.isfinite(sweep) or sweep == 0.0 or abs(sweep) > _TWO_PI * (1.0 + 1e-12):
             raise GeometryError(
-                f"Arc at {_fmt(self.center)}: sweep theta1 - theta0 = {sweep:.17g} must be "
+                f"Arc at {fmt_point(self.center)}: sweep theta1 - theta0 = {sweep:.17g} must be "
                 "non-zero and at most 2 pi in magnitude"
             )
         self.sweep = sweep
@@ -293,7 +292,7 @@ class Arc(Curve):
 
     def __repr__(self) -> str:
         return (
-            f"Arc({_fmt(self.center)}, {self.radius}, {self.t0}, {self.t1}, marker={self.marker})"
+            f"Arc({fmt_point(self.center)}, {self.radius}, {self.t0}, {self.t1}, marker={self.marker})"
         )
 
     def evaluate(self, t) -> np.ndarray:
@@ -378,7 +377,7 @@ class Polyline(Curve):
         bad = np.flatnonzero(~np.isfinite(p).all(axis=1))
         if len(bad):
             raise GeometryError(
-                f"Polyline vertex {bad[0]} has non-finite coordinates {_fmt(p[bad[0]])}"
+                f"Polyline vertex {bad[0]} has non-finite coordinates {fmt_point(p[bad[0]])}"
             )
         if closed:
             if len(p) > 1 and np.array_equal(p[0], p[-1]):
@@ -514,7 +513,7 @@ class Parametric(Curve):
         bad = np.flatnonzero(~np.isfinite(p).all(axis=1))
         if len(bad):
             raise GeometryError(
-                f"Parametric curve gives non-finite point {_fmt(p[bad[0]])} at t = {float(t[bad[0]]):.17g}"
+                f"Parametric curve gives non-finite point {fmt_point(p[bad[0]])} at t = {float(t[bad[0]]):.17g}"
             )
         return p
 
@@ -623,7 +622,7 @@ class Spline(Parametric):
         zero = np.flatnonzero(np.hypot(step[:, 0], step[:, 1]) == 0)
         if len(zero):
             raise GeometryError(
-                f"Spline control points {zero[0]} and {zero[0] + 1} coincide at {_fmt(p[zero[0]])}"
+                f"Spline control points {zero[0]} and {zero[0] + 1} coincide at {fmt_point(p[zero[0]])}"
             )
         self.points = p
         self.closed = bool(closed)

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshwright.core.errors import GeometryError, InputError
+from meshwright.core.errors import GeometryError, InputError, fmt_point
 from meshwright.core.predicates import orient2d, orient2d_batch
 from meshwright.geometry._discretize import unique_rows
 from meshwright.geometry._kernels import (
@@ -41,7 +41,7 @@ from meshwright.geometry._kernels import (
     parity_by_label,
     trace_chains,
 )
-from meshwright.geometry.curves import Polyline, _fmt
+from meshwright.geometry.curves import Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.poly_format import PolyData, parse_poly, write_poly_file
 
@@ -311,7 +311,7 @@ def _loops(verts, seg, marks, holes, path: Path):
     touch = np.flatnonzero(bverts > 2)
     if len(touch):
         v = touch[0]
-        raise GeometryError(f"{path}: boundary loops touch at vertex {_fmt(verts[v])}")
+        raise GeometryError(f"{path}: boundary loops touch at vertex {fmt_point(verts[v])}")
     chains = _polylines(verts, seg, marks, np.flatnonzero(boundary), boundary_marks=True)
     if not all(closed for _, closed in chains):
         return None

@@ -383,8 +383,6 @@ def read(path, file_format: str | None = None, dim: int | None = None) -> Mesh:
         The file is missing or unreadable, cannot be parsed in that format (corrupt,
         truncated, not UTF-8 where the format is text), or holds unsupported cells.
     """
-    import meshio
-
     # reader_map is private to meshio: meshio.read() prints the error and calls
     # sys.exit(1) when no reader succeeds, so the readers are called directly; the
     # meshio version is pinned in pyproject.toml to the series this was checked against.

@@ -20,18 +20,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from meshwright.core.errors import InputError, MeshingError
-from meshwright.core.errors import fmt_point as _fmt
+from meshwright.core.errors import InputError, MeshingError, fmt_point
 from meshwright.core.predicates import orient2d_batch
-from meshwright.core.validate_input import as_cells as cells_of
-from meshwright.core.validate_input import as_points, check_count
+from meshwright.core.validate_input import as_cells, as_points, check_count
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.tri.smoothing import smooth as smooth_points
 
 __all__ = [
-    "enhance", "smooth_quads", "unpair_nonconvex", "nonconvex", "min_scaled_jacobian", "cells_of",
+    "enhance", "smooth_quads", "unpair_nonconvex", "nonconvex", "min_scaled_jacobian",
     "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
 ]
 
@@ -84,7 +82,7 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
         ``boundary`` not an (n,) bool array, ``passes`` not a count.
     """
     xy = as_points(points, "points", copy=True)
-    qd = cells_of(quads, "quads", 4, len(xy)).copy()
+    qd = as_cells(quads, "quads", 4, len(xy)).copy()
     b = np.asarray(boundary)
     if b.shape != (len(xy),) or b.dtype != bool:
         raise InputError(f"boundary must be a ({len(xy)},) bool array, got {b.dtype} of shape {b.shape}")
@@ -93,7 +91,7 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
     bnd = b.astype(np.int8)
     tri_node = np.zeros(len(xy), dtype=np.int8)
     if triangles is not None:
-        tri_node[cells_of(triangles, "triangles", 3, len(xy)).ravel()] = 1
+        tri_node[as_cells(triangles, "triangles", 3, len(xy)).ravel()] = 1
     total = np.zeros(3, dtype=np.int64)
     for _ in range(passes):
         off, idx = _node_quads(qd, alive, len(xy))
@@ -133,7 +131,7 @@ def unpair_nonconvex(xy, quads, tris):
     if not (use02 | use13).all():
         i = int(bad[np.flatnonzero(~(use02 | use13))[0]])
         raise MeshingError(
-            f"pairing left quad {i} with corners {', '.join(_fmt(xy[v]) for v in quads[i])} that no diagonal splits"
+            f"pairing left quad {i} with corners {', '.join(fmt_point(xy[v]) for v in quads[i])} that no diagonal splits"
         )
     halves = np.where(np.concatenate([use02, use02])[:, None], cut02, cut13)
     keep = np.ones(len(quads), dtype=bool)
@@ -214,9 +212,9 @@ def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, 
         raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
     passes = check_count(passes, "passes")
     xy = as_points(xy, "xy")
-    lines = cells_of(lines, "lines", 2, len(xy))
-    quads = cells_of(quads, "quads", 4, len(xy))
-    tris = cells_of(tris, "tris", 3, len(xy))
+    lines = as_cells(lines, "lines", 2, len(xy))
+    quads = as_cells(quads, "quads", 4, len(xy))
+    tris = as_cells(tris, "tris", 3, len(xy))
     line_curve = np.asarray(line_curve, dtype=np.int64)
     if line_curve.shape != (len(lines),) or (len(lines) and not 0 <= line_curve.min() <= line_curve.max() < len(
         domain.curves

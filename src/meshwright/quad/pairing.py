@@ -93,16 +93,26 @@ from typing import NamedTuple
 
 import numpy as np
 
-from meshwright.core.errors import GeometryError, InputError, MeshingError
-from meshwright.core.errors import fmt_point as _fmt
+from meshwright.core.errors import GeometryError, InputError, MeshingError, fmt_point
 from meshwright.core.mesh import build_neighbors
 from meshwright.core.predicates import orient2d_batch
-from meshwright.core.validate_input import as_points, check_count, check_flag, check_seed
+from meshwright.core.validate_input import (
+    as_cells,
+    as_points,
+    check_count,
+    check_flag,
+    check_seed,
+)
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.chords import chord_split
 from meshwright.quad.enhancement import (
-    ENHANCE_SMOOTH, cells_of, enhance, min_scaled_jacobian, nonconvex, smooth_quads, unpair_nonconvex,
+    ENHANCE_SMOOTH,
+    enhance,
+    min_scaled_jacobian,
+    nonconvex,
+    smooth_quads,
+    unpair_nonconvex,
 )
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.field import as_size_field
@@ -260,7 +270,7 @@ def make_loops_even(domain: Domain, disc, fixed_boundary: bool = False):
         if fixed_boundary:
             raise ParityError(
                 f"{_loop_name(li)} has {len(rows)} boundary nodes, an odd number, and fixed_boundary=True forbids "
-                f"adding one (its first node is at {_fmt(p[e[0, 0]])}); a loop of quadrilaterals needs an even count"
+                f"adding one (its first node is at {fmt_point(p[e[0, 0]])}); a loop of quadrilaterals needs an even count"
             )
         length = np.hypot(*(p[e[:, 1]] - p[e[:, 0]]).T)
         disc = _split_and_respace(domain, disc, int(rows[int(np.argmax(length))]))
@@ -448,12 +458,12 @@ def pair_triangles(
     """
     xy = as_points(points, "points")
     n = len(xy)
-    tris = cells_of(triangles, "triangles", 3, n).copy()
+    tris = as_cells(triangles, "triangles", 3, n).copy()
     o = orient2d_batch(xy, tris)
     if (o <= 0.0).any():
         t = int(np.flatnonzero(o <= 0.0)[0])
         raise InputError(f"triangle {t} {tris[t].tolist()} is not counter-clockwise (exact orient2d)")
-    blocked = cells_of(np.zeros((0, 2), dtype=np.int32) if blocked is None else blocked, "blocked", 2, n)
+    blocked = as_cells(np.zeros((0, 2), dtype=np.int32) if blocked is None else blocked, "blocked", 2, n)
     try:
         bounds = tuple(float(q) for q in bounds)
     except (TypeError, ValueError):
@@ -670,10 +680,10 @@ def _check(xy, quads, tris) -> None:
         q = int(bad[0])
         raise MeshingError(
             f"pairing produced a non-convex quad {q} with corners "
-            + ", ".join(_fmt(xy[v]) for v in quads[q])
+            + ", ".join(fmt_point(xy[v]) for v in quads[q])
         )
     if len(tris):
         o = orient2d_batch(xy, tris)
         if (o <= 0.0).any():
             t = int(np.flatnonzero(o <= 0.0)[0])
-            raise MeshingError(f"pairing left an inverted triangle {t} at {_fmt(xy[tris[t]].mean(axis=0))}")
+            raise MeshingError(f"pairing left an inverted triangle {t} at {fmt_point(xy[tris[t]].mean(axis=0))}")

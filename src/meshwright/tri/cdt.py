@@ -64,8 +64,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from meshwright.core.errors import GeometryError, InputError, MeshingError
-from meshwright.core.errors import fmt_point as _fmt
+from meshwright.core.errors import GeometryError, InputError, MeshingError, fmt_point
 from meshwright.core.flat import GHOST
 from meshwright.tri import _encroach as enc
 from meshwright.tri._build2d import locate_points
@@ -226,7 +225,7 @@ class ConstrainedTriangulation:
     def _raise_crossing(self, p: int, h: int) -> None:
         i = int(self.constraints.seg_in[p])
         a, b = self.input_segments[i] if i >= 0 else self.constraints.seg[p]
-        what = f"segment {i} from {_fmt(self.state.pts[a])} to {_fmt(self.state.pts[b])}"
+        what = f"segment {i} from {fmt_point(self.state.pts[a])} to {fmt_point(self.state.pts[b])}"
         if h < 0:
             raise MeshingError(f"cannot trace {what} through the triangulation")
         q = int(self.state.cons[h]) - 1
@@ -234,9 +233,9 @@ class ConstrainedTriangulation:
         u, w = self.state.tri[h - h % 3 + (h % 3 + 1) % 3], self.state.tri[h - h % 3 + (h % 3 + 2) % 3]
         c, d = self.input_segments[j] if j >= 0 else self.constraints.seg[q]
         pts = self.state.pts
-        other = f"segment {j} from {_fmt(pts[c])} to {_fmt(pts[d])}" if j >= 0 else "a hull segment"
+        other = f"segment {j} from {fmt_point(pts[c])} to {fmt_point(pts[d])}" if j >= 0 else "a hull segment"
         raise GeometryError(
-            f"{what} intersects {other} (it crosses its piece {_fmt(self.state.pts[u])}-{_fmt(self.state.pts[w])})"
+            f"{what} intersects {other} (it crosses its piece {fmt_point(self.state.pts[u])}-{fmt_point(self.state.pts[w])})"
         )
 
     def refresh_pieces(self) -> None:
@@ -353,7 +352,7 @@ class ConstrainedTriangulation:
     def _raise_flood(self, code: int, info) -> None:
         p, t = int(info[0]), int(info[1])
         tri = self.state.tri[3 * t : 3 * t + 3]
-        where = _fmt(self.state.pts[tri[tri >= 0]].mean(axis=0))
+        where = fmt_point(self.state.pts[tri[tri >= 0]].mean(axis=0))
         if code == FLOOD_LEAK:
             raise GeometryError(
                 f"the domain is not closed: its inside reaches the convex hull near {where} "
@@ -364,7 +363,7 @@ class ConstrainedTriangulation:
         i = int(self.constraints.seg_in[p])
         a, b = self.constraints.seg[p]
         raise GeometryError(
-            f"segment {i} from {_fmt(self.state.pts[a])} to {_fmt(self.state.pts[b])} has the domain on both "
+            f"segment {i} from {fmt_point(self.state.pts[a])} to {fmt_point(self.state.pts[b])} has the domain on both "
             f"sides near {where}: loops are oriented inconsistently (outer ccw, holes cw) or cross"
         )
 
@@ -405,7 +404,7 @@ class ConstrainedTriangulation:
         self.constraints = self.constraints._replace(rarea=np.array([np.inf] + area))
         for i, t in enumerate(self.locate(xy, "region")):
             if t < 0 or self.constraints.treg[t] < 0:
-                raise GeometryError(f"region {i} seed {_fmt(xy[i])} lies outside the domain")
+                raise GeometryError(f"region {i} seed {fmt_point(xy[i])} lies outside the domain")
             self.constraints.treg[t] = i + 1
             stack[0] = t
             flood(stack, 1, i + 1, 0, self.state, self.constraints, pside, False)
@@ -468,7 +467,7 @@ class ConstrainedTriangulation:
             self.reserve(self.n_points + batch + 1, int(self.state.meta[M_NTRI]) + 2 * batch + 2)
             i, code = enc.insert_points(q, i, out, self.state, self.constraints)
             if code == enc.R_BROKEN:
-                raise MeshingError(f"inserting point {i} at {_fmt(q[i])} met an inconsistent cavity")
+                raise MeshingError(f"inserting point {i} at {fmt_point(q[i])} met an inconsistent cavity")
         return out
 
     def split_segment(self, a: int, b: int, xy=None) -> int:
@@ -682,7 +681,7 @@ def cdt_build(points, segments=None, segment_ids=None, seed=0, *, conforming=Fal
     zero = np.flatnonzero(seg[:, 0] == seg[:, 1])
     if len(zero):
         i = zero[0]
-        raise GeometryError(f"segment {i} has zero length: both ends at {_fmt(tr.points[seg[i, 0]])}")
+        raise GeometryError(f"segment {i} has zero length: both ends at {fmt_point(tr.points[seg[i, 0]])}")
     if curves is not None and not (isinstance(curves, SegmentCurves) or callable(curves)):
         raise InputError("curves must be a SegmentCurves or a callable (segment_id, xy_a, xy_b) -> xy")
     if isinstance(curves, SegmentCurves) and len(curves.kind) != len(seg):

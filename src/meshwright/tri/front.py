@@ -54,8 +54,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from meshwright.core.errors import MeshingError
-from meshwright.core.errors import fmt_point as _fmt
+from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.core.flat import grown_rows
 from meshwright.core.spatial.loose_quadtree import Q_NODES, qt_new
 from meshwright.sizing.field import as_size_field
@@ -335,7 +334,7 @@ def advancing_front(
             f = int(m[fk.M_FAIL])
             a, b = fs.face[f, 0], fs.face[f, 1]
             raise MeshingError(
-                f"advancing front: no valid triangle on front face {_fmt(fs.pts[a])} -> {_fmt(fs.pts[b])} "
+                f"advancing front: no valid triangle on front face {fmt_point(fs.pts[a])} -> {fmt_point(fs.pts[b])} "
                 f"after {int(m[fk.M_BACKOFF])} back-offs (max_backoff = {int(par[fk.P_MAX_BACKOFF])}); "
                 "the size field may vary too fast there for the boundary spacing"
             )
