@@ -211,6 +211,9 @@ def plot_mesh(
     triangles / quads) in a 3-D axes; with ``show_quality`` (tetra meshes) the boundary
     faces take the colour of their tet's measure and a figure made here gets a histogram
     of the measure over all tets beside the surface (see :func:`plot_quality_histogram`).
+    A tetra mesh drawn plainly into a figure made here (no ``ax``, ``show_quality``,
+    ``color_by``, ``show_points``) gets :func:`meshwright.plot.tet_plot.plot_tet_mesh`'s
+    three panels (boundary, clipped cut, dihedral histogram); the surface's axes is returned.
 
     Parameters
     ----------
@@ -239,6 +242,11 @@ def plot_mesh(
     matplotlib.axes.Axes
     """
     if mesh.dim == 3:
+        if ax is None and show_quality is None and color_by is None and not show_points and _tetra_only(mesh):
+            from meshwright.plot.tet_plot import plot_tet_mesh
+
+            fig = _new_figure(path)
+            return plot_tet_mesh(mesh, path, linewidth=linewidth, title=title, dpi=dpi, cmap=cmap, figure=fig).axes[0]
         return _plot_mesh_3d(mesh, ax, path, linewidth, title, dpi, show_quality, color_by, cmap, show_points)
     from matplotlib.colors import Normalize
 
@@ -271,6 +279,10 @@ def plot_mesh(
         ax.set_title(title)
     _finish(fig, ax, path, dpi)
     return ax
+
+
+def _tetra_only(mesh) -> bool:
+    return bool(len(mesh.tetra)) and not len(mesh.hexahedra)
 
 
 def _tetra_surface(mesh):
