@@ -7,7 +7,10 @@
 * :mod:`~meshwright.geometry.shapes`: polygons, circles, NACA sections, far fields and the
   ``BUILTIN_DOMAINS`` registry;
 * :mod:`~meshwright.geometry.poly` (Triangle ``.poly``) and :mod:`~meshwright.geometry.spec`
-  (JSON) readers and writers.
+  (JSON) readers and writers;
+* :mod:`~meshwright.geometry.surface` (``Surface``, ``combine``), its built-ins
+  (:mod:`~meshwright.geometry.solids`: ``box``, ``sphere``, ``extrude``, ``far_field``) and
+  readers (:mod:`~meshwright.geometry.surface_io`): closed surfaces for tetrahedral meshing.
 """
 
 from meshwright.geometry.curves import Arc, Curve, Line, Parametric, Polyline, Spline
@@ -32,7 +35,10 @@ from meshwright.geometry.shapes import (
     three_element_airfoil,
     three_element_loops,
 )
+from meshwright.geometry.solids import box, extrude, far_field, sphere
 from meshwright.geometry.spec import domain_from_dict, domain_to_dict, load_domain, save_domain
+from meshwright.geometry.surface import Surface, combine
+from meshwright.geometry.surface_io import read_surface, write_smesh
 
 __all__ = [
     "Curve",
@@ -66,4 +72,12 @@ __all__ = [
     "three_element_airfoil",
     "airfoil_in_farfield",
     "from_shapely",
+    "Surface",
+    "combine",
+    "box",
+    "sphere",
+    "extrude",
+    "far_field",
+    "read_surface",
+    "write_smesh",
 ]
