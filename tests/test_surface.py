@@ -11,7 +11,13 @@ import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
-from meshwright.core.errors import FormatError, GeometryError, InputError, SizeError, fmt_point
+from meshwright.core.errors import (
+    FormatError,
+    GeometryError,
+    InputError,
+    SizeError,
+    fmt_point,
+)
 from meshwright.core.mesh import Mesh
 from meshwright.geometry import (
     Surface,
@@ -23,7 +29,13 @@ from meshwright.geometry import (
     sphere,
     write_smesh,
 )
-from meshwright.geometry._surface_kernels import HIT_CROSS, HIT_FOLD, HIT_VERTEX, NO_HIT, find_intersection
+from meshwright.geometry._surface_kernels import (
+    HIT_CROSS,
+    HIT_FOLD,
+    HIT_VERTEX,
+    NO_HIT,
+    find_intersection,
+)
 
 
 def exact_volume(points, triangles):
@@ -85,11 +97,11 @@ def test_sphere_volume_converges_from_below():
         assert v == pytest.approx(s.enclosed_volume(), rel=1e-12)
         volumes.append(v)
     assert all(v < exact for v in volumes)
-    assert all(a < b for a, b in zip(volumes, volumes[1:]))
+    assert all(a < b for a, b in itertools.pairwise(volumes))
     assert exact - volumes[-1] < 2e-3 * exact
     # Second-order convergence: each level divides the error by about four.
     errors = [exact - v for v in volumes]
-    assert all(3.0 < a / b < 5.0 for a, b in zip(errors[2:], errors[3:]))
+    assert all(3.0 < a / b < 5.0 for a, b in itertools.pairwise(errors[2:]))
 
 
 def test_builtins_reject_bad_arguments():
@@ -487,7 +499,7 @@ def test_tetgen_poly_and_node_face(tmp_path):
     assert exact_volume(s.points, s.triangles) == 1
     assert np.array_equal(np.bincount(s.markers), [0, 2, 2, 2, 2, 2, 2])
     b = box()
-    (tmp_path / "b.face").write_text(f"12 1\n" + "".join(
+    (tmp_path / "b.face").write_text("12 1\n" + "".join(
         f"{i} {t[0]} {t[2]} {t[1]} {m}\n" for i, (t, m) in enumerate(zip(b.triangles, b.markers))))
     f = read_surface(tmp_path / "b.face")
     f.validate()

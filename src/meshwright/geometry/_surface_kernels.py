@@ -46,18 +46,19 @@ from meshwright.core.flat import grown
 from meshwright.core.predicates import orient2d, orient3d
 
 __all__ = [
+    "HIT_CROSS",
+    "HIT_DUPLICATE",
+    "HIT_FOLD",
+    "HIT_VERTEX",
     "LEAF",
     "NO_HIT",
-    "HIT_CROSS",
-    "HIT_VERTEX",
-    "HIT_FOLD",
-    "HIT_DUPLICATE",
     "degenerate_faces",
-    "find_intersection",
-    "nesting_parity",
-    "label_shells",
-    "orient_shells",
     "ear_clip",
+    "find_intersection",
+    "label_shells",
+    "nesting_parity",
+    "orient_shells",
+    "volume_terms",
 ]
 
 LEAF = 8
@@ -473,6 +474,12 @@ def nesting_parity(p, tri, shell, n_shells, query, query_shell):
     m = tri.shape[0] // 3
     k = query.shape[0]
     out = np.zeros((k, n_shells), np.uint8)
+    # Queries sorted by y: each face scans only those within its y extent.
+    qy = np.empty(k)
+    for i in range(k):
+        qy[i] = p[query[i], 1]
+    by_y = np.argsort(qy)
+    qy = qy[by_y]
     for f in range(m):
         a = tri[3 * f]
         b = tri[3 * f + 1]
@@ -486,11 +493,12 @@ def nesting_parity(p, tri, shell, n_shells, query, query_shell):
         zlo = min(p[a, 2], p[b, 2], p[c, 2])
         zhi = max(p[a, 2], p[b, 2], p[c, 2])
         t = shell[f]
-        for i in range(k):
+        for r in range(np.searchsorted(qy, ylo), np.searchsorted(qy, yhi, side="right")):
+            i = by_y[r]
             if query_shell[i] == t:
                 continue
             q = query[i]
-            if p[q, 0] >= xmax or p[q, 1] < ylo or p[q, 1] > yhi or p[q, 2] < zlo or p[q, 2] > zhi:
+            if p[q, 0] >= xmax or p[q, 2] < zlo or p[q, 2] > zhi:
                 continue
             inside = True
             for j in range(3):
@@ -506,6 +514,37 @@ def nesting_parity(p, tri, shell, n_shells, query, query_shell):
             if inside and _o3(p, a, b, c, q) * s < 0.0:
                 out[i, t] ^= 1
     return out
+
+
+@njit(cache=True)
+def volume_terms(p, tri, o):
+    """Per face ``det[a - o, b - o, c - o]`` (six times the signed volume of the tet from o)
+    and its permanent (the same products in absolute value, for the rounding bound).
+
+    Parameters
+    ----------
+    p : (n, 3) float64
+    tri : (3 m,) int32
+    o : (3,) float64
+
+    Returns
+    -------
+    det, perm : (m,) float64
+    """
+    m = tri.shape[0] // 3
+    det = np.empty(m)
+    perm = np.empty(m)
+    for f in range(m):
+        a = tri[3 * f]
+        b = tri[3 * f + 1]
+        c = tri[3 * f + 2]
+        ax, ay, az = p[a, 0] - o[0], p[a, 1] - o[1], p[a, 2] - o[2]
+        bx, by, bz = p[b, 0] - o[0], p[b, 1] - o[1], p[b, 2] - o[2]
+        cx, cy, cz = p[c, 0] - o[0], p[c, 1] - o[1], p[c, 2] - o[2]
+        det[f] = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)
+        perm[f] = (abs(ax) * (abs(by * cz) + abs(bz * cy)) + abs(ay) * (abs(bz * cx) + abs(bx * cz))
+                   + abs(az) * (abs(bx * cy) + abs(by * cx)))
+    return det, perm
 
 
 # ------------------------------------------------------------------ shells and orientation

@@ -27,10 +27,15 @@ from meshwright.core.errors import GeometryError, InputError, fmt_point
 from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d_batch
 from meshwright.core.topology import boundary_edges_of
-from meshwright.core.validate_input import as_exact_points, check_count, check_flag, check_positive
+from meshwright.core.validate_input import (
+    as_exact_points,
+    check_count,
+    check_flag,
+    check_positive,
+)
 from meshwright.geometry.surface import Surface, combine
 
-__all__ = ["box", "sphere", "extrude", "far_field", "MAX_SPHERE_LEVEL"]
+__all__ = ["MAX_SPHERE_LEVEL", "box", "extrude", "far_field", "sphere"]
 
 # 20 * 4**9 = 5.2e6 faces; beyond that the arrays alone take gigabytes.
 MAX_SPHERE_LEVEL = 9

@@ -46,6 +46,7 @@ from meshwright.geometry._surface_kernels import (
     label_shells,
     nesting_parity,
     orient_shells,
+    volume_terms,
 )
 
 __all__ = ["Surface", "combine"]
@@ -199,18 +200,10 @@ class Surface:
         return float(self._volume_terms()[0].sum() / 6.0)
 
     def _volume_terms(self) -> tuple[np.ndarray, np.ndarray]:
-        """Per face ``det[a - o, b - o, c - o]`` and its permanent (for the error bound)."""
-        o = self.bbox.mean(axis=0)
-        p = self.points[self.triangles] - o
-        a, b, c = p[:, 0], p[:, 1], p[:, 2]
-        det = np.einsum("mi,mi->m", a, np.cross(b, c))
-        aa, bb, cc = np.abs(a), np.abs(b), np.abs(c)
-        perm = (
-            aa[:, 0] * (bb[:, 1] * cc[:, 2] + bb[:, 2] * cc[:, 1])
-            + aa[:, 1] * (bb[:, 2] * cc[:, 0] + bb[:, 0] * cc[:, 2])
-            + aa[:, 2] * (bb[:, 0] * cc[:, 1] + bb[:, 1] * cc[:, 0])
-        )
-        return det, perm
+        """Per face ``det[a - o, b - o, c - o]`` and its permanent (for the error bound); o
+        the centre of the points' box, which keeps the products small."""
+        o = 0.5 * (self.points.min(axis=0) + self.points.max(axis=0))
+        return volume_terms(self.points, self.triangles.ravel(), o)
 
     def shells(self) -> np.ndarray:
         """(m,) int32 shell of each face: connected components through the edges in exactly
@@ -412,22 +405,26 @@ class Surface:
 
     def _check_shells(self, edges: _Edges) -> None:
         labels, depth, volume, bound = self._nesting(edges)
-        for s in range(len(depth)):
-            f = int(np.flatnonzero(labels == s)[0])
-            if not abs(volume[s]) > bound[s]:
-                raise GeometryError(
-                    f"the shell of {self._face_text(f)} encloses volume {volume[s] / 6.0!r}, too small to "
-                    "tell its orientation from rounding: the shell is flat or folded"
-                )
-            outer = depth[s] % 2 == 0
-            if outer != (volume[s] > 0):
-                corner = fmt_point(self.points[self.triangles[f, 0]])
-                role = "an outer boundary (positive volume)" if outer else "a cavity (negative volume)"
-                raise GeometryError(
-                    f"the shell of {self._face_text(f)} at {corner} is inverted: it lies inside {depth[s]} "
-                    f"other shells, so it is {role}, but it encloses {volume[s] / 6.0!r}; reverse its faces "
-                    "(Surface.flipped(), or Surface.oriented() for the whole surface)"
-                )
+        first = np.unique(labels, return_index=True)[1]
+        flat = np.flatnonzero(~(np.abs(volume) > bound))
+        if len(flat):
+            s = int(flat[0])
+            raise GeometryError(
+                f"the shell of {self._face_text(int(first[s]))} encloses volume {float(volume[s]) / 6.0!r}, too "
+                "small to tell its orientation from rounding: the shell is flat or folded"
+            )
+        outer = depth % 2 == 0
+        wrong = np.flatnonzero(outer != (volume > 0))
+        if len(wrong):
+            s = int(wrong[0])
+            f = int(first[s])
+            corner = fmt_point(self.points[self.triangles[f, 0]])
+            role = "an outer boundary (positive volume)" if outer[s] else "a cavity (negative volume)"
+            raise GeometryError(
+                f"the shell of {self._face_text(f)} at {corner} is inverted: it lies inside {int(depth[s])} "
+                f"other shells, so it is {role}, but it encloses {float(volume[s]) / 6.0!r}; reverse its faces "
+                "(Surface.flipped(), or Surface.oriented() for the whole surface)"
+            )
 
 
 def _as_markers(markers, m: int) -> np.ndarray:
