@@ -303,6 +303,26 @@ def test_oriented_restores_random_flips():
     assert np.array_equal(o.triangles, s.triangles)
 
 
+@given(st.lists(st.tuples(*[st.integers(-2, 10).map(lambda v: v / 4)] * 3), min_size=1, max_size=30))
+def test_inside_even_odd_against_boxes(pts):
+    # A box with a box cavity holding a box core; the grid of quarter points meets the
+    # planes, edges and vertices of the faces (the ray's degenerate cases).
+    s = combine(box((0, 0, 0), (2, 2, 2)), box((0.5, 0.5, 0.5), (1.5, 1.5, 1.5)).flipped(),
+                box((0.75, 0.75, 0.75), (1.25, 1.25, 1.25)))
+    pts = np.array(pts)
+
+    def strictly_in(lo, hi):
+        return np.all((pts > lo) & (pts < hi), axis=1)
+
+    def on_boundary(lo, hi):
+        closed = np.all((pts >= lo) & (pts <= hi), axis=1)
+        return closed & ~strictly_in(lo, hi)
+
+    on = on_boundary(0, 2) | on_boundary(0.5, 1.5) | on_boundary(0.75, 1.25)
+    expected = strictly_in(0, 2) & ~(strictly_in(0.5, 1.5) & ~strictly_in(0.75, 1.25))
+    assert np.array_equal(s.inside(pts)[~on], expected[~on])
+
+
 # ------------------------------------------------------------------ the pair test
 
 

@@ -235,13 +235,12 @@ def _pair(p, tri, f, g, w):
             w[k] = (p[fa, k] + p[fb, k] + p[fc, k]) / 3.0
         return HIT_DUPLICATE
     if shared == 0:
-        if _same_side_strict(_o3(p, fa, fb, fc, ga), _o3(p, fa, fb, fc, gb)) and _same_side_strict(
-            _o3(p, fa, fb, fc, gb), _o3(p, fa, fb, fc, gc)
-        ):
+        # Plane-side rejection (Möller): one triangle strictly on one side of the other's plane.
+        ob = _o3(p, fa, fb, fc, gb)
+        if _same_side_strict(_o3(p, fa, fb, fc, ga), ob) and _same_side_strict(ob, _o3(p, fa, fb, fc, gc)):
             return NO_HIT
-        if _same_side_strict(_o3(p, ga, gb, gc, fa), _o3(p, ga, gb, gc, fb)) and _same_side_strict(
-            _o3(p, ga, gb, gc, fb), _o3(p, ga, gb, gc, fc)
-        ):
+        ob = _o3(p, ga, gb, gc, fb)
+        if _same_side_strict(_o3(p, ga, gb, gc, fa), ob) and _same_side_strict(ob, _o3(p, ga, gb, gc, fc)):
             return NO_HIT
         if (_segment_triangle(p, fa, fb, ga, gb, gc, w) or _segment_triangle(p, fb, fc, ga, gb, gc, w)
                 or _segment_triangle(p, fc, fa, ga, gb, gc, w) or _segment_triangle(p, ga, gb, fa, fb, fc, w)

@@ -54,12 +54,27 @@ __all__ = ["Surface", "combine"]
 _EPS = 2.0**-53
 
 
-class _Edges:
-    """Directed edges of the faces grouped by undirected edge.
+class EdgeGroups:
+    """Directed edges of the faces grouped by undirected edge (also used by the readers).
 
-    Directed edge ``3 f + k`` runs from corner k to corner k + 1 of face f.  ``count[e]`` is
-    the number of directed edges on e's undirected edge; ``first``/``second`` pair the two
-    directed edges of every edge in exactly two faces.
+    Parameters
+    ----------
+    triangles : (m, 3) int
+    n_points : int
+        Upper bound of the vertex indices.
+
+    Attributes
+    ----------
+    tail, head : (3 m,) int64
+        Directed edge ``3 f + k`` runs from corner k to corner k + 1 of face f.
+    order, group : (3 m,) int64
+        :func:`~meshwright.core.mesh._sort_groups` of the undirected keys.
+    count : (3 m,) int64
+        Number of directed edges (faces) on each directed edge's undirected edge.
+    first, second : (e,) int64
+        The two directed edges of every edge in exactly two faces.
+    same : (e,) bool
+        Whether that pair traverses its edge in the same direction.
     """
 
     def __init__(self, triangles: np.ndarray, n_points: int):
@@ -130,7 +145,7 @@ class Surface:
             raise InputError(f"triangles row {rep[0]} {tri[rep[0]].tolist()} repeats a vertex")
         self.triangles = tri
         self.markers = _as_markers(markers, len(tri))
-        self.holes = np.zeros((0, 3)) if holes is None else as_exact_points(holes, "holes", dim=3)
+        self.holes = np.zeros((0, 3)) if holes is None or np.size(holes) == 0 else as_exact_points(holes, "holes", 3)
         self.regions = _as_regions(regions)
         self.multi_region = check_flag(multi_region, "multi_region")
 
@@ -170,7 +185,7 @@ class Surface:
         renumber[used] = np.arange(len(used))
         tri = renumber[tri]
         if multi_region is None:
-            multi_region = bool(np.any(_Edges(tri, len(used)).count > 2))
+            multi_region = bool(np.any(EdgeGroups(tri, len(used)).count > 2))
         return cls(mesh.points[used], tri, markers, holes, regions, multi_region)
 
     # ------------------------------------------------------------------ measures
@@ -208,9 +223,31 @@ class Surface:
     def shells(self) -> np.ndarray:
         """(m,) int32 shell of each face: connected components through the edges in exactly
         two faces, numbered 0, 1, ... in order of their first face."""
-        edges = _Edges(self.triangles, self.n_points)
+        edges = EdgeGroups(self.triangles, self.n_points)
         labels, _ = label_shells(self.n_faces, edges.first, edges.second)
         return labels.astype(np.int32)
+
+    def inside(self, xyz) -> np.ndarray:
+        """Whether each point lies in the solid by the even-odd rule: inside an odd number
+        of shells (exact ray parity, :func:`_surface_kernels.nesting_parity`).
+
+        Parameters
+        ----------
+        xyz : (k, 3) array_like of float
+
+        Returns
+        -------
+        (k,) bool
+            Unspecified for a point on the surface itself; on a closed surface without
+            self-intersections (:meth:`validate`) exact for every other point.
+        """
+        q = as_exact_points(xyz, "xyz", dim=3)
+        labels = self.shells().astype(np.int64)
+        k = int(labels.max()) + 1
+        p = np.concatenate([self.points, q])
+        query = np.arange(self.n_points, len(p), dtype=np.int64)
+        parity = nesting_parity(p, self.triangles.ravel(), labels, k, query, np.full(len(q), -1, np.int64))
+        return parity.sum(axis=1) % 2 == 1
 
     # ------------------------------------------------------------------ transforms
     def flipped(self) -> Surface:
@@ -237,7 +274,7 @@ class Surface:
             raise InputError("a multi-region surface has no orientation convention to restore")
         self._check_points()
         self._check_faces()
-        edges = _Edges(self.triangles, self.n_points)
+        edges = EdgeGroups(self.triangles, self.n_points)
         self._check_edges(edges, orientation=False)
         flip, bad = orient_shells(self.n_faces, edges.first, edges.second, edges.same)
         if bad >= 0:
@@ -249,7 +286,7 @@ class Surface:
         tri = self.triangles.copy()
         tri[flip] = tri[flip][:, [0, 2, 1]]
         out = Surface(self.points, tri, self.markers, self.holes, self.regions)
-        labels, depth, volume, _ = out._nesting(_Edges(tri, self.n_points))
+        labels, depth, volume, _ = out._nesting(EdgeGroups(tri, self.n_points))
         wrong = np.flatnonzero((depth % 2 == 0) != (volume > 0))
         flip = np.isin(labels, wrong)
         tri[flip] = tri[flip][:, [0, 2, 1]]
@@ -281,7 +318,7 @@ class Surface:
         """
         self._check_points()
         self._check_faces()
-        edges = _Edges(self.triangles, self.n_points)
+        edges = EdgeGroups(self.triangles, self.n_points)
         self._check_edges(edges, orientation=not self.multi_region)
         self._check_intersections()
         if not self.multi_region:
@@ -318,7 +355,7 @@ class Surface:
                 f"{f'; {len(bad)} such faces' if len(bad) > 1 else ''}"
             )
 
-    def _check_edges(self, edges: _Edges, orientation: bool) -> None:
+    def _check_edges(self, edges: EdgeGroups, orientation: bool) -> None:
         open_ = np.flatnonzero(edges.count == 1)
         if len(open_):
             e = int(open_[0])
@@ -370,7 +407,7 @@ class Surface:
             "the surface intersects itself"
         )
 
-    def _nesting(self, edges: _Edges):
+    def _nesting(self, edges: EdgeGroups):
         """Shell labels, nesting depth and signed volume (x6) of every shell; error bounds."""
         labels, k = label_shells(self.n_faces, edges.first, edges.second)
         depth = np.zeros(k, np.int64)
@@ -403,7 +440,7 @@ class Surface:
         parity = nesting_parity(self.points, self.triangles.ravel(), labels, k, query, np.arange(k))
         return parity.sum(axis=1).astype(np.int64)
 
-    def _check_shells(self, edges: _Edges) -> None:
+    def _check_shells(self, edges: EdgeGroups) -> None:
         labels, depth, volume, bound = self._nesting(edges)
         first = np.unique(labels, return_index=True)[1]
         flat = np.flatnonzero(~(np.abs(volume) > bound))
@@ -522,7 +559,7 @@ def combine(*surfaces: Surface) -> Surface:
     multi = any(s.multi_region for s in surfaces) or bool(opposite.any())
     tri, markers = tri[keep], markers[keep]
     if not multi:
-        multi = bool(np.any(_Edges(tri, len(points)).count > 2))
+        multi = bool(np.any(EdgeGroups(tri, len(points)).count > 2))
     return Surface(
         points,
         tri,

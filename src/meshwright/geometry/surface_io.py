@@ -40,7 +40,7 @@ import numpy as np
 from meshwright.core.errors import FormatError, GeometryError, InputError
 from meshwright.geometry._surface_kernels import ear_clip
 from meshwright.geometry.poly_format import Records, _vertex_section, parse_node
-from meshwright.geometry.surface import Surface, _Edges
+from meshwright.geometry.surface import EdgeGroups, Surface
 
 __all__ = ["read_surface", "write_smesh"]
 
@@ -96,7 +96,7 @@ def read_surface(path, *, orient: bool | None = None) -> Surface:
     if orient is None:
         # Only a closed manifold surface has an orientation to restore; anything else is
         # returned as read, for validate() to name what is wrong.
-        edges = _Edges(surface.triangles, surface.n_points)
+        edges = EdgeGroups(surface.triangles, surface.n_points)
         if surface.multi_region or not np.all(edges.count == 2):
             return surface
         try:
@@ -264,7 +264,7 @@ def _read_tetgen(path: Path, suffix: str) -> Surface:
     if len(rep):
         raise FormatError(f"{path}: face {rep[0]} repeats a corner")
     try:
-        multi = bool(np.any(_Edges(tri, len(points)).count > 2))
+        multi = bool(np.any(EdgeGroups(tri, len(points)).count > 2))
         return Surface(points, tri, markers, holes, regions, multi)
     except InputError as exc:
         raise FormatError(f"{path}: {exc}") from exc
