@@ -172,6 +172,30 @@ def test_extrude_line_markers_and_refusals():
         extrude(bare, 1.0, line_markers=True)
 
 
+def test_extruded_naca_wing_in_far_field():
+    import meshwright
+    from meshwright.geometry import naca
+
+    section = meshwright.triangulate(naca("0012"), 0.04)
+    wing = extrude(section, 2.0, z0=-1.0, layers=4, markers=(11, 12, 13))
+    wing.validate()
+    # Volume by the shoelace area of the 2-D triangles, computed here.
+    p = section.points[section.triangles]
+    area = 0.5 * np.sum((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                        - (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1]))
+    assert wing.enclosed_volume() == pytest.approx(2.0 * area, rel=1e-12)
+    s = far_field(wing, (-2, -2, -2), (3, 2, 2))
+    s.validate()
+    assert s.enclosed_volume() == pytest.approx(80.0 - 2.0 * area, rel=1e-12)
+
+
+def test_thin_plate_and_needles_validate():
+    box((0, 0, 0), (1, 1, 1e-3)).validate()
+    box((0, 0, 0), (1e3, 1e-3, 1e-3)).validate()
+    # 20:1 size jumps: a fine sphere inside a coarse far field.
+    far_field(sphere(0.05, (0.5, 0.5, 0.5), 3), (-0.5, -0.5, -0.5), (1.5, 1.5, 1.5)).validate()
+
+
 def test_far_field_combine_shells_and_volume():
     body = sphere(0.5, (0.5, 0.5, 0.5), 2)
     body.markers[:] = 7

@@ -179,8 +179,8 @@ def extrude(mesh, height, *, z0=0.0, layers: int = 1, markers=(1, 2, 3), line_ma
     Returns
     -------
     Surface
-        Points: the 2-D points at ``z0`` (same numbering), then at ``z0 + height``, then the
-        boundary points of the inner layers.
+        Points: the 2-D points at ``z0``, then at ``z0 + height``, then the boundary points
+        of the inner layers (2-D points in no triangle left out, the rest in their order).
 
     Raises
     ------

@@ -314,7 +314,9 @@ class Surface:
             an edge traversed in the same direction by its two faces, two faces that meet
             other than in their shared vertices or edge, a shell whose volume has the
             wrong sign for its nesting depth (or too small a volume to sign).  The message
-            names the vertices, faces and coordinates at fault.
+            names the vertices, faces and coordinates at fault.  Shells or fans of faces
+            touching in a vertex (a "pinched" vertex) are allowed: faces sharing only a
+            vertex are tested to meet nowhere else.
         """
         self._check_points()
         self._check_faces()
