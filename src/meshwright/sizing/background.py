@@ -1,36 +1,50 @@
-r"""Background grid of chapter 18.2: spacing delta, stretching s and direction alpha per node.
+r"""Background grid of chapter 18.2 (spacing delta, stretching s and direction alpha per node),
+and its 3-D counterpart of chapter 18.4.2 step 1 (spacing delta on a mesh of tetrahedra).
 
-Source: J. Peraire, M. Vahdati, K. Morgan and O. C. Zienkiewicz, "Adaptive remeshing for
+Sources: J. Peraire, M. Vahdati, K. Morgan and O. C. Zienkiewicz, "Adaptive remeshing for
 compressible flow computations", J. Comput. Phys. 72, 1987 (the background mesh of the
-advancing-front method); chapter 18.2 of the reference text.
+advancing-front method); J. Peraire, J. Peiro and K. Morgan, "Adaptive remeshing for
+three-dimensional compressible flow computations", J. Comput. Phys. 103, 1992 (the same on
+tetrahedra); chapters 18.2 and 18.4.2 of the reference text.
 
-A background grid is a triangulation covering the domain with three values at each node:
-the spacing ``delta``, the stretching ``s >= 1`` and the stretching direction ``alpha``.
-Inside a background triangle the values are interpolated linearly.  An element generated
-at a point has length ``s * delta`` along ``alpha`` and ``delta`` across it; the chapter
-maps the plane by the local transformation ``T = R(alpha) diag(1/s, 1) R(-alpha)`` (rotate
-alpha onto x1, scale x1 by 1/s, rotate back), in which those elements are equilateral of
-side delta: :meth:`BackgroundGrid.transform` returns it.
+A background grid is a triangulation (2-D) or tetrahedralization (3-D) covering the domain
+with values at each node, interpolated linearly inside each background simplex.  In 2-D the
+values are the spacing ``delta``, the stretching ``s >= 1`` and the stretching direction
+``alpha``.  An element generated at a point has length ``s * delta`` along ``alpha`` and
+``delta`` across it; the chapter maps the plane by the local transformation
+``T = R(alpha) diag(1/s, 1) R(-alpha)`` (rotate alpha onto x1, scale x1 by 1/s, rotate back),
+in which those elements are equilateral of side delta: :meth:`BackgroundGrid.transform`
+returns it.  In 3-D the grid is isotropic: ``delta`` only (stretching in 3-D would need a
+direction frame per node, which no 3-D method here honours, so the constructor refuses it).
 
 Directions are axes (alpha and alpha + pi are the same stretching), so they are
 interpolated as the doubled-angle vector ``(cos 2 alpha, sin 2 alpha)``, whose angle is
 halved afterwards; interpolating the angles themselves would turn 179 and 1 degrees into 90.
 
-Outside the background triangles (the grid should cover the domain, but a boundary point
-may sit on a curve just beyond the chord of a background edge) the values of the nearest
-point of the nearest triangle are used.
+Outside the background simplices (the grid should cover the domain, but a boundary point
+may sit on a curve just beyond the chord of a background edge, or a surface point just
+beyond a background face) the values of the nearest point of the nearest simplex are used.
 
-Layout: ``points`` (n, 2) float64, ``triangles`` (m, 3) int32 counter-clockwise, ``delta``,
-``stretch``, ``direction`` (n,) float64; point location by a uniform bucket grid over the
-triangles' bounding boxes in CSR form (``start`` (cells + 1,) int64, ``items`` int32), about
-two triangles per cell.
+Layout: ``points`` (n, d) float64, ``cells`` (m, d + 1) int32 (counter-clockwise triangles,
+positively oriented tetrahedra: ``orient3d > 0``), ``delta``, ``stretch``, ``direction``
+(n,) float64; point location by the uniform bucket grid of :mod:`meshwright.sizing._buckets`
+(CSR ``start`` (cubes + 1,) int64, ``items`` int32, about two simplices per cube) and walks
+across the face neighbours; the 3-D kernels are in :mod:`meshwright.sizing._background3d`.
 
-File format (:meth:`BackgroundGrid.read` / :meth:`BackgroundGrid.write`), plain text::
+File format (:meth:`BackgroundGrid.read` / :meth:`BackgroundGrid.write`), plain text, ``#``
+comments; 2-D::
 
     meshwright-background 1
     n m
     x y delta stretch direction_degrees      (n lines)
     i j k                                    (m lines, 0-based, counter-clockwise)
+
+3-D (a third number on the count line gives the dimension)::
+
+    meshwright-background 1
+    n m 3
+    x y z delta                              (n lines)
+    i j k l                                  (m lines, 0-based, orient3d > 0)
 """
 
 from __future__ import annotations
@@ -42,50 +56,14 @@ from numba import njit
 
 from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.core.geom2d import closest_on_segment
+from meshwright.sizing._background3d import interpolate3d
+from meshwright.sizing._buckets import bucket_grid, bucket_shape, face_neighbours
 from meshwright.sizing.boundary import point_distribution
 from meshwright.sizing.field import SizeField, fmt_point, unit_tangents
 
 __all__ = ["BackgroundGrid", "interpolate_one", "interpolate_walk"]
 
 _MAGIC = "meshwright-background 1"
-
-
-@njit(inline="always")
-def _cell_range(pts, tris, t, x0, y0, cell, nx, ny):
-    """Cells (i0, i1, j0, j1) touched by the bounding box of triangle t."""
-    lo_x = min(pts[tris[t, 0], 0], pts[tris[t, 1], 0], pts[tris[t, 2], 0])
-    hi_x = max(pts[tris[t, 0], 0], pts[tris[t, 1], 0], pts[tris[t, 2], 0])
-    lo_y = min(pts[tris[t, 0], 1], pts[tris[t, 1], 1], pts[tris[t, 2], 1])
-    hi_y = max(pts[tris[t, 0], 1], pts[tris[t, 1], 1], pts[tris[t, 2], 1])
-    i0 = min(nx - 1, max(0, int((lo_x - x0) / cell)))
-    i1 = min(nx - 1, max(0, int((hi_x - x0) / cell)))
-    j0 = min(ny - 1, max(0, int((lo_y - y0) / cell)))
-    j1 = min(ny - 1, max(0, int((hi_y - y0) / cell)))
-    return i0, i1, j0, j1
-
-
-@njit(cache=True)
-def _bucket_grid(pts, tris, x0, y0, cell, nx, ny):
-    """CSR lists ``(start, items)`` of the triangles whose bounding box touches each cell."""
-    m = tris.shape[0]
-    start = np.zeros(nx * ny + 1, dtype=np.int64)
-    for t in range(m):
-        i0, i1, j0, j1 = _cell_range(pts, tris, t, x0, y0, cell, nx, ny)
-        for j in range(j0, j1 + 1):
-            for i in range(i0, i1 + 1):
-                start[j * nx + i + 1] += 1
-    for c in range(nx * ny):
-        start[c + 1] += start[c]
-    items = np.empty(start[nx * ny], dtype=np.int32)
-    fill = start[:-1].copy()
-    for t in range(m):
-        i0, i1, j0, j1 = _cell_range(pts, tris, t, x0, y0, cell, nx, ny)
-        for j in range(j0, j1 + 1):
-            for i in range(i0, i1 + 1):
-                c = j * nx + i
-                items[fill[c]] = t
-                fill[c] += 1
-    return start, items
 
 
 @njit(inline="always")
@@ -146,23 +124,6 @@ def _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y):
     return best, w0, w1, w2
 
 
-def _neighbours(tris: np.ndarray) -> np.ndarray:
-    """(m, 3) int32: the triangle across the edge opposite vertex k, -1 on the border."""
-    m = len(tris)
-    a = tris[:, [1, 2, 0]].ravel().astype(np.int64)
-    b = tris[:, [2, 0, 1]].ravel().astype(np.int64)
-    n = int(tris.max()) + 1
-    key = a * n + b
-    rev = b * n + a
-    order = np.argsort(key)
-    pos = np.searchsorted(key[order], rev)
-    pos = np.minimum(pos, len(key) - 1)
-    hit = key[order][pos] == rev
-    out = np.full(3 * m, -1, dtype=np.int32)
-    out[hit] = (order[pos[hit]] // 3).astype(np.int32)
-    return out.reshape(m, 3)
-
-
 @njit(cache=True)
 def interpolate_walk(pts, tris, nbr, start, items, x0, y0, cell, nx, ny, values, col, hint, x, y):
     """:func:`interpolate_one` walking from the triangle ``hint[0]`` (updated), for queries
@@ -213,10 +174,46 @@ def _interpolate(pts, tris, start, items, x0, y0, cell, nx, ny, xy, values):
     return out
 
 
+
 def _area2(pts: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """(m,) float64: twice the signed area of each triangle."""
     a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
     return (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+
+
+def _volume6(pts: np.ndarray, tets: np.ndarray) -> np.ndarray:
+    """(m,) float64: six times the signed volume of each tetrahedron."""
+    a = pts[tets[:, 0]]
+    return np.einsum("mi,mi->m", pts[tets[:, 1]] - a, np.cross(pts[tets[:, 2]] - a, pts[tets[:, 3]] - a))
+
+
+def _measure(pts: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """Twice the area (2-D) or six times the volume (3-D) of each simplex, signed."""
+    return _area2(pts, cells) if pts.shape[1] == 2 else _volume6(pts, cells)
+
+
+def _nodes_and_cells(points, cells, dim: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Coerce and check a background's points (n, d) and simplices (m, d + 1), orientation aside.
+
+    ``dim`` None takes d from the points (2 or 3).
+    """
+    pts = np.ascontiguousarray(np.asarray(points, dtype=np.float64))
+    d = dim
+    if d is None:
+        d = pts.shape[1] if pts.ndim == 2 and pts.shape[1] in (2, 3) else 0
+    if pts.ndim != 2 or pts.shape[1] != d or len(pts) < d + 1:
+        want = f"(n >= {d + 1}, {d})" if d else "(n >= 3, 2) or (n >= 4, 3)"
+        raise InputError(f"background points must have shape {want}, got {pts.shape}")
+    bad = np.flatnonzero(~np.isfinite(pts).all(axis=1))
+    if len(bad):
+        raise InputError(f"background node {bad[0]} has non-finite coordinates {pts[bad[0]].tolist()}")
+    c = np.asarray(cells)
+    what = "triangles" if d == 2 else "tetrahedra"
+    if c.ndim != 2 or c.shape[1] != d + 1 or len(c) == 0 or not np.issubdtype(c.dtype, np.integer):
+        raise InputError(f"background {what} must be an (m >= 1, {d + 1}) integer array, got {c.shape} {c.dtype}")
+    if c.min() < 0 or c.max() >= len(pts):
+        raise InputError(f"background {what} refer to nodes outside [0, {len(pts)})")
+    return pts, np.ascontiguousarray(c, dtype=np.int32)
 
 
 def _per_node(value, n: int, name: str) -> np.ndarray:
@@ -229,57 +226,68 @@ def _per_node(value, n: int, name: str) -> np.ndarray:
 
 
 class BackgroundGrid(SizeField):
-    """Spacing delta, stretching s and direction alpha on a background triangulation.
+    """Spacing on a background triangulation (2-D: with stretching) or tetrahedralization (3-D).
 
     Usable wherever a size is accepted (``size=BackgroundGrid(...)``): as a size field it
-    gives delta, and :meth:`along` gives the direction-aware spacing along a curve, which
-    boundary discretisation uses (``s * delta`` along alpha, ``delta`` across it).
+    gives delta at (k, d) points, and in 2-D :meth:`along` gives the direction-aware spacing
+    along a curve, which boundary discretisation uses (``s * delta`` along alpha, ``delta``
+    across it).  The dimension is the points' (:attr:`dim`).
 
     Parameters
     ----------
-    points : (n, 2) array_like of float64
-    triangles : (m, 3) array_like of int
-        Counter-clockwise triangles covering the domain.
+    points : (n, 2) or (n, 3) array_like of float64
+    cells : (m, 3) or (m, 4) array_like of int
+        Counter-clockwise triangles (2-D) or positively oriented tetrahedra (3-D,
+        ``orient3d > 0``) covering the domain.
     delta : float or (n,) array_like
         Spacing, positive.
-    stretch : float or (n,) array_like
-        Stretching s >= 1 (element length s * delta along the direction).
-    direction : float or (n,) array_like
-        Stretching direction alpha in radians, from the x axis.
+    stretch : float or (n,) array_like, optional
+        2-D only: stretching s >= 1 (element length s * delta along the direction); default 1.
+    direction : float or (n,) array_like, optional
+        2-D only: stretching direction alpha in radians, from the x axis; default 0.
+
+    Attributes
+    ----------
+    dim : int
+    points : (n, dim) float64
+    cells : (m, dim + 1) int32
+        Also :attr:`triangles` (2-D) or :attr:`tetrahedra` (3-D).
+    delta, stretch, direction : (n,) float64
+        In 3-D ``stretch`` is all ones and ``direction`` all zeros (isotropic).
 
     Raises
     ------
     InputError
         Wrong shapes, indices out of range, non-finite coordinates, a triangle that is not
-        counter-clockwise (all named).
+        counter-clockwise or a tetrahedron not positively oriented (all named); ``stretch``
+        or ``direction`` given in 3-D.
     SizeError
         A spacing that is not positive or a stretching below 1 (node and value named).
     """
 
-    def __init__(self, points, triangles, delta, stretch=1.0, direction=0.0):
-        pts = np.ascontiguousarray(np.asarray(points, dtype=np.float64))
-        if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 3:
-            raise InputError(f"background points must have shape (n >= 3, 2), got {pts.shape}")
-        bad = np.flatnonzero(~np.isfinite(pts).all(axis=1))
-        if len(bad):
-            raise InputError(f"background node {bad[0]} has non-finite coordinates {pts[bad[0]].tolist()}")
-        tris = np.asarray(triangles)
-        if tris.ndim != 2 or tris.shape[1] != 3 or len(tris) == 0 or not np.issubdtype(tris.dtype, np.integer):
-            raise InputError(f"background triangles must be an (m >= 1, 3) integer array, got {tris.shape} {tris.dtype}")
-        if tris.min() < 0 or tris.max() >= len(pts):
-            raise InputError(f"background triangles refer to nodes outside [0, {len(pts)})")
-        tris = np.ascontiguousarray(tris, dtype=np.int32)
-        area2 = _area2(pts, tris)
-        flat = np.flatnonzero(area2 <= 0.0)
-        if len(flat):
+    def __init__(self, points, cells, delta, stretch=None, direction=None):
+        pts, cells = _nodes_and_cells(points, cells)
+        dim = pts.shape[1]
+        if dim == 3 and (stretch is not None or direction is not None):
             raise InputError(
-                f"background triangle {flat[0]} {tris[flat[0]].tolist()} is not counter-clockwise "
-                f"(twice its signed area is {area2[flat[0]]!r})"
+                "a 3-D background grid is isotropic (delta only): stretch and direction are 2-D, "
+                f"got stretch={stretch!r}, direction={direction!r}"
+            )
+        measure = _measure(pts, cells)
+        flat = np.flatnonzero(measure <= 0.0)
+        if len(flat):
+            t = flat[0]
+            raise InputError(
+                f"background triangle {t} {cells[t].tolist()} is not counter-clockwise "
+                f"(twice its signed area is {measure[t]!r})"
+                if dim == 2
+                else f"background tetrahedron {t} {cells[t].tolist()} is not positively oriented "
+                f"(six times its signed volume is {measure[t]!r})"
             )
         n = len(pts)
         d = _per_node(delta, n, "delta")
-        s = _per_node(stretch, n, "stretch")
-        al = _per_node(direction, n, "direction")
+        s = _per_node(1.0 if stretch is None else stretch, n, "stretch")
+        al = _per_node(0.0 if direction is None else direction, n, "direction")
         for name, v, ok in (("delta", d, d > 0.0), ("stretch", s, s >= 1.0), ("direction", al, np.isfinite(al))):
             bad = np.flatnonzero(~(ok & np.isfinite(v)))
             if len(bad):
@@ -287,54 +295,67 @@ class BackgroundGrid(SizeField):
                     f"background {name} at node {bad[0]} {fmt_point(pts[bad[0]])} is {float(v[bad[0]])!r}; "
                     + ("it must be positive" if name == "delta" else "it must be >= 1" if name == "stretch" else "")
                 )
-        self.points, self.triangles = pts, tris
+        self.dim = dim
+        self.points, self.cells = pts, cells
+        if dim == 2:
+            self.triangles = cells
+            # Interpolated columns: delta, s, cos 2 alpha, sin 2 alpha.
+            self._values = np.ascontiguousarray(np.column_stack([d, s, np.cos(2 * al), np.sin(2 * al)]))
+        else:
+            self.tetrahedra = cells
+            self._values = np.ascontiguousarray(d[:, None])
         self.delta, self.stretch, self.direction = d, s, al
-        # Interpolated columns: delta, s, cos 2 alpha, sin 2 alpha.
-        self._values = np.ascontiguousarray(np.column_stack([d, s, np.cos(2 * al), np.sin(2 * al)]))
-        lo, hi = pts.min(axis=0), pts.max(axis=0)
-        ext = float(max(hi - lo))
-        cells = max(1, int(np.sqrt(len(tris) / 2.0)))
-        self._cell = ext / cells if ext > 0 else 1.0
-        self._nx = max(1, int(np.ceil((hi[0] - lo[0]) / self._cell)) + 1)
-        self._ny = max(1, int(np.ceil((hi[1] - lo[1]) / self._cell)) + 1)
-        self._x0, self._y0 = float(lo[0]), float(lo[1])
-        self._start, self._items = _bucket_grid(pts, tris, self._x0, self._y0, self._cell, self._nx, self._ny)
-        self._nbr = _neighbours(tris)
+        lo, self._cell, dims = bucket_shape(pts, len(cells))
+        self._lo, self._dims = lo, dims
+        self._start, self._items = bucket_grid(pts, cells, lo, self._cell, dims)
+        self._nbr = face_neighbours(cells)
         constant = float(d[0]) if np.all(d == d[0]) else None
-        super().__init__(self._spacing, constant=constant, name="background grid")
+        super().__init__(self._spacing, constant=constant, name="background grid", dim=dim)
 
     def __repr__(self) -> str:
-        return f"BackgroundGrid({len(self.points)} nodes, {len(self.triangles)} triangles)"
+        what = "triangles" if self.dim == 2 else "tetrahedra"
+        return f"BackgroundGrid({len(self.points)} nodes, {len(self.cells)} {what})"
+
+    def _grid(self) -> tuple:
+        """Lower corner, cube side and cubes per axis as the kernels take them (scalars)."""
+        return (*(float(v) for v in self._lo), self._cell, *(int(v) for v in self._dims))
 
     def _interp(self, xy) -> np.ndarray:
-        q = np.ascontiguousarray(np.asarray(xy, dtype=np.float64).reshape(-1, 2))
-        return _interpolate(
-            self.points, self.triangles, self._start, self._items, self._x0, self._y0, self._cell,
-            self._nx, self._ny, q, self._values,
-        )
+        q = np.ascontiguousarray(np.asarray(xy, dtype=np.float64).reshape(-1, self.dim))
+        if self.dim == 3:
+            return interpolate3d(*self.kernel_args(), q)
+        return _interpolate(self.points, self.cells, self._start, self._items, *self._grid(), q, self._values)
 
     def kernel_args(self) -> tuple:
-        """``(points, triangles, neighbours, start, items, x0, y0, cell, nx, ny, values)``: the
-        grid as :func:`interpolate_walk` takes it (``values`` columns: delta, s, cos 2 alpha,
-        sin 2 alpha)."""
-        return (
-            self.points, self.triangles, self._nbr, self._start, self._items, self._x0, self._y0, self._cell,
-            self._nx, self._ny, self._values,
-        )
+        """The grid as the walking interpolation kernels take it.
+
+        2-D: ``(points, triangles, neighbours, start, items, x0, y0, cell, nx, ny, values)``
+        for :func:`interpolate_walk` (``values`` columns: delta, s, cos 2 alpha, sin 2 alpha).
+        3-D: ``(points, tetrahedra, neighbours, start, items, x0, y0, z0, cell, nx, ny, nz,
+        values)``, the leading arguments of every kernel of
+        :mod:`meshwright.sizing._background3d` (``interpolate3d_one(*args, col, x, y, z)``,
+        ``interpolate3d_walk(*args, col, hint, x, y, z)``; ``values`` column 0: delta).
+        """
+        return (self.points, self.cells, self._nbr, self._start, self._items, *self._grid(), self._values)
 
     def _spacing(self, xy) -> np.ndarray:
         return self._interp(xy)[:, 0]
 
+    def _planar(self, what: str) -> None:
+        if self.dim != 2:
+            raise InputError(f"BackgroundGrid.{what} is 2-D (stretching); this grid is {self.dim}-D and isotropic")
+
     def metric(self, xy) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Interpolated ``(delta, stretch, direction)`` at ``xy`` (k, 2), each (k,) float64.
 
-        ``direction`` is in radians, in (-pi/2, pi/2].
+        ``direction`` is in radians, in (-pi/2, pi/2].  2-D only (InputError in 3-D).
         """
+        self._planar("metric")
         v = self._interp(xy)
         return v[:, 0], v[:, 1], 0.5 * np.arctan2(v[:, 3], v[:, 2])
 
     def along(self, xy, tangents) -> np.ndarray:
-        r"""Spacing wanted along a curve through ``xy`` (n, 2) with ``tangents`` (n, 2).
+        r"""Spacing wanted along a curve through ``xy`` (n, d) with ``tangents`` (n, d).
 
         With ``delta``, ``s``, ``alpha`` interpolated at each point and ``tau`` the unit
         tangent, the spacing is :math:`1 / \sqrt{\tau^T M \tau}` for the metric
@@ -342,12 +363,13 @@ class BackgroundGrid(SizeField):
         alpha, ``delta`` across it, the radius of that ellipse in between.  Because ``T`` is
         symmetric, :math:`\tau^T M \tau = |T \tau|^2 / \delta^2
         = (1 - c^2 (1 - 1/s^2)) / \delta^2` with :math:`c = \cos(\angle(\tau, \alpha))`,
-        which is what is evaluated (exactly ``delta`` where ``s = 1``).
+        which is what is evaluated (exactly ``delta`` where ``s = 1``, and so everywhere in
+        3-D).
 
         Parameters
         ----------
-        xy : (n, 2) array_like of float64
-        tangents : (n, 2) array_like of float64
+        xy : (n, d) array_like of float64
+        tangents : (n, d) array_like of float64
             Any nonzero length; a zero tangent gets ``delta``.
 
         Returns
@@ -360,7 +382,7 @@ class BackgroundGrid(SizeField):
         InputError
             Mismatched shapes or a non-finite tangent (its index named).
         """
-        tau, _ = unit_tangents(xy, tangents)
+        tau, _ = unit_tangents(xy, tangents, self.dim)
         if np.all(self.stretch == 1.0):
             # Keeps an unstretched grid bit-for-bit equal to its isotropic size field.
             return self(xy)
@@ -378,8 +400,10 @@ class BackgroundGrid(SizeField):
         """The chapter's local transformation at ``xy`` (k, 2): (k, 2, 2) float64 matrices.
 
         ``T = R(alpha) diag(1/s, 1) R(-alpha)``: a vector of length ``s * delta`` along alpha
-        and one of length ``delta`` across it both map to length ``delta``.
+        and one of length ``delta`` across it both map to length ``delta``.  2-D only
+        (InputError in 3-D).
         """
+        self._planar("transform")
         _, s, al = self.metric(xy)
         c, sn = np.cos(al), np.sin(al)
         # R diag(1/s, 1) R^T expanded.
@@ -392,18 +416,57 @@ class BackgroundGrid(SizeField):
 
     # ------------------------------------------------------------------ constructors
     @classmethod
-    def uniform(cls, bbox, delta: float, stretch: float = 1.0, direction: float = 0.0) -> BackgroundGrid:
-        """Uniform values on two triangles covering ``bbox = (xmin, ymin, xmax, ymax)`` enlarged by 10 %."""
-        x0, y0, x1, y1 = (float(v) for v in bbox)
-        if not (x1 > x0 and y1 > y0):
-            raise InputError(f"bbox must have xmin < xmax and ymin < ymax, got {bbox}")
-        mx, my = 0.1 * (x1 - x0), 0.1 * (y1 - y0)
-        pts = [(x0 - mx, y0 - my), (x1 + mx, y0 - my), (x1 + mx, y1 + my), (x0 - mx, y1 + my)]
-        return cls(pts, [(0, 1, 2), (0, 2, 3)], delta, stretch, direction)
+    def uniform(cls, bbox, delta: float, stretch: float | None = None, direction: float | None = None) -> BackgroundGrid:
+        """Uniform values on a box enlarged by 10 % per side: two triangles or six tetrahedra.
+
+        Parameters
+        ----------
+        bbox : sequence of 4 or 6 floats, or (2, d) array_like
+            ``(xmin, ymin, xmax, ymax)`` (2-D) or ``(xmin, ymin, zmin, xmax, ymax, zmax)``
+            (3-D); a ``[lo, hi]`` pair of corners (a ``bbox`` attribute) reads the same.
+        delta : float
+        stretch, direction : float, optional
+            2-D only, as in the constructor.
+
+        Raises
+        ------
+        InputError
+            A box that is not 4 or 6 numbers, empty or non-finite; stretching in 3-D.
+        SizeError
+            As the constructor.
+        """
+        try:
+            box = np.asarray(bbox, dtype=np.float64).ravel()
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"bbox must be 4 (2-D) or 6 (3-D) numbers, got {bbox!r}") from exc
+        if box.size not in (4, 6) or not np.isfinite(box).all():
+            raise InputError(f"bbox must be 4 (2-D) or 6 (3-D) finite numbers, got {bbox!r}")
+        d = box.size // 2
+        lo, hi = box[:d], box[d:]
+        if not (hi > lo).all():
+            names = "xmin < xmax and ymin < ymax" + (" and zmin < zmax" if d == 3 else "")
+            raise InputError(f"bbox must have {names}, got {bbox}")
+        margin = 0.1 * (hi - lo)
+        lo, hi = lo - margin, hi + margin
+        if d == 2:
+            (x0, y0), (x1, y1) = lo, hi
+            pts = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+            return cls(pts, [(0, 1, 2), (0, 2, 3)], delta, stretch, direction)
+        # Corner b has bit k set where it sits at hi along axis k; Kuhn's six tetrahedra run
+        # from corner 0 to corner 7 along the edges of the cube, one per order of the axes.
+        bits = np.arange(8)[:, None] >> np.arange(3) & 1
+        pts = np.where(bits == 1, hi, lo)
+        tets = []
+        for a, b in ((0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1)):
+            tets.append((0, 1 << a, (1 << a) | (1 << b), 7))
+        tets = np.array(tets, dtype=np.int32)
+        backwards = _volume6(pts, tets) < 0.0
+        tets[backwards] = tets[backwards][:, [0, 1, 3, 2]]
+        return cls(pts, tets, delta, stretch, direction)
 
     @classmethod
     def from_boundary(cls, points, segments, triangles) -> BackgroundGrid:
-        """Chapter 18.3's background: the triangulated boundary nodes with Weatherill's dP.
+        """Chapter 18.3's background: the triangulated boundary nodes with Weatherill's dP (2-D).
 
         Parameters
         ----------
@@ -414,44 +477,65 @@ class BackgroundGrid(SizeField):
         triangles : (t, 3) int
             A triangulation of ``points`` (e.g. their Delaunay triangulation).
         """
-        dp = point_distribution(points, segments)
+        pts, triangles = _nodes_and_cells(points, triangles, 2)
+        dp = point_distribution(pts, segments)
         lonely = ~np.isfinite(dp)
         if lonely.all():
             raise SizeError("a background from the boundary needs at least one segment")
         dp[lonely] = np.nanmean(dp)
-        return cls.on_triangulation(points, triangles, dp)
+        return cls.on_triangulation(pts, triangles, dp)
 
     @classmethod
     def on_triangulation(cls, points, triangles, delta) -> BackgroundGrid:
-        """Spacing ``delta`` (n,) on a mesh's triangles, its slivers left out.
+        """Spacing ``delta`` (n,) on a mesh's triangles (points (n, 2)), its slivers left out.
 
         A triangulation built with exact predicates may hold triangles that are exactly
         counter-clockwise yet whose floating-point area rounds to zero; they carry nothing to
         interpolate, so they are dropped instead of rejected.
         """
-        pts = np.asarray(points, dtype=np.float64)
-        tris = np.asarray(triangles)
+        pts, tris = _nodes_and_cells(points, triangles, 2)
         return cls(pts, tris[_area2(pts, tris) > 0.0], delta)
+
+    @classmethod
+    def on_tetrahedra(cls, points, tetrahedra, delta) -> BackgroundGrid:
+        """Spacing ``delta`` (n,) on a mesh's tetrahedra (points (n, 3)), its slivers left out.
+
+        As :meth:`on_triangulation`: tetrahedra that are exactly positive but whose
+        floating-point volume rounds to zero (or below) are dropped instead of rejected.
+
+        Parameters
+        ----------
+        points : (n, 3) array_like of float64
+        tetrahedra : (m, 4) array_like of int
+            Positively oriented (``orient3d > 0``), e.g. ``delaunay(points).tetrahedra``.
+        delta : float or (n,) array_like
+        """
+        pts, tets = _nodes_and_cells(points, tetrahedra, 3)
+        return cls(pts, tets[_volume6(pts, tets) > 0.0], delta)
 
     # ------------------------------------------------------------------ files
     def write(self, path) -> None:
         """Write the grid in the plain-text format of the module docstring."""
-        lines = [_MAGIC, f"{len(self.points)} {len(self.triangles)}"]
-        lines += [
-            f"{x!r} {y!r} {d!r} {s!r} {float(np.degrees(a))!r}"
-            for (x, y), d, s, a in zip(self.points.tolist(), self.delta.tolist(), self.stretch.tolist(), self.direction.tolist())
-        ]
-        lines += [f"{i} {j} {k}" for i, j, k in self.triangles.tolist()]
+        if self.dim == 2:
+            lines = [_MAGIC, f"{len(self.points)} {len(self.cells)}"]
+            lines += [
+                f"{x!r} {y!r} {d!r} {s!r} {float(np.degrees(a))!r}"
+                for (x, y), d, s, a in zip(self.points.tolist(), self.delta.tolist(), self.stretch.tolist(), self.direction.tolist())
+            ]
+        else:
+            lines = [_MAGIC, f"{len(self.points)} {len(self.cells)} 3"]
+            lines += [f"{x!r} {y!r} {z!r} {d!r}" for (x, y, z), d in zip(self.points.tolist(), self.delta.tolist())]
+        lines += [" ".join(str(v) for v in row) for row in self.cells.tolist()]
         Path(path).write_text("\n".join(lines) + "\n")
 
     @classmethod
     def read(cls, path) -> BackgroundGrid:
-        """Read a grid written by :meth:`write` (or by hand in that format).
+        """Read a grid written by :meth:`write` (or by hand in that format), 2-D or 3-D.
 
         Raises
         ------
         FormatError
-            Wrong header, counts or numbers (the line is named).
+            Wrong header, counts, dimension or numbers (file named).
         """
         text = Path(path).read_text().splitlines()
         rows = [ln.split("#", 1)[0].strip() for ln in text]
@@ -459,14 +543,23 @@ class BackgroundGrid(SizeField):
         if not rows or rows[0] != _MAGIC:
             raise FormatError(f"{path}: first line must be {_MAGIC!r}")
         try:
-            n, m = (int(v) for v in rows[1].split())
+            counts = [int(v) for v in rows[1].split()]
+            if len(counts) not in (2, 3):
+                raise ValueError(f"count line {rows[1]!r} must be 'n m' or 'n m dim'")
+            n, m, dim = (*counts, 2) if len(counts) == 2 else counts
+            if dim not in (2, 3):
+                raise ValueError(f"dimension {dim} on the count line must be 2 or 3")
             nodes = np.array([[float(v) for v in r.split()] for r in rows[2 : 2 + n]])
-            tris = np.array([[int(v) for v in r.split()] for r in rows[2 + n : 2 + n + m]])
+            cells = np.array([[int(v) for v in r.split()] for r in rows[2 + n : 2 + n + m]])
         except (ValueError, IndexError) as exc:
             raise FormatError(f"{path}: malformed background grid ({exc})") from exc
-        if nodes.shape != (n, 5) or tris.shape != (m, 3):
+        width = 5 if dim == 2 else 4
+        what = "triangle lines of 3" if dim == 2 else "tetrahedron lines of 4"
+        if nodes.shape != (n, width) or cells.shape != (m, dim + 1):
             raise FormatError(
-                f"{path}: expected {n} node lines of 5 numbers and {m} triangle lines of 3 indices, "
-                f"got {nodes.shape} and {tris.shape}"
+                f"{path}: expected {n} node lines of {width} numbers and {m} {what} indices, "
+                f"got {nodes.shape} and {cells.shape}"
             )
-        return cls(nodes[:, :2], tris, nodes[:, 2], nodes[:, 3], np.radians(nodes[:, 4]))
+        if dim == 3:
+            return cls(nodes[:, :3], cells, nodes[:, 3])
+        return cls(nodes[:, :2], cells, nodes[:, 2], nodes[:, 3], np.radians(nodes[:, 4]))
