@@ -84,7 +84,10 @@ def read_surface(path, *, orient: bool | None = None) -> Surface:
     else:
         from meshwright.io.meshio_io import read
 
-        mesh = read(path, dim=3)
+        # meshio's STL reader probes "84 + count * 50 == size" in uint32, which overflows
+        # (a RuntimeWarning only) on ASCII files; the probe's answer is right either way.
+        with np.errstate(over="ignore"):
+            mesh = read(path, dim=3)
         if not len(mesh.triangles):
             raise FormatError(f"{path}: no triangle cells (cells: {', '.join(mesh.cells) or 'none'})")
         try:
