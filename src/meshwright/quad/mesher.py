@@ -8,7 +8,8 @@ method:
   :mod:`meshwright.quad.quadtree`;
 * ``pairing``: advancing-front triangles paired into quads (Zhu et al. 1991, 18.5.1),
   :mod:`meshwright.quad.pairing`;
-* paving (Blacker and Stephenson 1991, 18.5.2) is not built yet.
+* ``paving``: rows of quads laid inward from the boundaries (Blacker and Stephenson
+  1991, 18.5.2), :mod:`meshwright.quad.paving`.
 
 Pipeline::
 
@@ -155,6 +156,12 @@ def _pairing(job: QuadJob) -> QuadFill:
     return pairing_fill(job)
 
 
+def _paving(job: QuadJob) -> QuadFill:
+    from meshwright.quad.paving import paving_fill
+
+    return paving_fill(job)
+
+
 QUAD_METHODS: dict[str, QuadMethod] = {
     m.name: m
     for m in (
@@ -166,6 +173,11 @@ QUAD_METHODS: dict[str, QuadMethod] = {
         QuadMethod(
             "pairing", "advancing-front triangles paired into quads, then shape enhancement (Zhu et al., 18.5.1)",
             _pairing, needs_size=False, smooths=True, reports_progress=False, segments=True, points=True,
+            regions=False,
+        ),
+        QuadMethod(
+            "paving", "rows of quads paved inward from the boundaries, voids paired (Blacker-Stephenson, 18.5.2)",
+            _paving, needs_size=True, smooths=True, reports_progress=False, segments=False, points=False,
             regions=False,
         ),
     )

@@ -1,0 +1,278 @@
+"""Closure and joining of paving boundaries (steps 2 and 7 of :mod:`meshwright.quad.paving`).
+
+Blacker and Stephenson (1991) close a paving boundary of six or fewer nodes by templates
+and connect paving boundaries that meet.  This module holds those pieces:
+
+* :func:`closure_quads`: the four- and six-node templates (one quad; two quads along a
+  long diagonal or three around a centre node, the valid one with the best smallest
+  corner sine);
+* :func:`close_loop`: a paving boundary of more nodes is cut by chords, node to node, with
+  nodes at the local size on the chord so that both parts stay even, until every part
+  takes a template; the chord chosen leaves the widest smallest angle beside it;
+* :func:`bridge`: a paving boundary around a hole's paving boundary is joined to it by one
+  such chord (its nodes appear on both sides of the chord, so the joined boundary has
+  ``n_outer + n_hole + 2 k + 2`` nodes: even), after which :func:`close_loop` can close it.
+
+Every chord is checked against every paving-boundary edge by the exact crossing kernel
+(:func:`meshwright.quad._paving_kernel.row_crossings`); every quad of a template is
+strictly convex by exact ``orient2d``.
+
+Array layout: points (n, 2) float64; a paving boundary is a (k,) int64 array of node ids
+with its region on the left; quads (q, 4) int64 counter-clockwise; new nodes are numbered
+from ``len(xy)`` on, in the order of the returned coordinate block.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from meshwright.core.predicates import orient2d_batch
+from meshwright.quad import _paving_kernel as pk
+
+__all__ = ["bridge", "close_loop", "closure_quads", "convex", "edges_of", "loop_angles", "min_sine", "signed_area"]
+
+CHORD_MIN_ANGLE = 35.0  # degrees: a chord leaves no angle sharper than this beside it
+CHORD_TRIES = 48  # best-scored chords tested for crossings before giving up on a part
+
+
+def loop_angles(xy: np.ndarray) -> np.ndarray:
+    """Interior angles (radians, in (0, 2 pi]) of a closed node sequence with the region on
+    its left: from the edge to the next node counter-clockwise to the edge to the previous."""
+    en = np.roll(xy, -1, axis=0) - xy
+    ep = np.roll(xy, 1, axis=0) - xy
+    a = np.arctan2(en[:, 0] * ep[:, 1] - en[:, 1] * ep[:, 0], (en * ep).sum(axis=1))
+    return np.where(a <= 0.0, a + 2.0 * np.pi, a)
+
+
+def signed_area(xy: np.ndarray) -> float:
+    """Shoelace area of a closed node sequence (positive counter-clockwise)."""
+    x, y = xy[:, 0], xy[:, 1]
+    return 0.5 * float((x * np.roll(y, -1) - np.roll(x, -1) * y).sum())
+
+
+def min_sine(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
+    """Smallest corner sine of each quad (floating point; a quality rule)."""
+    q = np.asarray(quads, dtype=np.int64)
+    worst = np.full(len(q), 1.0)
+    for k in range(4):
+        u = xy[q[:, (k + 1) % 4]] - xy[q[:, k]]
+        w = xy[q[:, (k + 3) % 4]] - xy[q[:, k]]
+        den = np.hypot(*u.T) * np.hypot(*w.T)
+        s = np.where(den > 0.0, (u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / np.where(den > 0.0, den, 1.0), -1.0)
+        worst = np.minimum(worst, s)
+    return worst
+
+
+def convex(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
+    """(q,) bool: strictly convex and counter-clockwise (exact orient2d at all corners)."""
+    q = np.asarray(quads, dtype=np.int64).reshape(-1, 4)
+    ok = np.ones(len(q), dtype=bool)
+    for k in range(4):
+        if len(q):
+            ok &= orient2d_batch(xy, np.ascontiguousarray(q[:, [k, (k + 1) % 4, (k + 2) % 4]])) > 0.0
+    return ok
+
+
+def edges_of(fronts) -> tuple[np.ndarray, np.ndarray]:
+    """All edges of a list of paving boundaries, as two (m,) int64 end arrays."""
+    if not fronts:
+        z = np.zeros(0, dtype=np.int64)
+        return z, z
+    return np.concatenate(fronts), np.concatenate([np.roll(f, -1) for f in fronts])
+
+
+def closure_quads(xy, loop):
+    """Template closure of a paving boundary of four or six nodes.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64
+    loop : (k,) int
+        Node ids, region on the left, k in {4, 6}.
+
+    Returns
+    -------
+    quads : (q, 4) int64 or None
+        The valid template (strictly convex quads) with the best smallest corner sine; for
+        six nodes a centre node, when chosen, has id ``len(xy)``.  None when none is valid.
+    centre : (2,) float64 or None
+        The centre node's coordinates when the centre template was chosen.
+    """
+    f = np.asarray(loop, dtype=np.int64)
+    if len(f) == 4:
+        q = f[None, :]
+        return (q, None) if convex(xy, q).all() else (None, None)
+    if len(f) != 6 or len(np.unique(f)) != 6:
+        return None, None
+    best, best_q, centre = -np.inf, None, None
+    for s in range(3):
+        r = np.roll(f, -s)
+        q = np.array([[r[0], r[1], r[2], r[3]], [r[3], r[4], r[5], r[0]]])
+        if convex(xy, q).all():
+            w = float(min_sine(xy, q).min())
+            if w > best:
+                best, best_q, centre = w, q, None
+    c = xy[f].mean(axis=0)
+    trial = np.vstack([xy, c])
+    g = len(xy)
+    for s in range(2):
+        r = np.roll(f, -s)
+        q = np.array([[g, r[0], r[1], r[2]], [g, r[2], r[3], r[4]], [g, r[4], r[5], r[0]]])
+        if convex(trial, q).all():
+            w = float(min_sine(trial, q).min())
+            if w > best:
+                best, best_q, centre = w, q, c
+    return best_q, centre
+
+
+def _chord_nodes(length, h, parity):
+    """Nodes on chords of the given lengths at sizes ``h``: the count nearest
+    ``length / h - 1`` whose parity is ``parity`` (None: any)."""
+    ideal = length / h - 1.0
+    k = np.maximum(0, np.rint(ideal)).astype(np.int64)
+    if parity is not None:
+        wrong = (k % 2) != parity
+        k = np.where(wrong, np.where((ideal >= k) | (k == 0), k + 1, k - 1), k)
+    return k
+
+
+def _split_angles(d, th_i, ang_i, th_j, ang_j):
+    """Smallest of the four angles a chord ``d`` (from i to j) leaves beside it (degrees)."""
+    ai = (np.degrees(np.arctan2(d[:, 1], d[:, 0])) - th_i) % 360.0
+    aj = (np.degrees(np.arctan2(-d[:, 1], -d[:, 0])) - th_j) % 360.0
+    return np.minimum(np.minimum(ai, ang_i - ai), np.minimum(aj, ang_j - aj))
+
+
+def _first_clear(xy, p_i, p_j, a_ids, b_ids, ks, order, oa, ob):
+    """The first candidate (in ``order``) whose chord, with its nodes, meets no edge of
+    ``oa, ob``: (index, chord node coordinates, chain of ids) or None."""
+    base = len(xy)
+    for c in order[:CHORD_TRIES].tolist():
+        k = int(ks[c])
+        t = np.arange(1, k + 1) / (k + 1)
+        pts = p_i[c] + t[:, None] * (p_j[c] - p_i[c])[None, :]
+        ids = base + np.arange(k, dtype=np.int64)
+        chain = np.concatenate([[a_ids[c]], ids, [b_ids[c]]])
+        trial = np.vstack([xy, pts]) if k else xy
+        ca, cb = chain[:-1], chain[1:]
+        if not pk.row_crossings(trial, ca, cb, np.concatenate([oa, ca]), np.concatenate([ob, cb])).any():
+            return c, pts, ids
+    return None
+
+
+def _geometry(xy, g):
+    p = xy[g]
+    ang = np.degrees(loop_angles(p))
+    th = np.degrees(np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T))
+    return p, ang, th
+
+
+def _best_chord(xy, g, field, oa, ob):
+    """Chord of loop ``g`` with the best score: (chord nodes (k, 2), part, part) or None."""
+    n = len(g)
+    p, ang, th = _geometry(xy, g)
+    i, j = np.triu_indices(n, 2)
+    keep = ~((i == 0) & (j == n - 1)) & (g[i] != g[j])
+    i, j = i[keep], j[keep]
+    d = p[j] - p[i]
+    length = np.hypot(*d.T)
+    h = field(0.5 * (p[i] + p[j]))
+    k = _chord_nodes(length, h, parity=((j - i + 1) % 2))
+    split = _split_angles(d, th[i], ang[i], th[j], ang[j])
+    score = split - 45.0 * np.abs(length / ((k + 1) * h) - 1.0)
+    ok = np.flatnonzero(split >= CHORD_MIN_ANGLE)
+    if not len(ok):
+        return None
+    order = ok[np.argsort(-score[ok], kind="stable")]
+    hit = _first_clear(xy, p[i], p[j], g[i], g[j], k, order, np.concatenate([oa, g]), np.concatenate([ob, np.roll(g, -1)]))
+    if hit is None:
+        return None
+    c, pts, ids = hit
+    a, b = int(i[c]), int(j[c])
+    return pts, np.concatenate([g[a : b + 1], ids[::-1]]), np.concatenate([g[b:], g[: a + 1], ids])
+
+
+def close_loop(xy, loop, field, oa, ob, max_parts: int):
+    """Close a paving boundary by chords and templates.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64
+    loop : (k,) int
+        Even, region on the left, no other paving boundary inside.
+    field : SizeField
+        Size of the chord nodes' spacing.
+    oa, ob : (m,) int64
+        Edges of the other paving boundaries (chords may not meet them).
+    max_parts : int
+        Cap on chords and templates.
+
+    Returns
+    -------
+    (new coordinates (j, 2), quads (q, 4) int64) or None
+        New nodes numbered from ``len(xy)``; None when some part cannot be closed.
+    """
+    extra: list[np.ndarray] = []
+    quads: list[np.ndarray] = []
+    todo = [np.asarray(loop, dtype=np.int64)]
+    for _ in range(max_parts):
+        if not todo:
+            break
+        g = todo.pop()
+        cur = np.vstack([xy] + extra) if extra else xy
+        if len(g) <= 6:
+            q, centre = closure_quads(cur, g)
+            if q is None:
+                return None
+            if centre is not None:
+                extra.append(centre[None, :])
+            quads.append(q)
+            continue
+        parts = _best_chord(cur, g, field, oa, ob)
+        if parts is None:
+            return None
+        pts, a, b = parts
+        if len(pts):
+            extra.append(pts)
+        todo += [a, b]
+    if todo or not quads:
+        return None
+    return (np.vstack(extra) if extra else np.zeros((0, 2))), np.concatenate(quads)
+
+
+def bridge(xy, outer, hole, field, oa, ob):
+    """Join a hole's paving boundary to the one around it by the best chord.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64
+    outer, hole : (k,) int64
+        Paving boundaries, regions on their left; ``hole`` inside ``outer``.
+    field : SizeField
+    oa, ob : (m,) int64
+        Every paving-boundary edge (the chord may meet none).
+
+    Returns
+    -------
+    (chord node coordinates (j, 2), joined boundary) or None
+    """
+    pa, anga, tha = _geometry(xy, outer)
+    pb, angb, thb = _geometry(xy, hole)
+    i, j = np.divmod(np.arange(len(outer) * len(hole)), len(hole))
+    d = pb[j] - pa[i]
+    length = np.hypot(*d.T)
+    h = field(0.5 * (pa[i] + pb[j]))
+    k = _chord_nodes(length, h, None)
+    split = _split_angles(d, tha[i], anga[i], thb[j], angb[j])
+    score = split - 45.0 * np.abs(length / ((k + 1) * h) - 1.0)
+    ok = np.flatnonzero(split >= CHORD_MIN_ANGLE)
+    if not len(ok):
+        return None
+    order = ok[np.argsort(-score[ok], kind="stable")]
+    hit = _first_clear(xy, pa[i], pb[j], outer[i], hole[j], k, order, oa, ob)
+    if hit is None:
+        return None
+    c, pts, ids = hit
+    a, b = int(i[c]), int(j[c])
+    joined = np.concatenate([outer[: a + 1], ids, hole[b:], hole[: b + 1], ids[::-1], outer[a:]])
+    return pts, joined

@@ -1,0 +1,205 @@
+"""Numba kernels of the paving method (:mod:`meshwright.quad.paving`): the row checks.
+
+A candidate row of quads (Blacker and Stephenson 1991, step 3) is accepted only if none of
+its new edges crosses or touches an edge of any paving boundary or another new edge, and no
+node of a paving boundary lies inside or on one of its new quads (step 7's intersection
+check); every sign is the exact ``orient2d``.  A second kernel measures the clearance
+between the new paving boundary and the other ones, so that a row that comes too close to
+another front is the last one of its front.
+
+Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``, ``sb``
+(node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.  The
+candidate search sweeps the segments sorted by their smallest x (``order``, ``xlo``) with
+the largest x extent ``span`` as the window, so each query visits only segments whose x
+range can overlap its own.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.predicates import orient2d
+
+__all__ = ["clearance_hits", "nodes_in_quads", "row_crossings"]
+
+
+@njit(inline="always")
+def _sgn(pts, a, b, c):
+    o = orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1])
+    if o > 0.0:
+        return 1
+    if o < 0.0:
+        return -1
+    return 0
+
+
+@njit(inline="always")
+def _between(pts, a, b, c):
+    """c, collinear with a b, lies on the closed segment a b."""
+    return (min(pts[a, 0], pts[b, 0]) <= pts[c, 0] <= max(pts[a, 0], pts[b, 0])) and (
+        min(pts[a, 1], pts[b, 1]) <= pts[c, 1] <= max(pts[a, 1], pts[b, 1])
+    )
+
+
+@njit(inline="always")
+def _meet(pts, a, b, c, d):
+    """Closed segments a b and c d share a point (exact)."""
+    o1 = _sgn(pts, a, b, c)
+    o2 = _sgn(pts, a, b, d)
+    o3 = _sgn(pts, c, d, a)
+    o4 = _sgn(pts, c, d, b)
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        return True
+    if o1 == 0 and _between(pts, a, b, c):
+        return True
+    if o2 == 0 and _between(pts, a, b, d):
+        return True
+    if o3 == 0 and _between(pts, c, d, a):
+        return True
+    return o4 == 0 and _between(pts, c, d, b)
+
+
+@njit(cache=True)
+def row_crossings(pts, na, nb, sa, sb):
+    """(k,) bool: which new segments ``(na[i], nb[i])`` meet a segment of ``sa, sb``
+    (closed segments, exact) other than at a shared end node.
+
+    ``sa, sb`` holds every paving-boundary edge and the new segments themselves.
+    """
+    m = sa.shape[0]
+    xlo = np.empty(m)
+    span = 0.0
+    for j in range(m):
+        x0 = pts[sa[j], 0]
+        x1 = pts[sb[j], 0]
+        xlo[j] = min(x0, x1)
+        span = max(span, abs(x1 - x0))
+    order = np.argsort(xlo)
+    xs = xlo[order]
+    bad = np.zeros(na.shape[0], dtype=np.bool_)
+    for i in range(na.shape[0]):
+        a = na[i]
+        b = nb[i]
+        qx0 = min(pts[a, 0], pts[b, 0])
+        qx1 = max(pts[a, 0], pts[b, 0])
+        qy0 = min(pts[a, 1], pts[b, 1])
+        qy1 = max(pts[a, 1], pts[b, 1])
+        k = np.searchsorted(xs, qx0 - span)
+        while k < m and xs[k] <= qx1:
+            j = order[k]
+            k += 1
+            c = sa[j]
+            d = sb[j]
+            if c == a or c == b or d == a or d == b:
+                continue
+            if max(pts[c, 0], pts[d, 0]) < qx0:
+                continue
+            if min(pts[c, 1], pts[d, 1]) > qy1 or max(pts[c, 1], pts[d, 1]) < qy0:
+                continue
+            if _meet(pts, a, b, c, d):
+                bad[i] = True
+                break
+    return bad
+
+
+@njit(cache=True)
+def nodes_in_quads(pts, quads, nodes):
+    """(q,) bool: which quads (convex, counter-clockwise) hold one of ``nodes`` inside or
+    on their boundary, the node not being one of their corners."""
+    m = nodes.shape[0]
+    xs_all = np.empty(m)
+    for j in range(m):
+        xs_all[j] = pts[nodes[j], 0]
+    order = np.argsort(xs_all)
+    xs = xs_all[order]
+    bad = np.zeros(quads.shape[0], dtype=np.bool_)
+    for q in range(quads.shape[0]):
+        x0 = np.inf
+        x1 = -np.inf
+        y0 = np.inf
+        y1 = -np.inf
+        for k in range(4):
+            v = quads[q, k]
+            x0 = min(x0, pts[v, 0])
+            x1 = max(x1, pts[v, 0])
+            y0 = min(y0, pts[v, 1])
+            y1 = max(y1, pts[v, 1])
+        k = np.searchsorted(xs, x0)
+        while k < m and xs[k] <= x1:
+            v = nodes[order[k]]
+            k += 1
+            if pts[v, 1] < y0 or pts[v, 1] > y1:
+                continue
+            if v == quads[q, 0] or v == quads[q, 1] or v == quads[q, 2] or v == quads[q, 3]:
+                continue
+            inside = True
+            for e in range(4):
+                if _sgn(pts, quads[q, e], quads[q, (e + 1) % 4], v) < 0:
+                    inside = False
+                    break
+            if inside:
+                bad[q] = True
+                break
+    return bad
+
+
+@njit(inline="always")
+def _point_seg2(px, py, ax, ay, bx, by):
+    ux = bx - ax
+    uy = by - ay
+    den = ux * ux + uy * uy
+    t = 0.0 if den == 0.0 else ((px - ax) * ux + (py - ay) * uy) / den
+    t = min(1.0, max(0.0, t))
+    dx = ax + t * ux - px
+    dy = ay + t * uy - py
+    return dx * dx + dy * dy
+
+
+@njit(cache=True)
+def clearance_hits(pts, na, nb, radius, sa, sb):
+    """Number of new segments ``(na[i], nb[i])`` closer than ``radius[i]`` to a segment of
+    ``sa, sb`` sharing no node with them (the distance of two non-crossing segments is the
+    smallest end-to-segment distance; a quality rule, floating point)."""
+    m = sa.shape[0]
+    xlo = np.empty(m)
+    span = 0.0
+    for j in range(m):
+        x0 = pts[sa[j], 0]
+        x1 = pts[sb[j], 0]
+        xlo[j] = min(x0, x1)
+        span = max(span, abs(x1 - x0))
+    order = np.argsort(xlo)
+    xs = xlo[order]
+    hits = 0
+    for i in range(na.shape[0]):
+        a = na[i]
+        b = nb[i]
+        r = radius[i]
+        r2 = r * r
+        qx0 = min(pts[a, 0], pts[b, 0]) - r
+        qx1 = max(pts[a, 0], pts[b, 0]) + r
+        qy0 = min(pts[a, 1], pts[b, 1]) - r
+        qy1 = max(pts[a, 1], pts[b, 1]) + r
+        k = np.searchsorted(xs, qx0 - span)
+        while k < m and xs[k] <= qx1:
+            j = order[k]
+            k += 1
+            c = sa[j]
+            d = sb[j]
+            if c == a or c == b or d == a or d == b:
+                continue
+            if max(pts[c, 0], pts[d, 0]) < qx0:
+                continue
+            if min(pts[c, 1], pts[d, 1]) > qy1 or max(pts[c, 1], pts[d, 1]) < qy0:
+                continue
+            d2 = min(
+                min(_point_seg2(pts[a, 0], pts[a, 1], pts[c, 0], pts[c, 1], pts[d, 0], pts[d, 1]),
+                    _point_seg2(pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1], pts[d, 0], pts[d, 1])),
+                min(_point_seg2(pts[c, 0], pts[c, 1], pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1]),
+                    _point_seg2(pts[d, 0], pts[d, 1], pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1])),
+            )
+            if d2 < r2:
+                hits += 1
+                break
+    return hits

@@ -1,0 +1,721 @@
+r"""All-quad meshes by paving (chapter 18.5.2, Blacker and Stephenson 1991).
+
+Source: T. D. Blacker and M. B. Stephenson, "Paving: a new approach to automated
+quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32, 1991, as summarised in
+section 18.5.2 of the reference chapter: rows of quadrilaterals laid one layer at a time
+inward from the *paving boundaries* (the exterior one counter-clockwise, the interior ones
+clockwise, so the unmeshed region is always on their left), every paving boundary kept
+with an even number of nodes.  The node classes and angle thresholds follow the
+description of FASTQ in ``design-notes-quads.md`` (section 3); nothing is copied from it.
+
+Steps, as the chapter numbers them
+----------------------------------
+0. **Even boundaries.**  Every loop of the discretised domain gets an even node count
+   (:func:`meshwright.quad.pairing.make_loops_even`: one node on the longest segment, on
+   the true curve); with ``fixed_boundary=True`` an odd loop raises
+   :class:`~meshwright.quad.pairing.ParityError` naming the loop.  Every later step keeps
+   each paving boundary even (each row, tuck, wedge, seam and closure changes a count by
+   an even number), so no triangle is ever needed.
+1. **Row choice.**  Each paving node gets its interior angle (from the edge to the next
+   node, counter-clockwise to the edge to the previous one) and a class: *row end*
+   (angle below :data:`END_ANGLE`: the row turns there, one quad takes both of its
+   sides), *side* (below :data:`CORNER_ANGLE`: one new node on the bisector), *corner*
+   (below :data:`REVERSAL_ANGLE`: three new nodes, one extra quad) or *reversal* (five
+   new nodes, two extra quads).  Two row ends are never neighbours; the row is the whole
+   paving boundary, between its row ends.
+2. **Closure.**  A paving boundary of six or fewer nodes is closed by a template: four
+   nodes one quad, six nodes two quads along one of the three long diagonals or three
+   quads around a centre node, whichever is valid with the best smallest corner sine.  A
+   paving boundary of up to :data:`SPLIT_MAX` nodes whose row fails, or that comes close
+   to itself, is first cut by chords (node to node, with nodes at the local size so both
+   parts stay even, the chord leaving the widest angles beside it) until every part takes
+   a template (:mod:`meshwright.quad._paving_close`).
+3. **Row generation.**  New nodes at the row depth (the size field at the node, kept
+   within ``[1/2, 2]`` of the neighbouring edge lengths and averaged along the row),
+   quads between the old and the new nodes; the new row is the new paving boundary.
+4. **Smoothing.**  After each row the floating nodes of the two previous rows (now
+   inside the mesh) take the guarded Laplacian of :mod:`meshwright.quad.smoothing`
+   (no move lowers the smallest corner sine around a node); all floating nodes once more
+   at the end.
+5. **Seams.**  A floating paving node with an angle below :data:`SEAM_ANGLE` is closed:
+   its two neighbours merge at their midpoint when every quad around them stays strictly
+   convex.
+6. **Row adjustment.**  Along the row, the predicted new edge lengths are compared with
+   the size field; their running surplus places *tucks* (a floating side node becomes a
+   row end: two nodes fewer) and *wedges* (a floating side node becomes a corner: two
+   more), one per edge of surplus.
+7. **Intersection.**  A row is accepted only if no new edge meets an edge of any paving
+   boundary or another new edge and no paving node lies in a new quad (exact
+   ``orient2d``, :mod:`meshwright.quad._paving_kernel`), and every new quad is strictly
+   convex.  A row coming closer than :data:`CLEARANCE` times the size to another paving
+   boundary is the last of its front.  Where a row is refused, its paving boundary stops.
+   *Simplification*: the chapter joins and splits intersecting paving boundaries; here the
+   region left between stopped paving boundaries (even loops, so an even number of
+   boundary edges) is filled by the pairing method of 18.5.1 on the same size field
+   (advancing-front triangles, pairing, shape enhancement:
+   :mod:`meshwright.quad.pairing`), as unconstrained paving (Staten et al. 2005) fills
+   its voids after the rows.  :class:`PavingReport` counts those quads.
+8. **Cleanup.**  Triangles the pairing of a void could not pair are finished by chord
+   refinement (:func:`meshwright.quad.chords.chord_split`), and a final smoothing runs.
+
+Every loop is capped: rounds of rows (:data:`MAX_ROUNDS` plus a bound from the domain's
+extent over its smallest spacing), seams per row, and the number of points
+(``max_points``); hitting a cap raises :class:`~meshwright.core.errors.MeshingError`
+naming the stuck paving boundary (its length and first node).
+
+Array layout: points (n, 2) float64; quads (q, 4) int32 counter-clockwise; a paving
+boundary is an (k,) int64 array of node ids with the unmeshed region on its left.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from meshwright.core.errors import InputError, MeshingError, fmt_point
+from meshwright.core.validate_input import check_count, check_flag, check_seed
+from meshwright.geometry.domain import Domain
+from meshwright.quad import _paving_kernel as pk
+from meshwright.quad._paving_close import (
+    close_loop,
+    closure_quads,
+    convex,
+    edges_of,
+    loop_angles,
+)
+from meshwright.quad.enhancement import enhance, unpair_nonconvex
+from meshwright.quad.pairing import make_loops_even, pair_triangles
+from meshwright.quad.smoothing import smooth_cells
+from meshwright.sizing.field import as_size_field
+
+__all__ = [
+    "CLEARANCE",
+    "CORNER_ANGLE",
+    "END_ANGLE",
+    "FINAL_SMOOTH",
+    "MAX_ROUNDS",
+    "REVERSAL_ANGLE",
+    "SEAM_ANGLE",
+    "PavingReport",
+    "closure_quads",
+    "node_classes",
+    "pave_domain",
+    "paving_fill",
+]
+
+END_ANGLE = 135.0  # degrees: a paving node below this is a row end
+CORNER_ANGLE = 225.0  # ... at or above this a corner (three new nodes)
+REVERSAL_ANGLE = 315.0  # ... at or above this a reversal (five new nodes)
+SEAM_ANGLE = 40.0  # a floating paving node sharper than this is seamed
+TUCK_MAX_ANGLE = 179.5  # tucks only at side nodes flatter than this ...
+WEDGE_MIN_ANGLE = 185.0  # ... wedges only at side nodes wider than this
+ROW_RELAX = 2  # Jacobi sweeps of the new row's nodes along the row
+TUCK_AT = 1.25  # edges of running surplus (or shortfall) that place a wedge (or a tuck)
+CLEARANCE = 0.6  # a new row closer than this times its depth to another front is its last
+REPAIRS = 4  # retries of a refused row with the depth lowered around its failing nodes
+REPAIR_SCALE = 0.7  # ... by this factor each time
+SPLIT_MAX = 40  # paving boundaries up to this many nodes may be closed by chords
+MAX_ROUNDS = 64  # rounds of rows beyond the bound from the domain's extent
+FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end
+ROW_SMOOTH = 4  # ... over the two previous rows after each row
+
+
+class PavingReport(NamedTuple):
+    """What the paving did.
+
+    Attributes
+    ----------
+    nodes_added : tuple of int
+        Loops that received one node to make their count even.
+    rows : int
+        Rows accepted (all paving boundaries together).
+    tucks, wedges, seams, closures : int
+        Row adjustments, seams and closure templates applied.
+    paved : int
+        Quads laid by rows, seams and closures.
+    voids : int
+        Paving boundaries that stopped and went to the void fill.
+    filled : int
+        Quads of the void fill (pairing, 18.5.1).
+    split : bool
+        Whether chord refinement finished left-over triangles.
+    triangles_left : int
+        Triangles in the returned fill (0 when ``all_quad``).
+    """
+
+    nodes_added: tuple
+    rows: int
+    tucks: int
+    wedges: int
+    seams: int
+    closures: int
+    paved: int
+    voids: int
+    filled: int
+    split: bool
+    triangles_left: int
+
+
+def _loop_name(li: int) -> str:
+    return "outer loop (loop 0)" if li == 0 else f"loop {li}"
+
+
+def node_classes(angles_deg) -> np.ndarray:
+    """New nodes per paving node from its interior angle (step 1).
+
+    Parameters
+    ----------
+    angles_deg : (k,) float64
+        Interior angles in degrees, along a paving boundary.
+
+    Returns
+    -------
+    (k,) int64
+        0 row end, 1 side, 3 corner, 5 reversal; no two row ends are neighbours (the
+        sharper one keeps the class).
+    """
+    a = np.asarray(angles_deg, dtype=np.float64)
+    m = np.where(a < END_ANGLE, 0, np.where(a < CORNER_ANGLE, 1, np.where(a < REVERSAL_ANGLE, 3, 5)))
+    ends = np.flatnonzero(m == 0)
+    if len(ends) > 1:
+        keep = np.zeros(len(a), dtype=bool)
+        for i in ends[np.argsort(a[ends], kind="stable")].tolist():
+            if not keep[i - 1] and not keep[(i + 1) % len(a)]:
+                keep[i] = True
+        m[(m == 0) & ~keep] = 1
+    return m.astype(np.int64)
+
+
+class _Paver:
+    """The paving state: points, quads by round, paving boundaries, counters."""
+
+    def __init__(self, xy, field, cap):
+        self.pts = np.array(xy, dtype=np.float64, order="C")
+        self.n = len(xy)
+        self.n_fixed = len(xy)
+        self.field = field
+        self.cap = cap
+        self.round_of = np.full(len(xy), -1, dtype=np.int64)
+        self.quads: list[np.ndarray] = []
+        self.quad_round: list[int] = []
+        self.tucks = self.wedges = self.seams = self.closures = self.rows = 0
+        self.pending = (0, 0)
+
+    def add_points(self, p: np.ndarray, rnd: int) -> np.ndarray:
+        k = len(p)
+        if self.n + k > self.cap:
+            raise MeshingError(f"paving needs more than max_points = {self.cap} nodes")
+        if self.n + k > len(self.pts):
+            grow = np.empty((max(2 * len(self.pts), self.n + k), 2))
+            grow[: self.n] = self.pts[: self.n]
+            self.pts = grow
+            self.round_of = np.concatenate([self.round_of, np.full(len(grow) - len(self.round_of), -1)])
+        self.pts[self.n : self.n + k] = p
+        self.round_of[self.n : self.n + k] = rnd
+        ids = np.arange(self.n, self.n + k, dtype=np.int64)
+        self.n += k
+        return ids
+
+    @property
+    def xy(self) -> np.ndarray:
+        return self.pts[: self.n]
+
+    def add_quads(self, q: np.ndarray, rnd: int) -> None:
+        self.quads.append(np.asarray(q, dtype=np.int64).reshape(-1, 4))
+        self.quad_round.append(rnd)
+
+    # -- step 1, 3, 6: one row --------------------------------------------------------
+    def _depth(self, f: np.ndarray) -> np.ndarray:
+        p = self.pts[f]
+        le = np.hypot(*(np.roll(p, -1, axis=0) - p).T)
+        lm = 0.5 * (le + np.roll(le, 1))
+        d = np.clip(self.field(p), 0.5 * lm, 2.0 * lm)
+        return 0.25 * (np.roll(d, 1) + 2.0 * d + np.roll(d, -1))
+
+    def _adjust(self, f, ang, m, depth, calm_only):
+        """Tucks and wedges from the running surplus of predicted edge lengths (step 6)."""
+        p = self.pts[f]
+        n = len(f)
+        th = np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T) + 0.5 * ang
+        dist = depth / np.maximum(np.sin(0.5 * ang), 0.5)
+        prov = p + dist[:, None] * np.column_stack([np.cos(th), np.sin(th)])
+        nxt = np.roll(prov, -1, axis=0)
+        rho = np.hypot(*(nxt - prov).T) / self.field(0.5 * (prov + nxt))
+        floating = f >= self.n_fixed
+        deg = np.degrees(ang)
+        c = 0.0
+        tucks = wedges = 0
+        for i in range(n):
+            if m[i] != 1:
+                c = 0.0
+                continue
+            c += rho[i] - 1.0
+            calm = m[i - 1] == 1 and m[(i + 1) % n] == 1 and not calm_only[i]
+            if c <= -TUCK_AT and calm and floating[i] and deg[i] < TUCK_MAX_ANGLE:
+                m[i] = 0
+                c += 2.0
+                tucks += 1
+            elif c >= TUCK_AT and calm and floating[i] and deg[i] > WEDGE_MIN_ANGLE:
+                m[i] = 3
+                c -= 2.0
+                wedges += 1
+        self.pending = (tucks, wedges)
+        return m
+
+    def build_row(self, f: np.ndarray, scale: np.ndarray, calm_only: np.ndarray):
+        """Candidate row on paving boundary ``f`` with the row depth times ``scale`` and no
+        tuck or wedge where ``calm_only``: (new node coordinates, quads with new nodes
+        numbered from ``self.n``, new paving boundary, depth, the paving node each new
+        node grew from); None if it degenerates."""
+        n = len(f)
+        p = self.pts[f]
+        ang = loop_angles(p)
+        m = node_classes(np.degrees(ang))
+        depth = self._depth(f) * scale
+        m = self._adjust(f, ang, m, depth, calm_only)
+        th0 = np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T)
+        coords: list[np.ndarray] = []
+        owner: list[int] = []
+        spokes: list[list[int]] = [[] for _ in range(n)]
+        for i in range(n):
+            mi = int(m[i])
+            if mi == 0:
+                continue
+            a, d = float(ang[i]), float(depth[i])
+            if mi == 1:
+                t = th0[i] + 0.5 * a
+                r = d / max(np.sin(0.5 * a), 0.5)
+                spokes[i] = [len(coords)]
+                coords.append(p[i] + r * np.array([np.cos(t), np.sin(t)]))
+                owner.append(i)
+                continue
+            sig = a / ((mi + 1) // 2 + 1)
+            ids = [0] * mi
+            for j in range((mi + 1) // 2):
+                t = th0[i] + sig * (j + 1)
+                ids[mi - 1 - 2 * j] = len(coords)
+                coords.append(p[i] + d * np.array([np.cos(t), np.sin(t)]))
+                owner.append(i)
+            for j in range((mi - 1) // 2):
+                t = th0[i] + sig * (j + 1.5)
+                ids[mi - 2 - 2 * j] = len(coords)
+                coords.append(p[i] + 2.0 * d * np.cos(0.5 * sig) * np.array([np.cos(t), np.sin(t)]))
+                owner.append(i)
+            spokes[i] = ids
+        k = len(coords)
+        if k == 0:
+            return None
+        parent = np.arange(k)
+
+        def find(x):
+            while parent[x] != x:
+                parent[x] = parent[parent[x]]
+                x = parent[x]
+            return x
+
+        acc = np.zeros((k, 2))
+        cnt = np.zeros(k)
+        own = np.asarray(owner, dtype=np.int64)
+        ends = np.flatnonzero(m == 0).tolist()
+        for e in ends:
+            a_, b_ = (e - 1) % n, (e + 1) % n
+            t = th0[e] + 0.5 * ang[e]
+            r = min(depth[e] / max(np.sin(0.5 * ang[e]), 1e-3), 1.5 * depth[e])
+            x = p[e] + r * np.array([np.cos(t), np.sin(t)])
+            u, w = find(spokes[a_][-1]), find(spokes[b_][0])
+            if u != w:
+                parent[w] = u
+                acc[u] += acc[w]
+                cnt[u] += cnt[w]
+            acc[u] += x
+            cnt[u] += 1.0
+            own[u] = e
+        roots = np.array([find(x) for x in range(k)])
+        pos = np.asarray(coords)
+        has = cnt > 0
+        pos[has] = acc[has] / cnt[has, None]
+        keep = np.unique(roots)
+        newid = np.full(k, -1, dtype=np.int64)
+        newid[keep] = self.n + np.arange(len(keep))
+        lab = newid[roots]
+        quads = []
+        for i in range(n):
+            j = (i + 1) % n
+            if m[i] and m[j]:
+                quads.append((f[i], f[j], lab[spokes[j][0]], lab[spokes[i][-1]]))
+            mi = int(m[i])
+            for s in range(0, mi - 2, 2):
+                quads.append((f[i], lab[spokes[i][s + 2]], lab[spokes[i][s + 1]], lab[spokes[i][s]]))
+        for e in ends:
+            quads.append((f[(e - 1) % n], f[e], f[(e + 1) % n], lab[spokes[(e - 1) % n][-1]]))
+        front = [lab[x] for i in range(n) for x in spokes[i]]
+        front = np.asarray(front, dtype=np.int64)
+        front = front[front != np.roll(front, 1)] if len(front) > 1 else front
+        q = np.asarray(quads, dtype=np.int64)
+        if len(front) < 2 or len(front) % 2 or (np.sort(q, axis=1)[:, 1:] == np.sort(q, axis=1)[:, :-1]).any():
+            return None
+        new_xy = pos[keep]
+        if len(front) > 6:
+            # Row smoothing: the new nodes relax along the row, which spreads the long
+            # and short edges a tuck or wedge leaves over their neighbours.
+            loc = front - self.n
+            for _ in range(ROW_RELAX):
+                c = new_xy[loc]
+                t = np.roll(c, -1, axis=0) - np.roll(c, 1, axis=0)
+                t /= np.maximum(np.hypot(*t.T), 1e-300)[:, None]
+                lap = 0.25 * (np.roll(c, 1, axis=0) + np.roll(c, -1, axis=0) - 2.0 * c)
+                # Along the row only: corners keep their place, the row its depth.
+                new_xy[loc] = c + (lap * t).sum(axis=1)[:, None] * t
+        return new_xy, q, front, depth, own[keep]
+
+    # -- step 7: checks -----------------------------------------------------------------
+    def check_row(self, xy, f, quads, front, others, depth, owner):
+        """Step 7 on a candidate row: ('ok' | 'last' | 'refused', indices into ``f`` of the
+        paving nodes whose new quads fail).  'last': valid, but closer than
+        :data:`CLEARANCE` times the depth to another front or to itself."""
+        n_old = self.n
+        e = np.concatenate([quads[:, [k, (k + 1) % 4]] for k in range(4)])
+        old = np.sort(np.column_stack([f, np.roll(f, -1)]), axis=1)
+        key = np.sort(e, axis=1)
+        n = len(xy)
+        mask = ~np.isin(key[:, 0] * n + key[:, 1], old[:, 0] * n + old[:, 1])
+        new = np.unique(key[mask], axis=0)
+        oa, ob = edges_of(others + [f])
+        sa = np.concatenate([oa, new[:, 0]])
+        sb = np.concatenate([ob, new[:, 1]])
+        cross = pk.row_crossings(xy, new[:, 0].copy(), new[:, 1].copy(), sa, sb)
+        nodes = np.unique(np.concatenate(others + [f])) if others else f
+        bad_q = ~convex(xy, quads) | pk.nodes_in_quads(xy, quads, nodes)
+        culprits = np.concatenate([quads[bad_q].ravel(), new[cross].ravel()])
+        if len(culprits):
+            idx = np.flatnonzero(np.isin(f, culprits))
+            grown = culprits[culprits >= n_old] - n_old
+            return "refused", np.unique(np.concatenate([idx, owner[grown]]))
+        fa, fb = front, np.roll(front, -1)
+        rad = CLEARANCE * np.full(len(fa), float(np.median(depth)))
+        oa, ob = edges_of(others)
+        if len(oa) and pk.clearance_hits(xy, fa, fb, rad, oa, ob):
+            return "last", None
+        if len(front) > 6 and self._self_close(xy, front, float(rad[0])):
+            return "last", None
+        return "ok", None
+
+    def row_with_repairs(self, f, others):
+        """A valid row on ``f`` (steps 1, 3, 6, 7), the depth lowered and the adjustments
+        dropped around failing nodes up to :data:`REPAIRS` times: ((new coordinates,
+        quads, new front), verdict) or (None, 'refused')."""
+        n = len(f)
+        scale = np.ones(n)
+        calm_only = np.zeros(n, dtype=bool)
+        for _ in range(REPAIRS + 1):
+            row = self.build_row(f, scale, calm_only)
+            if row is None:
+                return None, "refused"
+            new_xy, quads, front, depth, owner = row
+            trial = np.vstack([self.xy, new_xy])
+            verdict, bad = self.check_row(trial, f, quads, front, others, depth, owner)
+            if verdict != "refused":
+                self.tucks += self.pending[0]
+                self.wedges += self.pending[1]
+                return (new_xy, quads, front), verdict
+            near = (bad[:, None] + np.arange(-1, 2)[None, :]).ravel() % n
+            scale[near] *= REPAIR_SCALE
+            calm_only[near] = True
+        return None, "refused"
+
+    @staticmethod
+    def _self_close(xy, front, r) -> bool:
+        """Some node of the new front lies closer than ``r`` to a node three or more steps away."""
+        p = xy[front]
+        k = len(front)
+        for s in range(3, k // 2 + 1):
+            if (np.hypot(*(p - np.roll(p, -s, axis=0)).T) < r).any():
+                return True
+        return False
+
+    # -- step 5: seams --------------------------------------------------------------------
+    def seam(self, front: np.ndarray, rnd: int, cap: int) -> np.ndarray:
+        """Close floating paving nodes sharper than :data:`SEAM_ANGLE` (at most ``cap``)."""
+        for _ in range(cap):
+            if len(front) <= 2:
+                return front
+            ang = np.degrees(loop_angles(self.pts[front]))
+            cand = np.flatnonzero((ang < SEAM_ANGLE) & (front >= self.n_fixed))
+            done = False
+            for i in cand[np.argsort(ang[cand])].tolist():
+                k = len(front)
+                a, b = int(front[i - 1]), int(front[(i + 1) % k])
+                if a < self.n_fixed or b < self.n_fixed:
+                    continue
+                if self._merge(a, b):
+                    drop = {i, (i + 1) % k}
+                    front = np.array([v for j, v in enumerate(front.tolist()) if j not in drop], dtype=np.int64)
+                    self.seams += 1
+                    done = True
+                    break
+            if not done:
+                return front
+        return front
+
+    def _merge(self, a: int, b: int) -> bool:
+        """Merge node b into a at their midpoint if every quad around them stays convex."""
+        allq = np.concatenate(self.quads) if self.quads else np.zeros((0, 4), dtype=np.int64)
+        touch = np.flatnonzero(((allq == a) | (allq == b)).any(axis=1))
+        q = allq[touch].copy()
+        q[q == b] = a
+        old = self.pts[a].copy()
+        self.pts[a] = 0.5 * (self.pts[a] + self.pts[b])
+        ok = all(len(set(r)) == 4 for r in q.tolist()) and convex(self.xy, q).all()
+        if not ok:
+            self.pts[a] = old
+            return False
+        for blk in self.quads:
+            blk[blk == b] = a
+        return True
+
+    # -- step 2: closure of small paving boundaries ---------------------------------------
+    def encloses(self, f, others) -> bool:
+        """Whether a node of another paving boundary lies inside the polygon ``f`` (then
+        ``f`` alone does not bound its region)."""
+        p = self.pts[f]
+        q = np.roll(p, -1, axis=0)
+        for g in others:
+            x, y = self.pts[g[0]]
+            up = (p[:, 1] <= y) != (q[:, 1] <= y)
+            t = (y - p[:, 1]) / np.where(up, q[:, 1] - p[:, 1], 1.0)
+            if (up & (p[:, 0] + t * (q[:, 0] - p[:, 0]) > x)).sum() % 2:
+                return True
+        return False
+
+    def close(self, f, others, rnd, limit=SPLIT_MAX) -> bool:
+        """Close paving boundary ``f`` (step 2) by chords and templates
+        (:func:`~meshwright.quad._paving_close.close_loop`) when it has at most ``limit``
+        nodes and no other paving boundary inside; commits and returns True on success,
+        changes nothing otherwise."""
+        if len(f) > limit or self.encloses(f, others):
+            return False
+        oa, ob = edges_of(others)
+        done = close_loop(self.xy, f, self.field, oa, ob, 4 * len(f))
+        if done is None:
+            return False
+        extra, quads = done
+        if len(extra):
+            self.add_points(extra, rnd)
+        self.add_quads(quads, rnd)
+        self.closures += 1
+        return True
+
+    # -- step 4: smoothing -----------------------------------------------------------------
+    def smooth_recent(self, rnd: int, on_front: np.ndarray) -> None:
+        """Guarded Laplacian on the floating nodes of rounds ``rnd - 1`` and ``rnd - 2``."""
+        sel = [q for q, r in zip(self.quads, self.quad_round) if r >= rnd - 3]
+        if not sel:
+            return
+        q = np.concatenate(sel)
+        used = np.unique(q)
+        ro = self.round_of[used]
+        free = (used >= self.n_fixed) & (ro >= rnd - 2) & (ro <= rnd - 1) & ~on_front[used]
+        if not free.any():
+            return
+        local = np.searchsorted(used, q)
+        moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH)
+        self.pts[used] = moved
+
+
+def _boundary_loops(domain: Domain, disc) -> list[np.ndarray]:
+    """Each loop's nodes in order, the domain on the left."""
+    loops = []
+    seg = disc.segments.astype(np.int64)
+    loop_of = domain.curve_loop[disc.segment_curve]
+    for li in range(len(domain.loops)):
+        s = seg[loop_of == li]
+        nxt = dict(zip(s[:, 0].tolist(), s[:, 1].tolist()))
+        start = int(s[0, 0])
+        order = [start]
+        v = nxt[start]
+        while v != start and len(order) <= len(s):
+            order.append(v)
+            v = nxt[v]
+        loops.append(np.asarray(order, dtype=np.int64))
+    return loops
+
+
+def _fill_voids(xy, voids, field, seed):
+    """Quads (and left-over triangles) of the region bounded by the stopped paving
+    boundaries, by advancing-front triangles paired and enhanced (18.5.1); node ids of
+    ``xy``, new nodes appended.  Returns (xy, quads, triangles)."""
+    from meshwright.tri.cdt import cdt_build
+    from meshwright.tri.front import advancing_front
+
+    nodes = np.unique(np.concatenate(voids))
+    local = {int(v): i for i, v in enumerate(nodes.tolist())}
+    seg = np.array([[local[int(a)], local[int(b)]] for f in voids for a, b in zip(f, np.roll(f, -1))], dtype=np.int64)
+    ct = cdt_build(xy[nodes], seg, seed=seed)
+    ct.classify(segment_sides=np.ones(len(seg), dtype=np.int64))
+    pts, tris = advancing_front(ct, field)
+    # Back to global ids: the triangulation's own vertices, then the front's new nodes.
+    n_ct = ct.n_points
+    glob = np.empty(n_ct, dtype=np.int64)
+    glob[ct.index_map] = nodes
+    blocked = np.empty_like(seg)
+    blocked[:] = ct.index_map[seg]
+    quads, _, left, t3, _, pts2 = pair_triangles(pts, tris, blocked, seed=seed)
+    bnd = np.zeros(len(pts2), dtype=bool)
+    bnd[:n_ct] = True
+    pts2, quads, _, _ = enhance(pts2, quads, bnd, t3[left])
+    quads, lt = unpair_nonconvex(pts2, quads, t3[left])
+    extra = pts2[n_ct:]
+    m = np.concatenate([glob, len(xy) + np.arange(len(extra))])
+    return np.vstack([xy, extra]), m[quads], m[lt]
+
+
+def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary: bool = False, seed=0,
+                max_points: int | None = None, max_rounds: int | None = None):
+    """All-quad fill of ``domain`` by paving (module docstring).
+
+    Parameters
+    ----------
+    domain : Domain
+        Validated, without interior segments or points.
+    field : number, callable, SizeField or BackgroundGrid
+        Size field (the row depth and spacing).
+    all_quad : bool
+        Finish left-over triangles of the void fill by chord refinement.
+    fixed_boundary : bool
+        Keep the discretisation's boundary nodes: an odd loop is an error.
+    seed : int or numpy.random.Generator
+        Randomness of the void fill.
+    max_points : int, optional
+        Cap on nodes.
+    max_rounds : int, optional
+        Cap on rounds of rows; default :data:`MAX_ROUNDS` plus the domain's diagonal over
+        its smallest boundary spacing.
+
+    Returns
+    -------
+    QuadFill
+    PavingReport
+
+    Raises
+    ------
+    InputError
+        An argument of the wrong type or range (named).
+    ParityError
+        An odd loop with ``fixed_boundary=True`` (the loop named).
+    MeshingError
+        A cap was hit (the stuck paving boundary named), or the result failed its own
+        exact check.
+    """
+    from meshwright.quad.chords import chord_split
+    from meshwright.quad.mesher import QuadFill
+
+    if not isinstance(domain, Domain):
+        raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
+    if domain.constraints or len(domain.points):
+        raise InputError("paving does not honour interior segments or interior points; the domain has some")
+    field = as_size_field(field)
+    all_quad = check_flag(all_quad, "all_quad")
+    fixed_boundary = check_flag(fixed_boundary, "fixed_boundary")
+    seed = check_seed(seed)
+    cap = np.iinfo(np.int32).max if max_points is None else check_count(max_points, "max_points", 4)
+    if max_rounds is not None:
+        check_count(max_rounds, "max_rounds", 1)
+    disc, added = make_loops_even(domain, domain.discretize(field), fixed_boundary)
+    loops = _boundary_loops(domain, disc)
+    pv = _Paver(disc.points, field, cap)
+    if pv.n > cap:
+        raise MeshingError(f"the boundary alone has {pv.n} nodes, above max_points = {cap}")
+    x0, y0, x1, y1 = domain.bbox
+    seg_len = np.hypot(*(disc.points[disc.segments[:, 1]] - disc.points[disc.segments[:, 0]]).T)
+    if max_rounds is None:
+        rounds = MAX_ROUNDS + int(np.hypot(x1 - x0, y1 - y0) / max(float(seg_len.min()), 1e-300))
+    else:
+        rounds = check_count(max_rounds, "max_rounds", 1)
+    active = [(f, name) for f, name in zip(loops, [_loop_name(i) for i in range(len(loops))])]
+    stopped: list[np.ndarray] = []
+    for rnd in range(rounds + 1):
+        if not active:
+            break
+        if rnd == rounds:
+            f, name = active[0]
+            raise MeshingError(
+                f"paving: the paving boundary grown from {name} ({len(f)} nodes, first at "
+                f"{fmt_point(pv.pts[f[0]])}) is still open after {rounds} rounds of rows"
+            )
+        nxt = []
+        for idx in range(len(active)):
+            f, name = active[idx]
+            others = [g for g, _ in active[idx + 1 :]] + [g for g, _ in nxt] + stopped
+            if len(f) <= 2:
+                continue
+            if len(f) <= 6:
+                if not pv.close(f, others, rnd):
+                    stopped.append(f)
+                continue
+            row, verdict = pv.row_with_repairs(f, others)
+            if row is None:
+                if not pv.close(f, others, rnd):
+                    stopped.append(f)
+                continue
+            new_xy, quads, front = row
+            pv.add_points(new_xy, rnd)
+            pv.add_quads(quads, rnd)
+            pv.rows += 1
+            front = pv.seam(front, rnd, len(front))
+            if len(front) <= 2:
+                continue
+            if verdict == "last":
+                if not pv.close(front, others, rnd):
+                    stopped.append(front)
+            else:
+                nxt.append((front, name))
+        active = nxt
+        on_front = np.zeros(pv.n, dtype=bool)
+        for g in [g for g, _ in active] + stopped:
+            on_front[g] = True
+        pv.smooth_recent(rnd, on_front)
+    xy = pv.xy.copy()
+    quads = np.concatenate(pv.quads) if pv.quads else np.zeros((0, 4), dtype=np.int64)
+    paved = len(quads)
+    tris = np.zeros((0, 3), dtype=np.int64)
+    voids = [f for f in stopped if len(f) > 2]
+    filled = 0
+    if voids:
+        xy, fq, tris = _fill_voids(xy, voids, field, seed)
+        filled = len(fq)
+        quads = np.concatenate([quads, fq])
+    lines = disc.segments.astype(np.int32)
+    used = np.zeros(len(xy), dtype=bool)
+    used[quads.ravel()] = True
+    used[tris.ravel()] = True
+    used[: pv.n_fixed] = True
+    newid = np.cumsum(used) - 1
+    xy = np.ascontiguousarray(xy[used])
+    quads = newid[quads].astype(np.int32)
+    tris = newid[tris].astype(np.int32)
+    fill = QuadFill(xy, quads, tris, lines, disc.segment_markers.astype(np.int32), disc.segment_curve.astype(np.int32))
+    split = bool(all_quad and len(tris))
+    if split:
+        fill = chord_split(fill, domain, cap)
+    fixed = np.zeros(len(fill.points), dtype=bool)
+    fixed[fill.lines.ravel()] = True
+    moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH)
+    fill = fill._replace(points=np.ascontiguousarray(moved))
+    bad = np.flatnonzero(~convex(fill.points, fill.quads))
+    if len(bad):
+        c = int(bad[0])
+        raise MeshingError(
+            "paving produced a non-convex quad with corners "
+            + ", ".join(fmt_point(fill.points[v]) for v in fill.quads[c])
+        )
+    report = PavingReport(
+        added, pv.rows, pv.tucks, pv.wedges, pv.seams, pv.closures, paved, len(voids), filled, split,
+        len(fill.triangles),
+    )
+    return fill, report
+
+
+def paving_fill(job):
+    """``QUAD_METHODS["paving"].build``: :func:`pave_domain` on a checked :class:`QuadJob`."""
+    return pave_domain(job.domain, job.field, all_quad=job.all_quad, seed=job.seed, max_points=job.max_points)[0]
