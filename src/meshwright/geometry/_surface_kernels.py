@@ -24,6 +24,8 @@ is degenerate (its corners are not collinear).
   (Edelsbrunner and Mücke's Simulation of Simplicity); faces parallel to x are never hit.
 * :func:`label_shells`, :func:`orient_shells`: union-find and breadth-first propagation over
   the manifold edges (edges in exactly two faces).
+* :func:`volume_terms`: the divergence-theorem terms of the enclosed volume and their
+  permanents, from which :mod:`meshwright.geometry.surface` bounds the rounding error.
 * :func:`ear_clip`: a planar polygon (a TetGen facet) cut into triangles by ear clipping
   in its dominant coordinate projection, exact ``orient2d`` for convexity and emptiness.
 

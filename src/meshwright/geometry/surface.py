@@ -16,6 +16,8 @@ meeting other than in their shared vertices or edge; every shell signed as its n
 depth requires.  The first violation raises :class:`~meshwright.core.errors.GeometryError`
 naming the points, edge, faces and coordinates at fault.
 
+:meth:`Surface.inside` is the same even-odd ray parity for arbitrary query points.
+
 The edge matching is the one of :mod:`meshwright.core.validate3d`
 (:func:`~meshwright.core.mesh._sort_groups` over sorted directed-edge keys).  The sign of a
 shell's volume is the floating-point divergence-theorem sum certified by an a-priori bound
