@@ -1,5 +1,5 @@
 r"""Point-location scaffolding shared by the 2-D and 3-D background grids: a uniform bucket
-grid over simplices and the simplices' face adjacency, in any dimension d (2 or 3).
+grid over simplices in any dimension d (2 or 3).
 
 The bucket grid is the classical uniform "cell list" of computational geometry: the
 bounding box of the background is cut into cubes of side ``cell`` and each simplex is listed
@@ -14,12 +14,6 @@ the grid's lower corner, ``cell`` float the cube side, ``dims`` (d,) int64 the n
 per axis.  Cube ``(i0, i1, i2)`` has the flat index ``i0 + dims[0] * (i1 + dims[1] * i2)``
 (in 2-D ``j * nx + i``); the lists are CSR: ``start`` (cubes + 1,) int64 and ``items``
 (total,) int32, cube c holding ``items[start[c]:start[c + 1]]``.
-
-Face adjacency: ``nbr[t, k]`` is the simplex across the face opposite local vertex k, -1 on
-the border.  Two simplices of a consistently oriented mesh induce opposite orientations on
-the face they share (the boundary operator: the face opposite k carries the sign
-``(-1) ** k``), so faces are matched by their sorted vertices *and* opposite orientation,
-exactly as a directed edge (a, b) of a counter-clockwise triangle meets (b, a) next door.
 """
 
 from __future__ import annotations
@@ -27,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["bucket_grid", "bucket_shape", "face_neighbours"]
+__all__ = ["bucket_grid", "bucket_shape"]
 
 
 def bucket_shape(pts: np.ndarray, m: int) -> tuple[np.ndarray, float, np.ndarray]:
@@ -130,36 +124,3 @@ def bucket_grid(pts, cells, lo, cell, dims):
             items[fill[c]] = t
             fill[c] += 1
     return start, items
-
-
-def face_neighbours(cells: np.ndarray) -> np.ndarray:
-    """(m, d + 1) int32: the simplex across the face opposite vertex k, -1 on the border.
-
-    Parameters
-    ----------
-    cells : (m, d + 1) int
-        Consistently oriented simplices (counter-clockwise triangles, positive tetrahedra).
-
-    Returns
-    -------
-    (m, d + 1) int32
-    """
-    c = np.asarray(cells, dtype=np.int64)
-    m, w = c.shape
-    faces = np.stack([np.delete(c, k, axis=1) for k in range(w)], axis=1).reshape(m * w, w - 1)
-    order = np.argsort(faces, axis=1, kind="stable")
-    key = np.take_along_axis(faces, order, axis=1)
-    # Parity of the sorting permutation (inversions) plus the boundary operator's (-1) ** k.
-    inversions = np.zeros(m * w, dtype=np.int64)
-    for i in range(w - 1):
-        for j in range(i + 1, w - 1):
-            inversions += order[:, i] > order[:, j]
-    sign = (inversions + np.tile(np.arange(w), m)) % 2
-    rows = np.lexsort(np.column_stack([sign, key[:, ::-1]]).T)
-    ks, ss = key[rows], sign[rows]
-    same = (ks[1:] == ks[:-1]).all(axis=1) & (ss[1:] != ss[:-1])
-    a, b = rows[:-1][same], rows[1:][same]
-    out = np.full(m * w, -1, dtype=np.int32)
-    out[a] = (b // w).astype(np.int32)
-    out[b] = (a // w).astype(np.int32)
-    return out.reshape(m, w)

@@ -29,7 +29,9 @@ Layout: ``points`` (n, d) float64, ``cells`` (m, d + 1) int32 (counter-clockwise
 positively oriented tetrahedra: ``orient3d > 0``), ``delta``, ``stretch``, ``direction``
 (n,) float64; point location by the uniform bucket grid of :mod:`meshwright.sizing._buckets`
 (CSR ``start`` (cubes + 1,) int64, ``items`` int32, about two simplices per cube) and walks
-across the face neighbours; the 3-D kernels are in :mod:`meshwright.sizing._background3d`.
+across the face neighbours (``core.mesh.build_neighbors`` / ``build_neighbors_tet``: a
+background whose simplices overlap or share a face three times is refused); the 3-D kernels
+are in :mod:`meshwright.sizing._background3d`.
 
 File format (:meth:`BackgroundGrid.read` / :meth:`BackgroundGrid.write`), plain text, ``#``
 comments; 2-D::
@@ -54,10 +56,11 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from meshwright.core.errors import FormatError, InputError, SizeError
+from meshwright.core.errors import FormatError, InputError, SizeError, ValidationError
 from meshwright.core.geom2d import closest_on_segment
+from meshwright.core.mesh import build_neighbors, build_neighbors_tet
 from meshwright.sizing._background3d import interpolate3d
-from meshwright.sizing._buckets import bucket_grid, bucket_shape, face_neighbours
+from meshwright.sizing._buckets import bucket_grid, bucket_shape
 from meshwright.sizing.boundary import point_distribution
 from meshwright.sizing.field import SizeField, fmt_point, unit_tangents
 
@@ -259,8 +262,9 @@ class BackgroundGrid(SizeField):
     ------
     InputError
         Wrong shapes, indices out of range, non-finite coordinates, a triangle that is not
-        counter-clockwise or a tetrahedron not positively oriented (all named); ``stretch``
-        or ``direction`` given in 3-D.
+        counter-clockwise or a tetrahedron not positively oriented, simplices that overlap
+        across a shared face or a face shared by three (all named); ``stretch`` or
+        ``direction`` given in 3-D.
     SizeError
         A spacing that is not positive or a stretching below 1 (node and value named).
     """
@@ -308,7 +312,10 @@ class BackgroundGrid(SizeField):
         lo, self._cell, dims = bucket_shape(pts, len(cells))
         self._lo, self._dims = lo, dims
         self._start, self._items = bucket_grid(pts, cells, lo, self._cell, dims)
-        self._nbr = face_neighbours(cells)
+        try:
+            self._nbr = (build_neighbors if dim == 2 else build_neighbors_tet)(cells)
+        except ValidationError as exc:
+            raise InputError(f"background grid: {exc}") from exc
         constant = float(d[0]) if np.all(d == d[0]) else None
         super().__init__(self._spacing, constant=constant, name="background grid", dim=dim)
 
