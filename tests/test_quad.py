@@ -58,7 +58,7 @@ def test_door_rejects_bad_arguments_before_any_work(kwargs, error, words):
 def test_door_rejects_what_the_quadtree_cannot_honour():
     square = [(0, 0), (1, 0), (1, 1), (0, 1)]
     with pytest.raises(InputError, match="needs a size"):
-        quadrangulate(polygon(square))
+        quadrangulate(polygon(square), "boundary")
     with pytest.raises(InputError, match=r"region 0 at \(0\.5, 0\.5\) has max_area 0\.01"):
         quadrangulate(polygon(square, regions=[(0.5, 0.5, 3, 0.01)]), 0.2)
     with pytest.raises(InputError, match="Domain"):

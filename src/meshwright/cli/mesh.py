@@ -13,6 +13,7 @@ domain's bounding box (chapter 18.2): spacing ``S * H`` along DEG and ``H`` acro
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 from pathlib import Path
@@ -23,6 +24,7 @@ from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
 from meshwright.sizing import BackgroundGrid
 from meshwright.tri import MESH_METHODS, triangulate
+from meshwright.tri.mesher import BOUNDARY_SIZE
 from meshwright.tri.weatherill import DEFAULT_ALPHA
 
 NAME = "mesh"
@@ -31,7 +33,13 @@ HELP = "quality triangle mesh of a .poly file, a JSON geometry file or a built-i
 
 def add_arguments(parser) -> None:
     add_input_argument(parser)
-    parser.add_argument("--size", type=float, metavar="H", help="target edge length (default: the domain's own)")
+    parser.add_argument(
+        "--size",
+        type=size_value,
+        metavar="H",
+        help="target edge length, or 'boundary' for the chapter's spacing from the boundary alone "
+        "(default: the domain's own, else its local feature size; delaunay grades by itself)",
+    )
     parser.add_argument(
         "--background",
         metavar="FILE",
@@ -143,6 +151,16 @@ def stretched_background(domain, size, stretch, direction):
     return BackgroundGrid.uniform(domain.bbox, size, stretch=stretch, direction=math.radians(deg))
 
 
+def size_value(text: str):
+    """``--size``: a number, or the named size ``boundary`` (:data:`~meshwright.tri.mesher.BOUNDARY_SIZE`)."""
+    if text == BOUNDARY_SIZE:
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number or {BOUNDARY_SIZE!r}, got {text!r}") from None
+
+
 def _size_option(args, domain):
     """The size argument of :func:`triangulate` chosen by ``--size/--background/--stretch``."""
     if args.stretch is None:
@@ -159,6 +177,8 @@ def _size_option(args, domain):
             f"--background {args.background} and --stretch {args.stretch:g} are mutually exclusive: "
             "the background grid file carries its own stretching"
         )
+    if args.size == BOUNDARY_SIZE:
+        raise InputError(f"--stretch {args.stretch:g} needs --size H, a number: the spacing across the stretching")
     return stretched_background(domain, args.size, args.stretch, args.direction)
 
 

@@ -12,7 +12,7 @@ import sys
 
 from meshwright.cli._common import Timer, add_convex_hull_argument, add_input_argument, add_max_points_argument
 from meshwright.cli._common import add_output_arguments, emit_mesh
-from meshwright.cli.mesh import load_input
+from meshwright.cli.mesh import load_input, size_value
 from meshwright.quad import QUAD_METHODS, quadrangulate
 
 NAME = "quad"
@@ -21,7 +21,13 @@ HELP = "quadrilateral mesh (all-quad by default) of a .poly file, a JSON geometr
 
 def add_arguments(parser) -> None:
     add_input_argument(parser)
-    parser.add_argument("--size", type=float, metavar="H", help="target quad edge length (default: the domain's own)")
+    parser.add_argument(
+        "--size",
+        type=size_value,
+        metavar="H",
+        help="target quad edge length, or 'boundary' for the spacing of the boundary alone (default: the "
+        "domain's own, else its local feature size)",
+    )
     parser.add_argument(
         "--method",
         choices=sorted(QUAD_METHODS),

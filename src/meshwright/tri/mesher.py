@@ -19,8 +19,16 @@ Point placement methods (:data:`MESH_METHODS`, the CLI's ``--method`` choices):
   triangles replace the constrained triangulation's, and a background grid's stretching
   and direction shape them.
 
-Without a size, ``frontal-delaunay`` and ``front`` take the chapter's background: the
-triangulated boundary nodes with their point distribution function (18.3).
+Without a size (and none carried by the domain) every method but ``delaunay`` follows
+the default size of :func:`_default_size` (issue 14): the local feature size of the
+domain's polygon (Ruppert 1995, :mod:`meshwright.sizing.lfs`), graded, capped at half the
+domain's extent, with curves sized by their turning and area bounds graded in, so that
+short features get small elements and long segments are split.  ``delaunay`` takes none:
+Delaunay refinement grades its meshes by the local feature size by itself (its registry
+entry's ``grades_itself``).  ``size="boundary"`` names the chapter's own mode instead: the
+boundary as the domain discretises it, Weatherill's ``dP`` from it (18.1.3), and for
+``frontal-delaunay`` and ``front`` the chapter's background, the triangulated boundary
+nodes with their point distribution function (18.3).
 
 What each method honours is declared in its registry entry (:class:`MeshMethod`), and
 :func:`triangulate` checks every argument against it before any work: ``min_angle`` up to
@@ -60,8 +68,9 @@ from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.shapes import BUILTIN_DOMAINS, builtin, polygon
 from meshwright.sizing.background import BackgroundGrid
-from meshwright.sizing.boundary import point_distribution
+from meshwright.sizing.boundary import gradation, point_distribution
 from meshwright.sizing.field import SizeField, as_size_field
+from meshwright.sizing.lfs import DEFAULT_CAP, DEFAULT_GROWTH, lfs_field, turning_size
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
 from meshwright.tri.frontal_delaunay import frontal_delaunay
@@ -69,10 +78,13 @@ from meshwright.tri.ruppert import conform, refine
 from meshwright.tri.smoothing import smooth as smooth_points
 from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
 
-__all__ = ["MESH_METHODS", "MeshMethod", "triangulate", "DEFAULT_MAX_POINTS", "RUPPERT_MAX_ANGLE"]
+__all__ = ["MESH_METHODS", "MeshMethod", "triangulate", "DEFAULT_MAX_POINTS", "RUPPERT_MAX_ANGLE", "BOUNDARY_SIZE"]
 
 DEFAULT_MAX_POINTS = 100_000_000  # vertices; about 20 GB of kernel arrays, far beyond a 2-D mesh anyone waits for
 RUPPERT_MAX_ANGLE = 33.8  # degrees: where Delaunay refinement with off-centres still terminates in practice
+BOUNDARY_SIZE = "boundary"  # the named size: the chapter's spacing from the boundary alone
+TURN_PER_ELEMENT = math.pi / 16  # radians a curve turns along one element of the default size
+_AREA_SOURCES = 2_000_000  # most sources the default size spreads over area-bounded regions
 
 
 class _Job(NamedTuple):
@@ -111,6 +123,10 @@ class MeshMethod(NamedTuple):
     convex_hull : bool
         Whether the method meshes the convex hull of an open set of segments
         (``convex_hull=True``, Triangle's ``-c``).
+    grades_itself : bool
+        Whether the method's own point placement follows the local feature size, so that
+        without a size it takes none (Delaunay refinement: Ruppert 1995 proves its meshes
+        graded by the lfs); the others get :func:`_default_size`.
     """
 
     name: str
@@ -121,6 +137,7 @@ class MeshMethod(NamedTuple):
     reports_progress: bool
     options: tuple[str, ...] = ()
     convex_hull: bool = True
+    grades_itself: bool = False
 
 
 def _place_delaunay(job: _Job) -> None:
@@ -215,7 +232,7 @@ MESH_METHODS: dict[str, MeshMethod] = {
     for m in (
         MeshMethod(
             "delaunay", "guaranteed-quality Delaunay refinement (Ruppert, off-centres)", _place_delaunay,
-            RUPPERT_MAX_ANGLE, 30.0, True,
+            RUPPERT_MAX_ANGLE, 30.0, True, grades_itself=True,
         ),
         MeshMethod(
             "weatherill", "Weatherill's automatic point generation (chapter 18.1.3)", _place_weatherill,
@@ -386,15 +403,99 @@ def _smooth_mesh(mesh: Mesh, ct: ConstrainedTriangulation, domain: Domain, disc:
 
 
 
-def _domain_and_field(domain, size, convex_hull: bool) -> tuple[Domain, SizeField | None]:
+def _domain_and_field(
+    domain, size, convex_hull: bool, max_area: float | None = None, grades_itself: bool = False
+) -> tuple[Domain, SizeField | None]:
     """The domain argument as a :class:`Domain` and the size field to mesh it with: ``size``
-    when given, else the domain's own (``None`` if it carries none); raises as
-    :func:`_as_domain`, :func:`~meshwright.sizing.field.as_size_field` and :func:`_check_open`.
+    when given; for None the domain's own, else :func:`_default_size` (``max_area`` and
+    ``grades_itself`` passed on); for ``"boundary"`` the domain's own or None (the
+    boundary's spacing alone).  Raises as :func:`_as_domain`,
+    :func:`~meshwright.sizing.field.as_size_field` and :func:`_check_open`.
     """
-    field = None if size is None else as_size_field(size)
+    if isinstance(size, str):
+        if size != BOUNDARY_SIZE:
+            raise SizeError(f"size {size!r} is no named size; the only one is {BOUNDARY_SIZE!r}")
+        field = None
+    else:
+        field = None if size is None else as_size_field(size)
     dom = _as_domain(domain)
     _check_open(dom, convex_hull)
-    return dom, dom.size if field is None else field
+    if field is None:
+        field = dom.size
+    if field is None and size is None:
+        field = _default_size(dom, max_area, grades_itself)
+    return dom, field
+
+
+def _default_size(dom: Domain, max_area: float | None, grades_itself: bool) -> SizeField | None:
+    """The size used when neither the caller nor the domain gives one (issue 14): the local
+    feature size of the domain's own discretisation (polygon vertices as given,
+    :func:`~meshwright.sizing.lfs.lfs_field`), with curved pieces sized by their turning
+    (:data:`TURN_PER_ELEMENT` radians per element along their fine polylines) and area
+    bounds graded in (:func:`_area_sources`).  For a method that ``grades_itself`` only
+    the curves' turning, graded as the rest (None for a polygon): its refinement sees the
+    polygon, not the curves it stands for."""
+    xy, h = [], []
+    for c in dom.curves:
+        if not isinstance(c, (Line, Polyline)):
+            p = c.evaluate(c.fine_params())
+            if len(p) >= 3:
+                xy.append(p[1:-1])
+                h.append(turning_size(p, TURN_PER_ELEMENT))
+    if grades_itself:
+        if not xy:
+            return None
+        xy, h = np.concatenate(xy), np.concatenate(h)
+        x0, y0, x1, y1 = dom.bbox
+        hmax = DEFAULT_CAP * max(x1 - x0, y1 - y0)
+        return gradation(xy, np.minimum(h, hmax), DEFAULT_GROWTH, hmax)
+    disc = dom.discretize(None)
+    area = _area_sources(dom, disc, max_area)
+    if area is not None:
+        xy.append(area[0])
+        h.append(area[1])
+    extra = None
+    if xy:
+        xy, h = np.concatenate(xy), np.concatenate(h)
+        extra = (xy[np.isfinite(h)], h[np.isfinite(h)])
+    return lfs_field(disc.points, disc.segments, extra=extra)
+
+
+def _area_sources(dom: Domain, disc: Discretization, max_area: float | None):
+    """Sources of the default size where an area bound (``max_area``, a region's) applies:
+    points spread over every bounded triangle of the boundary's constrained triangulation,
+    at most the side of the equilateral triangle of the bound apart, with that side as
+    their size, so that the size the methods follow already grades into each bound
+    instead of meeting it as a jump.  None without any bound."""
+    if max_area is None and not (disc.regions[:, 3] > 0).any():
+        return None
+    ct = _classified_cdt(dom, disc, 0)
+    bound = np.concatenate([[np.inf], np.where(disc.regions[:, 3] > 0, disc.regions[:, 3], np.inf)])
+    bound = bound[ct.triangle_markers(True)]
+    if max_area is not None:
+        bound = np.minimum(bound, max_area)
+    tris = ct.points[ct.triangles(True)[np.isfinite(bound)]]
+    side = np.sqrt(4.0 / math.sqrt(3.0) * bound[np.isfinite(bound)])
+    longest = np.hypot(*(tris - np.roll(tris, 1, axis=1)).transpose(2, 0, 1)).max(axis=1)
+    # A bound far below the domain's size is refused later (_check_work): until then the
+    # lattices stay within _AREA_SOURCES points.
+    spread = max(1.0, math.sqrt(float(np.sum((longest / side + 1.0) ** 2)) / _AREA_SOURCES))
+    xy, h = [], []
+    for corners, s, far in zip(tris, side, longest):
+        k = max(1, math.ceil(far / (spread * s)))
+        i, j = np.triu_indices(k + 1)
+        w = np.column_stack([k - j, j - i, i]) / k  # barycentric lattice, corners included
+        xy.append(w @ corners)
+        h.append(np.full(len(w), s))
+    return np.concatenate(xy), np.concatenate(h)
+
+
+def _classified_cdt(dom: Domain, disc: Discretization, seed) -> ConstrainedTriangulation:
+    """The constrained triangulation of ``disc`` with exterior, holes and regions flagged."""
+    ct = cdt_build(disc.points, disc.segments, seed=seed, curves=SegmentCurves.from_domain(dom, disc))
+    sides = np.where(dom.curve_loop[disc.segment_curve] >= 0, 1, 0)
+    ct.classify(segment_sides=sides, holes=disc.holes, regions=_regions(disc))
+    return ct
 
 
 def _check_open(dom: Domain, convex_hull: bool) -> None:
@@ -445,9 +546,12 @@ def triangulate(
         a polygon.  Curved boundaries stay curves: every boundary point lies on the true
         curve.  Coordinates must lie in the exact predicates' range
         (:mod:`meshwright.core.validate_input`).
-    size : number, callable or SizeField, optional
-        Target edge length ``h(x)`` (boundary spacing and interior size); default: the
-        domain's own size, or else the boundary as given with sizes grown from it.
+    size : number, callable, SizeField or "boundary", optional
+        Target edge length ``h(x)`` (boundary spacing and interior size).  Default: the
+        domain's own size, or else the local feature size of the domain, graded and
+        capped (module docstring; ``"delaunay"`` refines by its own grading instead).
+        ``"boundary"``: the chapter's mode, the boundary as the domain discretises it by
+        itself (polygon vertices as given) with sizes grown from its spacing.
     min_angle : float, optional
         Smallest angle in degrees, at most the method's ``max_min_angle``
         (:data:`RUPPERT_MAX_ANGLE` = 33.8; angles next to smaller input angles are left
@@ -510,8 +614,9 @@ def triangulate(
         Not a domain (its type named), unknown method, a parameter of the wrong type or
         range, or one the method cannot honour (named).
     SizeError
-        ``size`` or ``max_area`` zero, negative, NaN or infinite, or needing more than
-        ``max_points`` points (the estimate and the cap named).
+        ``size`` or ``max_area`` zero, negative, NaN or infinite, a string other than
+        ``"boundary"``, or needing more than ``max_points`` points (the estimate and the
+        cap named).
     FormatError
         A domain file that cannot be read (the file named).
     MeshingError
@@ -536,13 +641,10 @@ def triangulate(
     if convex_hull and not m.convex_hull:
         raise InputError(f"method {method!r} cannot mesh the convex hull; call it with convex_hull=False")
     seed = check_seed(seed)
-    dom, field = _domain_and_field(domain, size, convex_hull)
+    dom, field = _domain_and_field(domain, size, convex_hull, max_area, m.grades_itself)
     _check_work(dom, field, max_area, cap)
     disc = dom.discretize(field)
-    curves = SegmentCurves.from_domain(dom, disc)
-    ct = cdt_build(disc.points, disc.segments, seed=seed, curves=curves)
-    sides = np.where(dom.curve_loop[disc.segment_curve] >= 0, 1, 0)
-    ct.classify(segment_sides=sides, holes=disc.holes, regions=_regions(disc))
+    ct = _classified_cdt(dom, disc, seed)
     fill = m.place(_Job(ct, disc, field, angle, max_area, bool(progress), cap, alpha))
     if fill is not None and conforming:
         # A Delaunay mesh was asked for: the method's points, connected by the kernel.
