@@ -1,6 +1,9 @@
 """How fine: size fields (constant, callable, graded from boundary spacing, background grids).
 
-Below :mod:`meshwright.geometry` in the layer order; depends only on ``core``.
+Fields take (n, 2) points, or (n, 3) for the 3-D mesher (``as_size_field(size, dim=3)``);
+a :class:`BackgroundGrid` is a triangulation (2-D, with stretching) or a tetrahedralization
+(3-D) with nodal spacing.  Below :mod:`meshwright.geometry` in the layer order; depends only
+on ``core``.
 """
 
 from meshwright.sizing.background import BackgroundGrid
