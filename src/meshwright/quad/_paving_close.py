@@ -8,10 +8,15 @@ and connect paving boundaries that meet.  This module holds those pieces:
   corner sine);
 * :func:`close_loop`: a paving boundary of more nodes is cut by chords, node to node, with
   nodes at the local size on the chord so that both parts stay even, until every part
-  takes a template; the chord chosen leaves the widest smallest angle beside it;
+  takes a template; the chord chosen leaves the widest smallest angle beside it; a part of
+  up to :data:`STAR_MAX` nodes that no chord can cut is closed around one centre node
+  (:func:`star_quads`);
 * :func:`bridge`: a paving boundary around a hole's paving boundary is joined to it by one
   such chord (its nodes appear on both sides of the chord, so the joined boundary has
-  ``n_outer + n_hole + 2 k + 2`` nodes: even), after which :func:`close_loop` can close it.
+  ``n_outer + n_hole + 2 k + 2`` nodes: even), after which :func:`close_loop` can close it;
+* :func:`closest_facing`: the pair of paving nodes the paver joins next;
+* :func:`fill_voids`: the region left between stopped paving boundaries, meshed by
+  advancing-front triangles paired into quads (18.5.1, :mod:`meshwright.quad.pairing`).
 
 Every chord is checked against every paving-boundary edge by the exact crossing kernel
 (:func:`meshwright.quad._paving_kernel.row_crossings`); every quad of a template is
@@ -28,11 +33,15 @@ import numpy as np
 
 from meshwright.core.predicates import orient2d_batch
 from meshwright.quad import _paving_kernel as pk
+from meshwright.quad.enhancement import enhance, unpair_nonconvex
+from meshwright.quad.pairing import pair_triangles
 
 __all__ = ["bridge", "close_loop", "closure_quads", "convex", "edges_of", "loop_angles", "min_sine", "signed_area"]
 
 CHORD_MIN_ANGLE = 35.0  # degrees: a chord leaves no angle sharper than this beside it
-CHORD_TRIES = 48  # best-scored chords tested for crossings before giving up on a part
+CHORD_REACH = 4.0  # sizes: chords up to this long are tried first
+CHORD_TRIES = 48
+STAR_MAX = 12  # a part of up to this many nodes no chord can cut is closed around a centre node  # best-scored chords tested for crossings before giving up on a part
 
 
 def loop_angles(xy: np.ndarray) -> np.ndarray:
@@ -125,6 +134,38 @@ def closure_quads(xy, loop):
     return best_q, centre
 
 
+def star_quads(xy, loop):
+    """Closure of an even paving boundary by one centre node: quads ``(c, f[2i], f[2i+1],
+    f[2i+2])`` (or shifted by one node), the centre at the nodes' mean or at the polygon's
+    centroid, whichever valid choice has the best smallest corner sine.
+
+    Returns
+    -------
+    (quads (k/2, 4) int64 with the centre id ``len(xy)``, centre (2,)) or (None, None)
+    """
+    f = np.asarray(loop, dtype=np.int64)
+    if len(f) % 2 or len(np.unique(f)) != len(f):
+        return None, None
+    p = xy[f]
+    a = signed_area(p)
+    if a <= 0.0:
+        return None, None
+    cross = p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]
+    centroid = ((p + np.roll(p, -1, axis=0)) * cross[:, None]).sum(axis=0) / (6.0 * a)
+    g = len(xy)
+    best, pick = -np.inf, (None, None)
+    for c in (p.mean(axis=0), centroid):
+        trial = np.vstack([xy, c])
+        for s in range(2):
+            r = np.roll(f, -s)
+            q = np.column_stack([np.full(len(f) // 2, g), r[0::2], r[1::2], np.roll(r[0::2], -1)])
+            if convex(trial, q).all():
+                w = float(min_sine(trial, q).min())
+                if w > best:
+                    best, pick = w, (q, c)
+    return pick
+
+
 def _chord_nodes(length, h, parity):
     """Nodes on chords of the given lengths at sizes ``h``: the count nearest
     ``length / h - 1`` whose parity is ``parity`` (None: any)."""
@@ -160,6 +201,21 @@ def _first_clear(xy, p_i, p_j, a_ids, b_ids, ks, order, oa, ob):
     return None
 
 
+def _ranked(split, length, h, k):
+    """Candidate chords, best first, or None: the smallest angle each leaves beside it,
+    less penalties for a spacing off the size and for every node on it (short chords
+    first, so a thin region is cut straight across); only chords within
+    :data:`CHORD_REACH` sizes when there are any, none leaving an angle below
+    :data:`CHORD_MIN_ANGLE`."""
+    score = split - 45.0 * np.abs(length / ((k + 1) * h) - 1.0) - 15.0 * k
+    ok = split >= CHORD_MIN_ANGLE
+    near = ok & (length <= CHORD_REACH * h)
+    pick = np.flatnonzero(near if near.any() else ok)
+    if not len(pick):
+        return None
+    return pick[np.argsort(-score[pick], kind="stable")]
+
+
 def _geometry(xy, g):
     p = xy[g]
     ang = np.degrees(loop_angles(p))
@@ -179,11 +235,9 @@ def _best_chord(xy, g, field, oa, ob):
     h = field(0.5 * (p[i] + p[j]))
     k = _chord_nodes(length, h, parity=((j - i + 1) % 2))
     split = _split_angles(d, th[i], ang[i], th[j], ang[j])
-    score = split - 45.0 * np.abs(length / ((k + 1) * h) - 1.0)
-    ok = np.flatnonzero(split >= CHORD_MIN_ANGLE)
-    if not len(ok):
+    order = _ranked(split, length, h, k)
+    if order is None:
         return None
-    order = ok[np.argsort(-score[ok], kind="stable")]
     hit = _first_clear(xy, p[i], p[j], g[i], g[j], k, order, np.concatenate([oa, g]), np.concatenate([ob, np.roll(g, -1)]))
     if hit is None:
         return None
@@ -230,7 +284,12 @@ def close_loop(xy, loop, field, oa, ob, max_parts: int):
             continue
         parts = _best_chord(cur, g, field, oa, ob)
         if parts is None:
-            return None
+            q, centre = star_quads(cur, g) if len(g) <= STAR_MAX else (None, None)
+            if q is None:
+                return None
+            extra.append(centre[None, :])
+            quads.append(q)
+            continue
         pts, a, b = parts
         if len(pts):
             extra.append(pts)
@@ -264,11 +323,9 @@ def bridge(xy, outer, hole, field, oa, ob):
     h = field(0.5 * (pa[i] + pb[j]))
     k = _chord_nodes(length, h, None)
     split = _split_angles(d, tha[i], anga[i], thb[j], angb[j])
-    score = split - 45.0 * np.abs(length / ((k + 1) * h) - 1.0)
-    ok = np.flatnonzero(split >= CHORD_MIN_ANGLE)
-    if not len(ok):
+    order = _ranked(split, length, h, k)
+    if order is None:
         return None
-    order = ok[np.argsort(-score[ok], kind="stable")]
     hit = _first_clear(xy, pa[i], pb[j], outer[i], hole[j], k, order, oa, ob)
     if hit is None:
         return None
@@ -276,3 +333,64 @@ def bridge(xy, outer, hole, field, oa, ob):
     a, b = int(i[c]), int(j[c])
     joined = np.concatenate([outer[: a + 1], ids, hole[b:], hole[: b + 1], ids[::-1], outer[a:]])
     return pts, joined
+
+
+def closest_facing(ids, fid, pos, p, nrm, reach, sizes, tried):
+    """The closest pair (u, v) of paving-node slots (node ``ids``, boundary ``fid``,
+    position ``pos`` along it, coordinates ``p``, unit bisectors ``nrm`` into the
+    unmeshed region) closer than both their ``reach``, facing each other, not near
+    neighbours along one boundary (and an even distance apart there, so both parts stay
+    even), not in ``tried``; or None."""
+    n = len(ids)
+    best, pick = np.inf, None
+    for lo in range(0, n, 512):
+        hi = min(n, lo + 512)
+        d = p[None, :, :] - p[lo:hi, None, :]
+        dist = np.hypot(d[..., 0], d[..., 1])
+        r = np.minimum(reach[lo:hi, None], reach[None, :])
+        ok = (dist < r) & (ids[lo:hi, None] != ids[None, :])
+        ok &= (nrm[lo:hi] @ nrm.T) < -0.3
+        ok &= (d * nrm[lo:hi, None, :]).sum(axis=2) > 0.0
+        ok &= (-d * nrm[None, :, :]).sum(axis=2) > 0.0
+        same = fid[lo:hi, None] == fid[None, :]
+        gap = np.abs(pos[lo:hi, None] - pos[None, :])
+        k = np.asarray(sizes)[fid][None, :]
+        gap = np.minimum(gap, k - gap)
+        ok &= ~same | ((gap > 3) & (gap % 2 == 0))
+        ok &= np.arange(lo, hi)[:, None] < np.arange(n)[None, :]
+        for u, v in zip(*np.nonzero(ok)):
+            if (int(ids[lo + u]), int(ids[v])) in tried or dist[u, v] >= best:
+                continue
+            best, pick = dist[u, v], (lo + int(u), int(v))
+    if pick is None:
+        return None
+    return pick
+
+
+def fill_voids(xy, voids, field, seed):
+    """Quads (and left-over triangles) of the region bounded by the stopped paving
+    boundaries, by advancing-front triangles paired and enhanced (18.5.1); node ids of
+    ``xy``, new nodes appended.  Returns (xy, quads, triangles)."""
+    from meshwright.tri.cdt import cdt_build
+    from meshwright.tri.front import advancing_front
+
+    nodes = np.unique(np.concatenate(voids))
+    local = {int(v): i for i, v in enumerate(nodes.tolist())}
+    seg = np.array([[local[int(a)], local[int(b)]] for f in voids for a, b in zip(f, np.roll(f, -1))], dtype=np.int64)
+    ct = cdt_build(xy[nodes], seg, seed=seed)
+    ct.classify(segment_sides=np.ones(len(seg), dtype=np.int64))
+    pts, tris = advancing_front(ct, field)
+    # Back to global ids: the triangulation's own vertices, then the front's new nodes.
+    n_ct = ct.n_points
+    glob = np.empty(n_ct, dtype=np.int64)
+    glob[ct.index_map] = nodes
+    blocked = np.empty_like(seg)
+    blocked[:] = ct.index_map[seg]
+    quads, _, left, t3, _, pts2 = pair_triangles(pts, tris, blocked, seed=seed)
+    bnd = np.zeros(len(pts2), dtype=bool)
+    bnd[:n_ct] = True
+    pts2, quads, _, _ = enhance(pts2, quads, bnd, t3[left])
+    quads, lt = unpair_nonconvex(pts2, quads, t3[left])
+    extra = pts2[n_ct:]
+    m = np.concatenate([glob, len(xy) + np.arange(len(extra))])
+    return np.vstack([xy, extra]), m[quads], m[lt]

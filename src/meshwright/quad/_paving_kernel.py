@@ -3,9 +3,7 @@
 A candidate row of quads (Blacker and Stephenson 1991, step 3) is accepted only if none of
 its new edges crosses or touches an edge of any paving boundary or another new edge, and no
 node of a paving boundary lies inside or on one of its new quads (step 7's intersection
-check); every sign is the exact ``orient2d``.  A second kernel measures the clearance
-between the new paving boundary and the other ones, so that a row that comes too close to
-another front is the last one of its front.
+check); every sign is the exact ``orient2d``.
 
 Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``, ``sb``
 (node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.  The
@@ -21,7 +19,7 @@ from numba import njit
 
 from meshwright.core.predicates import orient2d
 
-__all__ = ["clearance_hits", "nodes_in_quads", "row_crossings"]
+__all__ = ["nodes_in_quads", "row_crossings"]
 
 
 @njit(inline="always")
@@ -142,64 +140,3 @@ def nodes_in_quads(pts, quads, nodes):
                 bad[q] = True
                 break
     return bad
-
-
-@njit(inline="always")
-def _point_seg2(px, py, ax, ay, bx, by):
-    ux = bx - ax
-    uy = by - ay
-    den = ux * ux + uy * uy
-    t = 0.0 if den == 0.0 else ((px - ax) * ux + (py - ay) * uy) / den
-    t = min(1.0, max(0.0, t))
-    dx = ax + t * ux - px
-    dy = ay + t * uy - py
-    return dx * dx + dy * dy
-
-
-@njit(cache=True)
-def clearance_hits(pts, na, nb, radius, sa, sb):
-    """Number of new segments ``(na[i], nb[i])`` closer than ``radius[i]`` to a segment of
-    ``sa, sb`` sharing no node with them (the distance of two non-crossing segments is the
-    smallest end-to-segment distance; a quality rule, floating point)."""
-    m = sa.shape[0]
-    xlo = np.empty(m)
-    span = 0.0
-    for j in range(m):
-        x0 = pts[sa[j], 0]
-        x1 = pts[sb[j], 0]
-        xlo[j] = min(x0, x1)
-        span = max(span, abs(x1 - x0))
-    order = np.argsort(xlo)
-    xs = xlo[order]
-    hits = 0
-    for i in range(na.shape[0]):
-        a = na[i]
-        b = nb[i]
-        r = radius[i]
-        r2 = r * r
-        qx0 = min(pts[a, 0], pts[b, 0]) - r
-        qx1 = max(pts[a, 0], pts[b, 0]) + r
-        qy0 = min(pts[a, 1], pts[b, 1]) - r
-        qy1 = max(pts[a, 1], pts[b, 1]) + r
-        k = np.searchsorted(xs, qx0 - span)
-        while k < m and xs[k] <= qx1:
-            j = order[k]
-            k += 1
-            c = sa[j]
-            d = sb[j]
-            if c == a or c == b or d == a or d == b:
-                continue
-            if max(pts[c, 0], pts[d, 0]) < qx0:
-                continue
-            if min(pts[c, 1], pts[d, 1]) > qy1 or max(pts[c, 1], pts[d, 1]) < qy0:
-                continue
-            d2 = min(
-                min(_point_seg2(pts[a, 0], pts[a, 1], pts[c, 0], pts[c, 1], pts[d, 0], pts[d, 1]),
-                    _point_seg2(pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1], pts[d, 0], pts[d, 1])),
-                min(_point_seg2(pts[c, 0], pts[c, 1], pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1]),
-                    _point_seg2(pts[d, 0], pts[d, 1], pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1])),
-            )
-            if d2 < r2:
-                hits += 1
-                break
-    return hits

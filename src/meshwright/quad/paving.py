@@ -23,12 +23,9 @@ Steps, as the chapter numbers them
    (below :data:`REVERSAL_ANGLE`: three new nodes, one extra quad) or *reversal* (five
    new nodes, two extra quads).  Two row ends are never neighbours; the row is the whole
    paving boundary, between its row ends.
-2. **Closure.**  A paving boundary of six or fewer nodes is closed by a template: four
-   nodes one quad, six nodes two quads along one of the three long diagonals or three
-   quads around a centre node, whichever is valid with the best smallest corner sine.  A
-   paving boundary of up to :data:`SPLIT_MAX` nodes whose row fails, or that comes close
-   to itself, is first cut by chords (node to node, with nodes at the local size so both
-   parts stay even, the chord leaving the widest angles beside it) until every part takes
+2. **Closure.**  A paving boundary of six or fewer nodes is closed by a template (four
+   nodes one quad; six nodes two quads or three around a centre node); one of up to
+   :data:`SPLIT_MAX` nodes whose row fails is first cut by chords until every part takes
    a template (:mod:`meshwright.quad._paving_close`).
 3. **Row generation.**  New nodes at the row depth (the size field at the node, kept
    within ``[1/2, 2]`` of the neighbouring edge lengths and averaged along the row),
@@ -44,19 +41,23 @@ Steps, as the chapter numbers them
    the size field; their running surplus places *tucks* (a floating side node becomes a
    row end: two nodes fewer) and *wedges* (a floating side node becomes a corner: two
    more), one per edge of surplus.
-7. **Intersection.**  A row is accepted only if no new edge meets an edge of any paving
-   boundary or another new edge and no paving node lies in a new quad (exact
-   ``orient2d``, :mod:`meshwright.quad._paving_kernel`), and every new quad is strictly
-   convex.  A row coming closer than :data:`CLEARANCE` times the size to another paving
-   boundary is the last of its front.  Where a row is refused, its paving boundary stops.
-   *Simplification*: the chapter joins and splits intersecting paving boundaries; here the
-   region left between stopped paving boundaries (even loops, so an even number of
-   boundary edges) is filled by the pairing method of 18.5.1 on the same size field
-   (advancing-front triangles, pairing, shape enhancement:
-   :mod:`meshwright.quad.pairing`), as unconstrained paving (Staten et al. 2005) fills
-   its voids after the rows.  :class:`PavingReport` counts those quads.
+7. **Intersection.**  A row is accepted only if every new quad is strictly convex, no new
+   edge meets a paving-boundary edge or another new edge, and no paving node lies in a
+   new quad (exact ``orient2d``, :mod:`meshwright.quad._paving_kernel`); failing nodes
+   get a shallower row (up to :data:`REPAIRS` times), then the paving boundary stops.
+   After every round, paving nodes closer than :data:`CONNECT` times the size and facing
+   each other are joined: two paving boundaries become one, one that meets itself splits
+   in two even ones, and seams zip the narrow angles beside the joint (no joint or seam
+   moves an edge across another).  At the end, a stopped paving boundary around stopped
+   holes is joined to them by chords; a thin or small region is closed by chords and
+   templates.  *Simplification*: what is left (large regions between fronts that
+   stopped) is filled by the pairing method of 18.5.1 on the same size field
+   (:func:`meshwright.quad.pairing.pair_triangles` and its shape enhancement), as
+   unconstrained paving (Staten et al. 2005) fills its voids after the rows;
+   :class:`PavingReport` counts those quads.
 8. **Cleanup.**  Triangles the pairing of a void could not pair are finished by chord
-   refinement (:func:`meshwright.quad.chords.chord_split`), and a final smoothing runs.
+   refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split),
+   and a final smoothing runs.
 
 Every loop is capped: rounds of rows (:data:`MAX_ROUNDS` plus a bound from the domain's
 extent over its smallest spacing), seams per row, and the number of points
@@ -78,19 +79,22 @@ from meshwright.core.validate_input import check_count, check_flag, check_seed
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad._paving_close import (
+    bridge,
     close_loop,
+    closest_facing,
     closure_quads,
     convex,
     edges_of,
+    fill_voids,
     loop_angles,
+    signed_area,
 )
-from meshwright.quad.enhancement import enhance, unpair_nonconvex
-from meshwright.quad.pairing import make_loops_even, pair_triangles
+from meshwright.quad.pairing import make_loops_even
 from meshwright.quad.smoothing import smooth_cells
 from meshwright.sizing.field import as_size_field
 
 __all__ = [
-    "CLEARANCE",
+    "CONNECT",
     "CORNER_ANGLE",
     "END_ANGLE",
     "FINAL_SMOOTH",
@@ -112,10 +116,11 @@ TUCK_MAX_ANGLE = 179.5  # tucks only at side nodes flatter than this ...
 WEDGE_MIN_ANGLE = 185.0  # ... wedges only at side nodes wider than this
 ROW_RELAX = 2  # Jacobi sweeps of the new row's nodes along the row
 TUCK_AT = 1.25  # edges of running surplus (or shortfall) that place a wedge (or a tuck)
-CLEARANCE = 0.6  # a new row closer than this times its depth to another front is its last
+CONNECT = 1.0  # facing paving nodes closer than this times the size are joined
 REPAIRS = 4  # retries of a refused row with the depth lowered around its failing nodes
 REPAIR_SCALE = 0.7  # ... by this factor each time
-SPLIT_MAX = 40  # paving boundaries up to this many nodes may be closed by chords
+THIN = 0.75  # a stopped region thinner than this (area / perimeter / size) is closed by chords
+SPLIT_MAX = 80  # paving boundaries up to this many nodes may be closed by chords
 MAX_ROUNDS = 64  # rounds of rows beyond the bound from the domain's extent
 FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end
 ROW_SMOOTH = 4  # ... over the two previous rows after each row
@@ -201,6 +206,7 @@ class _Paver:
         self.quad_round: list[int] = []
         self.tucks = self.wedges = self.seams = self.closures = self.rows = 0
         self.pending = (0, 0)
+        self.joints = 0
 
     def add_points(self, p: np.ndarray, rnd: int) -> np.ndarray:
         k = len(p)
@@ -370,10 +376,9 @@ class _Paver:
         return new_xy, q, front, depth, own[keep]
 
     # -- step 7: checks -----------------------------------------------------------------
-    def check_row(self, xy, f, quads, front, others, depth, owner):
-        """Step 7 on a candidate row: ('ok' | 'last' | 'refused', indices into ``f`` of the
-        paving nodes whose new quads fail).  'last': valid, but closer than
-        :data:`CLEARANCE` times the depth to another front or to itself."""
+    def check_row(self, xy, f, quads, others, owner):
+        """Step 7 on a candidate row: ('ok' | 'refused', indices into ``f`` of the paving
+        nodes whose new quads fail)."""
         n_old = self.n
         e = np.concatenate([quads[:, [k, (k + 1) % 4]] for k in range(4)])
         old = np.sort(np.column_stack([f, np.roll(f, -1)]), axis=1)
@@ -392,51 +397,36 @@ class _Paver:
             idx = np.flatnonzero(np.isin(f, culprits))
             grown = culprits[culprits >= n_old] - n_old
             return "refused", np.unique(np.concatenate([idx, owner[grown]]))
-        fa, fb = front, np.roll(front, -1)
-        rad = CLEARANCE * np.full(len(fa), float(np.median(depth)))
-        oa, ob = edges_of(others)
-        if len(oa) and pk.clearance_hits(xy, fa, fb, rad, oa, ob):
-            return "last", None
-        if len(front) > 6 and self._self_close(xy, front, float(rad[0])):
-            return "last", None
         return "ok", None
 
     def row_with_repairs(self, f, others):
         """A valid row on ``f`` (steps 1, 3, 6, 7), the depth lowered and the adjustments
-        dropped around failing nodes up to :data:`REPAIRS` times: ((new coordinates,
-        quads, new front), verdict) or (None, 'refused')."""
+        dropped around failing nodes up to :data:`REPAIRS` times: (new coordinates,
+        quads, new front) or None."""
         n = len(f)
         scale = np.ones(n)
         calm_only = np.zeros(n, dtype=bool)
         for _ in range(REPAIRS + 1):
             row = self.build_row(f, scale, calm_only)
             if row is None:
-                return None, "refused"
-            new_xy, quads, front, depth, owner = row
+                return None
+            new_xy, quads, front, _, owner = row
             trial = np.vstack([self.xy, new_xy])
-            verdict, bad = self.check_row(trial, f, quads, front, others, depth, owner)
-            if verdict != "refused":
+            verdict, bad = self.check_row(trial, f, quads, others, owner)
+            if verdict == "ok":
                 self.tucks += self.pending[0]
                 self.wedges += self.pending[1]
-                return (new_xy, quads, front), verdict
+                return new_xy, quads, front
             near = (bad[:, None] + np.arange(-1, 2)[None, :]).ravel() % n
             scale[near] *= REPAIR_SCALE
             calm_only[near] = True
-        return None, "refused"
-
-    @staticmethod
-    def _self_close(xy, front, r) -> bool:
-        """Some node of the new front lies closer than ``r`` to a node three or more steps away."""
-        p = xy[front]
-        k = len(front)
-        for s in range(3, k // 2 + 1):
-            if (np.hypot(*(p - np.roll(p, -s, axis=0)).T) < r).any():
-                return True
-        return False
+        return None
 
     # -- step 5: seams --------------------------------------------------------------------
-    def seam(self, front: np.ndarray, rnd: int, cap: int) -> np.ndarray:
-        """Close floating paving nodes sharper than :data:`SEAM_ANGLE` (at most ``cap``)."""
+    def seam(self, front: np.ndarray, others, cap: int) -> np.ndarray:
+        """Close floating paving nodes sharper than :data:`SEAM_ANGLE` (at most ``cap``);
+        no seam moves a paving-boundary edge across another (``others``: the other
+        paving boundaries)."""
         for _ in range(cap):
             if len(front) <= 2:
                 return front
@@ -448,9 +438,11 @@ class _Paver:
                 a, b = int(front[i - 1]), int(front[(i + 1) % k])
                 if a < self.n_fixed or b < self.n_fixed:
                     continue
-                if self._merge(a, b):
+                at = 0.5 * (self.pts[a] + self.pts[b])
+                if self._clear_after_merge([front] + others, a, b, at) and self._merge(a, b, at):
                     drop = {i, (i + 1) % k}
                     front = np.array([v for j, v in enumerate(front.tolist()) if j not in drop], dtype=np.int64)
+                    front[front == b] = a
                     self.seams += 1
                     done = True
                     break
@@ -458,14 +450,15 @@ class _Paver:
                 return front
         return front
 
-    def _merge(self, a: int, b: int) -> bool:
-        """Merge node b into a at their midpoint if every quad around them stays convex."""
+    def _merge(self, a: int, b: int, at=None) -> bool:
+        """Merge node b into a, at ``at`` (default their midpoint), if every quad around
+        them stays strictly convex (exact); the paving boundaries are the caller's."""
         allq = np.concatenate(self.quads) if self.quads else np.zeros((0, 4), dtype=np.int64)
         touch = np.flatnonzero(((allq == a) | (allq == b)).any(axis=1))
         q = allq[touch].copy()
         q[q == b] = a
         old = self.pts[a].copy()
-        self.pts[a] = 0.5 * (self.pts[a] + self.pts[b])
+        self.pts[a] = 0.5 * (self.pts[a] + self.pts[b]) if at is None else at
         ok = all(len(set(r)) == 4 for r in q.tolist()) and convex(self.xy, q).all()
         if not ok:
             self.pts[a] = old
@@ -473,6 +466,67 @@ class _Paver:
         for blk in self.quads:
             blk[blk == b] = a
         return True
+
+    # -- step 7: paving boundaries that meet -----------------------------------------------
+    def connect(self, fronts: list[np.ndarray], cap: int) -> list[np.ndarray]:
+        """Join paving nodes that came closer than :data:`CONNECT` times the size while
+        facing each other: the two merge (at their midpoint; a permanent node stays), two
+        paving boundaries become one (the merged node on it twice) and one boundary that
+        meets itself splits into two even ones.  Seams then zip the narrow angles beside
+        the joint.  At most ``cap`` joints; returns the new list of boundaries."""
+        tried: set[tuple[int, int]] = set()
+        for _ in range(cap):
+            if not fronts:
+                break
+            ids = np.concatenate(fronts)
+            fid = np.concatenate([np.full(len(f), k) for k, f in enumerate(fronts)])
+            pos = np.concatenate([np.arange(len(f)) for f in fronts])
+            p = self.pts[ids]
+            th = np.concatenate([
+                np.arctan2(*(np.roll(self.pts[f], -1, axis=0) - self.pts[f])[:, ::-1].T) + 0.5 * loop_angles(self.pts[f])
+                for f in fronts
+            ])
+            nrm = np.column_stack([np.cos(th), np.sin(th)])
+            h = self.field(p)
+            pair = closest_facing(ids, fid, pos, p, nrm, CONNECT * h, [len(f) for f in fronts], tried)
+            if pair is None:
+                break
+            u, v = pair
+            tried.add((u, v))
+            a, b = int(ids[u]), int(ids[v])
+            if b < self.n_fixed:
+                a, b, u, v = b, a, v, u
+            if b < self.n_fixed:
+                continue
+            at = self.pts[a].copy() if a < self.n_fixed else 0.5 * (self.pts[a] + self.pts[b])
+            if not self._clear_after_merge(fronts, a, b, at) or not self._merge(a, b, at):
+                continue
+            fa, fb, i, j = int(fid[u]), int(fid[v]), int(pos[u]), int(pos[v])
+            A, B = fronts[fa], fronts[fb]
+            if fa != fb:
+                joined = np.concatenate([A[:i], [a], B[j + 1 :], B[:j], [a], A[i + 1 :]])
+                fronts = [f for k, f in enumerate(fronts) if k not in (fa, fb)] + [joined]
+            else:
+                i, j = min(i, j), max(i, j)
+                A = np.where(A == b, a, A)
+                one = np.concatenate([[a], A[i + 1 : j]])
+                two = np.concatenate([[a], A[j + 1 :], A[:i]])
+                fronts = [f for k, f in enumerate(fronts) if k != fa] + [g for g in (one, two) if len(g) > 2]
+            fronts = [np.where(f == b, a, f) for f in fronts]
+            self.joints += 1
+        return fronts
+
+    def _clear_after_merge(self, fronts, a, b, at) -> bool:
+        """No paving-boundary edge at node a or b, moved to ``at``, meets another
+        paving-boundary edge (exact)."""
+        trial = self.xy.copy()
+        trial[a] = trial[b] = at
+        sa, sb = edges_of(fronts)
+        sa = np.where(sa == b, a, sa)
+        sb = np.where(sb == b, a, sb)
+        mine = (sa == a) | (sb == a)
+        keep = sa != sb
+        return not pk.row_crossings(trial, sa[mine & keep], sb[mine & keep], sa[keep], sb[keep]).any()
 
     # -- step 2: closure of small paving boundaries ---------------------------------------
     def encloses(self, f, others) -> bool:
@@ -505,6 +559,44 @@ class _Paver:
         self.add_quads(quads, rnd)
         self.closures += 1
         return True
+
+    def join_and_close(self, loops, rnd):
+        """Step 7 on the stopped paving boundaries: each one around holes' boundaries is
+        joined to them by chords (:func:`~meshwright.quad._paving_close.bridge`), and a
+        region that is thin (area below :data:`THIN` times its perimeter times the size)
+        or small (at most :data:`SPLIT_MAX` nodes) is closed by chords and templates.
+        Returns the boundaries left for the void fill."""
+        area = [signed_area(self.pts[f]) for f in loops]
+        outer = [i for i, a in enumerate(area) if a > 0.0]
+        owner = {}
+        for h in (i for i, a in enumerate(area) if a <= 0.0):
+            around = [i for i in outer if self.encloses(loops[i], [loops[h]])]
+            if around:
+                owner[h] = min(around, key=lambda i: area[i])
+        left = [loops[h] for h, a in enumerate(area) if a <= 0.0 and h not in owner]
+        for i in outer:
+            holes = [loops[h] for h, o in owner.items() if o == i]
+            region = [loops[i]] + holes
+            rest = [g for g in loops if not any(g is r for r in region)]
+            joined = loops[i]
+            for h in holes:
+                oa, ob = edges_of([joined] + [g for g in holes] + rest)
+                res = bridge(self.xy, joined, h, self.field, oa, ob)
+                if res is None:
+                    joined = None
+                    break
+                pts, joined = res
+                if len(pts):
+                    self.add_points(pts, rnd)
+            if joined is not None:
+                p = self.pts[joined]
+                perimeter = float(np.hypot(*(np.roll(p, -1, axis=0) - p).T).sum())
+                size = float(np.mean(self.field(p)))
+                thin = signed_area(p) < THIN * perimeter * size
+                if (thin or len(joined) <= SPLIT_MAX) and self.close(joined, rest, rnd, limit=len(joined)):
+                    continue
+            left += region
+        return left
 
     # -- step 4: smoothing -----------------------------------------------------------------
     def smooth_recent(self, rnd: int, on_front: np.ndarray) -> None:
@@ -539,35 +631,6 @@ def _boundary_loops(domain: Domain, disc) -> list[np.ndarray]:
             v = nxt[v]
         loops.append(np.asarray(order, dtype=np.int64))
     return loops
-
-
-def _fill_voids(xy, voids, field, seed):
-    """Quads (and left-over triangles) of the region bounded by the stopped paving
-    boundaries, by advancing-front triangles paired and enhanced (18.5.1); node ids of
-    ``xy``, new nodes appended.  Returns (xy, quads, triangles)."""
-    from meshwright.tri.cdt import cdt_build
-    from meshwright.tri.front import advancing_front
-
-    nodes = np.unique(np.concatenate(voids))
-    local = {int(v): i for i, v in enumerate(nodes.tolist())}
-    seg = np.array([[local[int(a)], local[int(b)]] for f in voids for a, b in zip(f, np.roll(f, -1))], dtype=np.int64)
-    ct = cdt_build(xy[nodes], seg, seed=seed)
-    ct.classify(segment_sides=np.ones(len(seg), dtype=np.int64))
-    pts, tris = advancing_front(ct, field)
-    # Back to global ids: the triangulation's own vertices, then the front's new nodes.
-    n_ct = ct.n_points
-    glob = np.empty(n_ct, dtype=np.int64)
-    glob[ct.index_map] = nodes
-    blocked = np.empty_like(seg)
-    blocked[:] = ct.index_map[seg]
-    quads, _, left, t3, _, pts2 = pair_triangles(pts, tris, blocked, seed=seed)
-    bnd = np.zeros(len(pts2), dtype=bool)
-    bnd[:n_ct] = True
-    pts2, quads, _, _ = enhance(pts2, quads, bnd, t3[left])
-    quads, lt = unpair_nonconvex(pts2, quads, t3[left])
-    extra = pts2[n_ct:]
-    m = np.concatenate([glob, len(xy) + np.arange(len(extra))])
-    return np.vstack([xy, extra]), m[quads], m[lt]
 
 
 def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary: bool = False, seed=0,
@@ -653,7 +716,7 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
                 if not pv.close(f, others, rnd):
                     stopped.append(f)
                 continue
-            row, verdict = pv.row_with_repairs(f, others)
+            row = pv.row_with_repairs(f, others)
             if row is None:
                 if not pv.close(f, others, rnd):
                     stopped.append(f)
@@ -662,27 +725,33 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
             pv.add_points(new_xy, rnd)
             pv.add_quads(quads, rnd)
             pv.rows += 1
-            front = pv.seam(front, rnd, len(front))
+            front = pv.seam(front, others, len(front))
             if len(front) <= 2:
                 continue
-            if verdict == "last":
-                if not pv.close(front, others, rnd):
-                    stopped.append(front)
-            else:
-                nxt.append((front, name))
-        active = nxt
+            nxt.append((front, name))
+        fronts = pv.connect([g for g, _ in nxt] + stopped, 4 * (len(nxt) + len(stopped)) + 64)
+        still = {id(g) for g in stopped}
+        stopped = [g for g in fronts if id(g) in still]
+        named = {id(g): name for g, name in nxt}
+        active = []
+        for k, g in enumerate(fronts):
+            if id(g) not in still:
+                g2 = pv.seam(g, fronts[:k] + fronts[k + 1 :], len(g))
+                fronts[k] = g2
+                active.append((g2, named.get(id(g), "a joined paving boundary")))
+        active = [(g, name) for g, name in active if len(g) > 2]
         on_front = np.zeros(pv.n, dtype=bool)
         for g in [g for g, _ in active] + stopped:
             on_front[g] = True
         pv.smooth_recent(rnd, on_front)
+    voids = pv.join_and_close([f for f in stopped if len(f) > 2], rounds)
     xy = pv.xy.copy()
     quads = np.concatenate(pv.quads) if pv.quads else np.zeros((0, 4), dtype=np.int64)
     paved = len(quads)
     tris = np.zeros((0, 3), dtype=np.int64)
-    voids = [f for f in stopped if len(f) > 2]
     filled = 0
     if voids:
-        xy, fq, tris = _fill_voids(xy, voids, field, seed)
+        xy, fq, tris = fill_voids(xy, voids, field, seed)
         filled = len(fq)
         quads = np.concatenate([quads, fq])
     lines = disc.segments.astype(np.int32)
