@@ -340,7 +340,7 @@ def closest_facing(ids, fid, pos, p, nrm, reach, sizes, tried):
     position ``pos`` along it, coordinates ``p``, unit bisectors ``nrm`` into the
     unmeshed region) closer than both their ``reach``, facing each other, not near
     neighbours along one boundary (and an even distance apart there, so both parts stay
-    even), not in ``tried``; or None."""
+    even), whose node pair is not in ``tried``; or None."""
     n = len(ids)
     best, pick = np.inf, None
     for lo in range(0, n, 512):

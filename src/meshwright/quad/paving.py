@@ -115,7 +115,8 @@ SEAM_ANGLE = 40.0  # a floating paving node sharper than this is seamed
 TUCK_MAX_ANGLE = 179.5  # tucks only at side nodes flatter than this ...
 WEDGE_MIN_ANGLE = 185.0  # ... wedges only at side nodes wider than this
 ROW_RELAX = 2  # Jacobi sweeps of the new row's nodes along the row
-TUCK_AT = 1.25  # edges of running surplus (or shortfall) that place a wedge (or a tuck)
+ADJUST_GAP = 4  # nodes between two tucks or wedges of one row, at least
+TUCK_AT = 1.6  # edges of running surplus (or shortfall) that place a wedge (or a tuck)
 CONNECT = 1.0  # facing paving nodes closer than this times the size are joined
 REPAIRS = 4  # retries of a refused row with the depth lowered around its failing nodes
 REPAIR_SCALE = 0.7  # ... by this factor each time
@@ -252,20 +253,23 @@ class _Paver:
         deg = np.degrees(ang)
         c = 0.0
         tucks = wedges = 0
+        last = -ADJUST_GAP
         for i in range(n):
             if m[i] != 1:
                 c = 0.0
                 continue
             c += rho[i] - 1.0
-            calm = m[i - 1] == 1 and m[(i + 1) % n] == 1 and not calm_only[i]
+            calm = m[i - 1] == 1 and m[(i + 1) % n] == 1 and not calm_only[i] and i - last >= ADJUST_GAP
             if c <= -TUCK_AT and calm and floating[i] and deg[i] < TUCK_MAX_ANGLE:
                 m[i] = 0
                 c += 2.0
                 tucks += 1
+                last = i
             elif c >= TUCK_AT and calm and floating[i] and deg[i] > WEDGE_MIN_ANGLE:
                 m[i] = 3
                 c -= 2.0
                 wedges += 1
+                last = i
         self.pending = (tucks, wedges)
         return m
 
@@ -492,8 +496,8 @@ class _Paver:
             if pair is None:
                 break
             u, v = pair
-            tried.add((u, v))
             a, b = int(ids[u]), int(ids[v])
+            tried.add((a, b))
             if b < self.n_fixed:
                 a, b, u, v = b, a, v, u
             if b < self.n_fixed:
