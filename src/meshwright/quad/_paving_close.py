@@ -340,31 +340,22 @@ def closest_facing(ids, fid, pos, p, nrm, reach, sizes, tried):
     position ``pos`` along it, coordinates ``p``, unit bisectors ``nrm`` into the
     unmeshed region) closer than both their ``reach``, facing each other, not near
     neighbours along one boundary (and an even distance apart there, so both parts stay
-    even), whose node pair is not in ``tried``; or None."""
-    n = len(ids)
-    best, pick = np.inf, None
-    for lo in range(0, n, 512):
-        hi = min(n, lo + 512)
-        d = p[None, :, :] - p[lo:hi, None, :]
-        dist = np.hypot(d[..., 0], d[..., 1])
-        r = np.minimum(reach[lo:hi, None], reach[None, :])
-        ok = (dist < r) & (ids[lo:hi, None] != ids[None, :])
-        ok &= (nrm[lo:hi] @ nrm.T) < -0.3
-        ok &= (d * nrm[lo:hi, None, :]).sum(axis=2) > 0.0
-        ok &= (-d * nrm[None, :, :]).sum(axis=2) > 0.0
-        same = fid[lo:hi, None] == fid[None, :]
-        gap = np.abs(pos[lo:hi, None] - pos[None, :])
-        k = np.asarray(sizes)[fid][None, :]
-        gap = np.minimum(gap, k - gap)
-        ok &= ~same | ((gap > 3) & (gap % 2 == 0))
-        ok &= np.arange(lo, hi)[:, None] < np.arange(n)[None, :]
-        for u, v in zip(*np.nonzero(ok)):
-            if (int(ids[lo + u]), int(ids[v])) in tried or dist[u, v] >= best:
-                continue
-            best, pick = dist[u, v], (lo + int(u), int(v))
-    if pick is None:
-        return None
-    return pick
+    even), whose node pair is not in ``tried``; or None
+    (:func:`meshwright.quad._paving_kernel.facing_pairs`)."""
+    size = np.asarray(sizes, dtype=np.int64)[fid]
+    room = 64
+    for _ in range(64):
+        u = np.empty(room, dtype=np.int64)
+        v = np.empty(room, dtype=np.int64)
+        d = np.empty(room)
+        cnt = pk.facing_pairs(p, nrm, reach, ids, fid, pos, size, u, v, d)
+        if cnt <= room:
+            break
+        room = 2 * cnt
+    for c in np.argsort(d[:cnt], kind="stable").tolist():
+        if (int(ids[u[c]]), int(ids[v[c]])) not in tried:
+            return int(u[c]), int(v[c])
+    return None
 
 
 def fill_voids(xy, voids, field, seed):

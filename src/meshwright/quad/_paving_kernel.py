@@ -3,7 +3,8 @@
 A candidate row of quads (Blacker and Stephenson 1991, step 3) is accepted only if none of
 its new edges crosses or touches an edge of any paving boundary or another new edge, and no
 node of a paving boundary lies inside or on one of its new quads (step 7's intersection
-check); every sign is the exact ``orient2d``.
+check); every sign is the exact ``orient2d``.  :func:`facing_pairs` finds the paving
+nodes close enough to be joined (a quality rule, floating point).
 
 Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``, ``sb``
 (node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.  The
@@ -19,7 +20,7 @@ from numba import njit
 
 from meshwright.core.predicates import orient2d
 
-__all__ = ["nodes_in_quads", "row_crossings"]
+__all__ = ["facing_pairs", "nodes_in_quads", "row_crossings"]
 
 
 @njit(inline="always")
@@ -140,3 +141,48 @@ def nodes_in_quads(pts, quads, nodes):
                 bad[q] = True
                 break
     return bad
+
+
+@njit(cache=True)
+def facing_pairs(p, nrm, reach, ids, fid, pos, size, out_u, out_v, out_d):
+    """Pairs of paving-node slots closer than both their ``reach``, facing each other
+    (bisectors ``nrm`` opposed by more than ``acos(0.3)`` and each node in front of the
+    other), other than one node twice, and on one paving boundary (``fid``, ``pos``
+    along it, ``size`` its length) only more than three steps and an even number apart.
+    Writes up to ``len(out_u)`` pairs (u < v) and their distances; returns how many
+    there are in all (a quality rule, floating point)."""
+    n = p.shape[0]
+    order = np.argsort(p[:, 0])
+    xs = p[order, 0]
+    rmax = 0.0
+    for i in range(n):
+        rmax = max(rmax, reach[i])
+    cnt = 0
+    for a in range(n):
+        u = order[a]
+        k = np.searchsorted(xs, p[u, 0] - rmax)
+        while k < n and xs[k] <= p[u, 0] + rmax:
+            v = order[k]
+            k += 1
+            if v <= u or ids[u] == ids[v]:
+                continue
+            dx = p[v, 0] - p[u, 0]
+            dy = p[v, 1] - p[u, 1]
+            d = np.sqrt(dx * dx + dy * dy)
+            if d >= min(reach[u], reach[v]):
+                continue
+            if nrm[u, 0] * nrm[v, 0] + nrm[u, 1] * nrm[v, 1] >= -0.3:
+                continue
+            if dx * nrm[u, 0] + dy * nrm[u, 1] <= 0.0 or dx * nrm[v, 0] + dy * nrm[v, 1] >= 0.0:
+                continue
+            if fid[u] == fid[v]:
+                gap = abs(pos[u] - pos[v])
+                gap = min(gap, size[u] - gap)
+                if gap <= 3 or gap % 2:
+                    continue
+            if cnt < out_u.shape[0]:
+                out_u[cnt] = u
+                out_v[cnt] = v
+                out_d[cnt] = d
+            cnt += 1
+    return cnt

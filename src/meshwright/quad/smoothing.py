@@ -116,8 +116,9 @@ def smooth_cells(points, quads, triangles, fixed, passes: int) -> np.ndarray:
     # Edges of every cell, both directions, deduplicated.
     nxt = np.where(np.arange(4)[None, :] + 1 < nv[:, None], np.roll(cells, -1, axis=1), cells[:, :1])
     a, b = cells.ravel()[used], nxt.ravel()[used]
-    e = np.unique(np.concatenate([np.column_stack([a, b]), np.column_stack([b, a])]), axis=0)
-    nbr_ptr, nbr_idx = _csr(n, e[:, 0], e[:, 1])
+    # One int64 key per directed edge: a 1-D unique, same order as the rows' lexicographic one.
+    e0, e1 = np.divmod(np.unique(np.concatenate([a * n + b, b * n + a])), n)
+    nbr_ptr, nbr_idx = _csr(n, e0, e1)
     free = ~np.asarray(fixed, dtype=bool)
     _sweeps(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes)
     return pts
