@@ -35,12 +35,14 @@ from meshwright.core.predicates import orient2d_batch
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad.enhancement import enhance, unpair_nonconvex
 from meshwright.quad.pairing import pair_triangles
+from meshwright.quad.smoothing import smooth_cells
 
 __all__ = ["bridge", "close_loop", "closure_quads", "convex", "edges_of", "loop_angles", "min_sine", "signed_area"]
 
 CHORD_MIN_ANGLE = 35.0  # degrees: a chord leaves no angle sharper than this beside it
 CHORD_REACH = 4.0  # sizes: chords up to this long are tried first
 CHORD_TRIES = 48
+VOID_SMOOTH = 8  # guarded Laplacian sweeps of the void fill before non-convex pairs are cut back
 STAR_MAX = 12  # a part of up to this many nodes no chord can cut is closed around a centre node  # best-scored chords tested for crossings before giving up on a part
 
 
@@ -381,6 +383,10 @@ def fill_voids(xy, voids, field, seed):
     bnd = np.zeros(len(pts2), dtype=bool)
     bnd[:n_ct] = True
     pts2, quads, _, _ = enhance(pts2, quads, bnd, t3[left])
+    # The pairing's last round admits non-convex pairs: the guarded smoother opens most
+    # (a move never lowers the smallest corner sine around a node), the rest go back to
+    # two triangles each.
+    pts2 = smooth_cells(pts2, quads, t3[left], bnd, VOID_SMOOTH)
     quads, lt = unpair_nonconvex(pts2, quads, t3[left])
     extra = pts2[n_ct:]
     m = np.concatenate([glob, len(xy) + np.arange(len(extra))])
