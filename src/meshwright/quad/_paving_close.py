@@ -391,3 +391,36 @@ def fill_voids(xy, voids, field, seed):
     extra = pts2[n_ct:]
     m = np.concatenate([glob, len(xy) + np.arange(len(extra))])
     return np.vstack([xy, extra]), m[quads], m[lt]
+
+
+def encloses(xy, f, others) -> bool:
+    """Whether the first node of another paving boundary lies inside the polygon ``f``
+    (crossing count; then ``f`` alone does not bound its region)."""
+    p = xy[f]
+    q = np.roll(p, -1, axis=0)
+    for g in others:
+        x, y = xy[g[0]]
+        up = (p[:, 1] <= y) != (q[:, 1] <= y)
+        t = (y - p[:, 1]) / np.where(up, q[:, 1] - p[:, 1], 1.0)
+        if (up & (p[:, 0] + t * (q[:, 0] - p[:, 0]) > x)).sum() % 2:
+            return True
+    return False
+
+
+def boundary_loops(domain, disc) -> list[np.ndarray]:
+    """Each loop's nodes in order, the domain on the left: the paving boundaries of a
+    :class:`~meshwright.geometry.Domain` and its ``Discretization``."""
+    loops = []
+    seg = disc.segments.astype(np.int64)
+    loop_of = domain.curve_loop[disc.segment_curve]
+    for li in range(len(domain.loops)):
+        s = seg[loop_of == li]
+        nxt = dict(zip(s[:, 0].tolist(), s[:, 1].tolist()))
+        start = int(s[0, 0])
+        order = [start]
+        v = nxt[start]
+        while v != start and len(order) <= len(s):
+            order.append(v)
+            v = nxt[v]
+        loops.append(np.asarray(order, dtype=np.int64))
+    return loops

@@ -14,8 +14,8 @@ Steps, as the chapter numbers them
    (:func:`meshwright.quad.pairing.make_loops_even`: one node on the longest segment, on
    the true curve); with ``fixed_boundary=True`` an odd loop raises
    :class:`~meshwright.quad.pairing.ParityError` naming the loop.  Every later step keeps
-   each paving boundary even (each row, tuck, wedge, seam and closure changes a count by
-   an even number), so no triangle is ever needed.
+   each paving boundary even (each row, tuck, wedge, seam, joint and closure changes a
+   count by an even number), so rows and closures never need a triangle.
 1. **Row choice.**  Each paving node gets its interior angle (from the edge to the next
    node, counter-clockwise to the edge to the previous one) and a class: *row end*
    (angle below :data:`END_ANGLE`: the row turns there, one quad takes both of its
@@ -28,19 +28,24 @@ Steps, as the chapter numbers them
    :data:`SPLIT_MAX` nodes whose row fails is first cut by chords until every part takes
    a template (:mod:`meshwright.quad._paving_close`).
 3. **Row generation.**  New nodes at the row depth (the size field at the node, kept
-   within ``[1/2, 2]`` of the neighbouring edge lengths and averaged along the row),
-   quads between the old and the new nodes; the new row is the new paving boundary.
+   within ``[1/2, 2]`` of the neighbouring edge lengths and averaged along the row):
+   a side node's on its bisector, a corner's and a reversal's on spokes that split its
+   angle evenly (the diagonal ones making rhombi), a row end's neighbours sharing one
+   node on the end's bisector; quads between the old and the new nodes.  The new nodes
+   then relax :data:`ROW_RELAX` times along the row (tangentially only, so corners stay),
+   and the new row is the new paving boundary.
 4. **Smoothing.**  After each row the floating nodes of the two previous rows (now
    inside the mesh) take the guarded Laplacian of :mod:`meshwright.quad.smoothing`
    (no move lowers the smallest corner sine around a node); all floating nodes once more
    at the end.
 5. **Seams.**  A floating paving node with an angle below :data:`SEAM_ANGLE` is closed:
    its two neighbours merge at their midpoint when every quad around them stays strictly
-   convex.
+   convex and no paving-boundary edge moves across another.
 6. **Row adjustment.**  Along the row, the predicted new edge lengths are compared with
    the size field; their running surplus places *tucks* (a floating side node becomes a
    row end: two nodes fewer) and *wedges* (a floating side node becomes a corner: two
-   more), one per edge of surplus.
+   more) whenever the surplus passes :data:`TUCK_AT` edges, at least :data:`ADJUST_GAP`
+   nodes apart.
 7. **Intersection.**  A row is accepted only if every new quad is strictly convex, no new
    edge meets a paving-boundary edge or another new edge, and no paving node lies in a
    new quad (exact ``orient2d``, :mod:`meshwright.quad._paving_kernel`); failing nodes
@@ -59,10 +64,18 @@ Steps, as the chapter numbers them
    refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split),
    and a final smoothing runs.
 
-Every loop is capped: rounds of rows (:data:`MAX_ROUNDS` plus a bound from the domain's
-extent over its smallest spacing), seams per row, and the number of points
-(``max_points``); hitting a cap raises :class:`~meshwright.core.errors.MeshingError`
-naming the stuck paving boundary (its length and first node).
+Invariants: every paving boundary has an even node count and the unmeshed region on its
+left; every quad committed is strictly convex by exact ``orient2d``; no paving-boundary
+edge crosses another.  Every loop is capped: rounds of rows (:data:`MAX_ROUNDS` plus the
+domain's diagonal over its smallest spacing, or ``max_rounds``), repairs per row, seams
+per row, joints per round, chords per closure and the number of points (``max_points``);
+the rounds cap raises :class:`~meshwright.core.errors.MeshingError` naming the stuck
+paving boundary (the loop it grew from, its length and first node), ``max_points`` names
+itself.  The other caps end their step, and what is left goes to the void fill.
+
+Implementation: rows are built per paving boundary with NumPy over the boundary's nodes
+(a Python pass over them builds the row's connectivity); the exact crossing, containment
+and joint searches are Numba kernels (:mod:`meshwright.quad._paving_kernel`).
 
 Array layout: points (n, 2) float64; quads (q, 4) int32 counter-clockwise; a paving
 boundary is an (k,) int64 array of node ids with the unmeshed region on its left.
@@ -79,12 +92,14 @@ from meshwright.core.validate_input import check_count, check_flag, check_seed
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad._paving_close import (
+    boundary_loops,
     bridge,
     close_loop,
     closest_facing,
     closure_quads,
     convex,
     edges_of,
+    encloses,
     fill_voids,
     loop_angles,
     signed_area,
@@ -533,25 +548,12 @@ class _Paver:
         return not pk.row_crossings(trial, sa[mine & keep], sb[mine & keep], sa[keep], sb[keep]).any()
 
     # -- step 2: closure of small paving boundaries ---------------------------------------
-    def encloses(self, f, others) -> bool:
-        """Whether a node of another paving boundary lies inside the polygon ``f`` (then
-        ``f`` alone does not bound its region)."""
-        p = self.pts[f]
-        q = np.roll(p, -1, axis=0)
-        for g in others:
-            x, y = self.pts[g[0]]
-            up = (p[:, 1] <= y) != (q[:, 1] <= y)
-            t = (y - p[:, 1]) / np.where(up, q[:, 1] - p[:, 1], 1.0)
-            if (up & (p[:, 0] + t * (q[:, 0] - p[:, 0]) > x)).sum() % 2:
-                return True
-        return False
-
     def close(self, f, others, rnd, limit=SPLIT_MAX) -> bool:
         """Close paving boundary ``f`` (step 2) by chords and templates
         (:func:`~meshwright.quad._paving_close.close_loop`) when it has at most ``limit``
         nodes and no other paving boundary inside; commits and returns True on success,
         changes nothing otherwise."""
-        if len(f) > limit or self.encloses(f, others):
+        if len(f) > limit or encloses(self.pts, f, others):
             return False
         oa, ob = edges_of(others)
         done = close_loop(self.xy, f, self.field, oa, ob, 4 * len(f))
@@ -574,7 +576,7 @@ class _Paver:
         outer = [i for i, a in enumerate(area) if a > 0.0]
         owner = {}
         for h in (i for i, a in enumerate(area) if a <= 0.0):
-            around = [i for i in outer if self.encloses(loops[i], [loops[h]])]
+            around = [i for i in outer if encloses(self.pts, loops[i], [loops[h]])]
             if around:
                 owner[h] = min(around, key=lambda i: area[i])
         left = [loops[h] for h, a in enumerate(area) if a <= 0.0 and h not in owner]
@@ -617,24 +619,6 @@ class _Paver:
         local = np.searchsorted(used, q)
         moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH)
         self.pts[used] = moved
-
-
-def _boundary_loops(domain: Domain, disc) -> list[np.ndarray]:
-    """Each loop's nodes in order, the domain on the left."""
-    loops = []
-    seg = disc.segments.astype(np.int64)
-    loop_of = domain.curve_loop[disc.segment_curve]
-    for li in range(len(domain.loops)):
-        s = seg[loop_of == li]
-        nxt = dict(zip(s[:, 0].tolist(), s[:, 1].tolist()))
-        start = int(s[0, 0])
-        order = [start]
-        v = nxt[start]
-        while v != start and len(order) <= len(s):
-            order.append(v)
-            v = nxt[v]
-        loops.append(np.asarray(order, dtype=np.int64))
-    return loops
 
 
 def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary: bool = False, seed=0,
@@ -689,7 +673,7 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     if max_rounds is not None:
         check_count(max_rounds, "max_rounds", 1)
     disc, added = make_loops_even(domain, domain.discretize(field), fixed_boundary)
-    loops = _boundary_loops(domain, disc)
+    loops = boundary_loops(domain, disc)
     pv = _Paver(disc.points, field, cap)
     if pv.n > cap:
         raise MeshingError(f"the boundary alone has {pv.n} nodes, above max_points = {cap}")
