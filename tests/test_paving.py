@@ -17,6 +17,7 @@ from meshwright.geometry import annulus, circle, circles, polygon, rectangle
 from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.quad.pairing import ParityError
 from meshwright.quad.paving import closure_quads, node_classes, pave_domain
+from meshwright.sizing import BackgroundGrid
 from meshwright.sizing.field import as_size_field
 
 
@@ -197,6 +198,9 @@ def test_registry_entry_and_the_door():
         pave_domain(circle(), 0.1, max_rounds=0)
     with pytest.raises(InputError, match="fixed_boundary"):
         pave_domain(circle(), 0.1, fixed_boundary="yes")
+    stretched = BackgroundGrid.uniform(circle().bbox, 0.1, stretch=3.0, direction=0.5)
+    with pytest.raises(InputError, match="stretched by up to 3"):
+        quadrangulate(circle(), stretched, method="paving")
 
 
 def test_smoothing_passes_keep_the_mesh_valid():

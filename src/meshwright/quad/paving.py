@@ -630,7 +630,8 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     domain : Domain
         Validated, without interior segments or points.
     field : number, callable, SizeField or BackgroundGrid
-        Size field (the row depth and spacing).
+        Size field (the row depth and spacing); isotropic (a stretched background grid
+        is refused).
     all_quad : bool
         Finish left-over triangles of the void fill by chord refinement.
     fixed_boundary : bool
@@ -666,6 +667,12 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     if domain.constraints or len(domain.points):
         raise InputError("paving does not honour interior segments or interior points; the domain has some")
     field = as_size_field(field)
+    stretch = np.asarray(getattr(field, "stretch", 1.0), dtype=np.float64)
+    if (stretch > 1.0).any():
+        raise InputError(
+            f"paving lays isotropic rows: a background grid stretched by up to {float(stretch.max()):g} is not "
+            "honoured; give an isotropic size, or use method='pairing' for stretched quads"
+        )
     all_quad = check_flag(all_quad, "all_quad")
     fixed_boundary = check_flag(fixed_boundary, "fixed_boundary")
     seed = check_seed(seed)
