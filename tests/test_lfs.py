@@ -150,6 +150,33 @@ def test_curved_default_resolves_the_curve():
     assert len(mesh.cells["line"]) >= 32
 
 
+@pytest.mark.parametrize("method", sorted(mw.QUAD_METHODS))
+def test_quadrangulate_takes_the_default_size(method):
+    """quadrangulate resolves sizes as triangulate does: with none, a 4 x 1 rectangle gets
+    1.25 times its lfs (1, the width) as spacing, so its long sides are split (into a
+    rounded number of pieces, hence the slack); "boundary" keeps the quadtree's refusal."""
+    rect = polygon([(0, 0), (4, 0), (4, 1), (0, 1)])
+    mesh = mw.quadrangulate(rect, method=method)
+    mesh.validate()
+    lines = mesh.points[mesh.cells["line"]]
+    assert np.hypot(*(lines[:, 1] - lines[:, 0]).T).max() <= 1.5 * 1.25
+    if mw.QUAD_METHODS[method].needs_size:
+        with pytest.raises(InputError, match="needs a size"):
+            mw.quadrangulate(rect, "boundary", method=method)
+
+
+def test_quad_door_refuses_before_building_the_default(monkeypatch):
+    from meshwright.tri import mesher
+
+    def never(*args):
+        raise AssertionError("the default size was built before the door's checks")
+
+    monkeypatch.setattr(mesher, "_default_size", never)
+    square = polygon([(0, 0), (1, 0), (1, 1), (0, 1)], regions=[(0.5, 0.5, 3, 0.01)])
+    with pytest.raises(InputError, match="max_area"):
+        mw.quadrangulate(square)
+
+
 @pytest.mark.parametrize(
     "call, error, words",
     [

@@ -21,9 +21,9 @@ Method contract
 A method is a :class:`QuadMethod` entry whose ``build`` is ``build(job: QuadJob) ->
 QuadFill``.  The job carries the checked request: ``domain`` (a validated
 :class:`~meshwright.geometry.Domain`), ``field`` (a :class:`~meshwright.sizing.SizeField`,
-or None when neither the caller nor the domain gave a size: only methods declaring
-``needs_size=False`` see None), ``all_quad``, ``smooth`` (the passes the mesher will run
-on the finished mesh, for information; 0 unless the method declares ``smooths``),
+or None only with ``size="boundary"`` on a domain carrying no size: only methods
+declaring ``needs_size=False`` see None), ``all_quad``, ``smooth`` (the passes the mesher
+will run on the finished mesh, for information; 0 unless the method declares ``smooths``),
 ``max_points`` (cap on vertices of the returned fill), ``seed`` (an
 int or a ``numpy.random.Generator``, from :func:`meshwright.core.validate_input.check_seed`)
 and ``progress`` (True only for methods declaring ``reports_progress``).  The fill is:
@@ -116,7 +116,7 @@ class QuadMethod(NamedTuple):
     build : callable
         ``build(job: QuadJob) -> QuadFill``.
     needs_size : bool
-        The method needs a size field (from the caller or the domain).
+        The method needs a size field (from the caller, the domain or the default).
     smooths : bool
         The method honours ``smooth > 0``: the mesher runs the shared smoother on its
         finished mesh (module docstring).
@@ -250,9 +250,11 @@ def quadrangulate(
     domain : Domain, str, path or (n, 2) array_like
         As for :func:`meshwright.triangulate`: a domain, a built-in name, a ``.json`` /
         ``.poly`` path or a polygon's vertex loop.
-    size : number, callable or SizeField, optional
-        Target edge length ``h(x)`` of the quads; default: the domain's own size (a method
-        with ``needs_size`` refuses a domain without one).
+    size : number, callable, SizeField or "boundary", optional
+        Target edge length ``h(x)`` of the quads; default: the domain's own size, or else
+        its local feature size, graded and capped (as :func:`meshwright.triangulate`).
+        ``"boundary"``: the boundary's own spacing, which a method with ``needs_size``
+        refuses on a domain carrying no size.
     method : str
         A key of :data:`QUAD_METHODS`.
     all_quad : bool
@@ -311,10 +313,9 @@ def quadrangulate(
         raise InputError(f"method {method!r} reports no progress; call it with progress=False")
     cap = DEFAULT_MAX_POINTS if max_points is None else check_count(max_points, "max_points", 4)
     seed = check_seed(seed)
-    dom, field = _domain_and_field(domain, size, convex_hull)
+    dom, field = _domain_and_field(domain, size, convex_hull, check=lambda d: _check_domain(m, d))
     if field is None and m.needs_size:
         raise InputError(f"method {method!r} needs a size: give size=... (the domain carries none)")
-    _check_domain(m, dom)
     _check_work(dom, field, None, cap)
     fill = m.build(QuadJob(dom, field, all_quad, passes, cap, seed, progress))
     if all_quad and len(fill.triangles):

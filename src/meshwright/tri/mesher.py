@@ -404,13 +404,14 @@ def _smooth_mesh(mesh: Mesh, ct: ConstrainedTriangulation, domain: Domain, disc:
 
 
 def _domain_and_field(
-    domain, size, convex_hull: bool, max_area: float | None = None, grades_itself: bool = False
+    domain, size, convex_hull: bool, max_area: float | None = None, grades_itself: bool = False, check=None
 ) -> tuple[Domain, SizeField | None]:
     """The domain argument as a :class:`Domain` and the size field to mesh it with: ``size``
     when given; for None the domain's own, else :func:`_default_size` (``max_area`` and
     ``grades_itself`` passed on); for ``"boundary"`` the domain's own or None (the
-    boundary's spacing alone).  Raises as :func:`_as_domain`,
-    :func:`~meshwright.sizing.field.as_size_field` and :func:`_check_open`.
+    boundary's spacing alone).  ``check(domain)``, if given, runs on the domain before any
+    default size is built.  Raises as :func:`_as_domain`,
+    :func:`~meshwright.sizing.field.as_size_field`, :func:`_check_open` and ``check``.
     """
     if isinstance(size, str):
         if size != BOUNDARY_SIZE:
@@ -420,6 +421,8 @@ def _domain_and_field(
         field = None if size is None else as_size_field(size)
     dom = _as_domain(domain)
     _check_open(dom, convex_hull)
+    if check is not None:
+        check(dom)
     if field is None:
         field = dom.size
     if field is None and size is None:
