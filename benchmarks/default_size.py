@@ -110,7 +110,7 @@ def main(argv=None) -> int:
         small = small_input_angles(dom.discretize(), 20.0)
         base = refs[-1][1]
 
-        def angle(points, triangles) -> str:
+        def angle(points, triangles, small=small) -> str:
             text = f"{min_angle(points, triangles):.1f}°"
             return text + (f" ({min_angle_away(points, triangles, small):.1f}° away)" if len(small) else "")
 

@@ -9,7 +9,8 @@ sizes meshes by it.  The field built here, :func:`lfs_field`, is what
 :func:`meshwright.triangulate` uses when no size is given:
 
 * at every vertex ``v``: the distance to the nearest vertex or segment not incident to
-  ``v`` (Shewchuk's practical estimate of ``lfs(v)``);
+  ``v``, an upper bound on ``lfs(v)`` (the disk through that feature meets two
+  non-incident features, it and ``v``) and the usual estimate of it;
 * along every segment ``s``: the distance to the nearest vertex or segment sharing no
   vertex with ``s``, sampled by bisection until consecutive samples are at most ``step``
   times the smaller of their two values apart (``lfs`` is 1-Lipschitz, so the samples
@@ -42,14 +43,15 @@ import numba as nb
 import numpy as np
 
 from meshwright.core.errors import InputError, SizeError
-from meshwright.core.spatial.loose_quadtree import STACK_PER_LEVEL, Q_DEPTH, Q_NODES, qt_insert, qt_new, qt_query
+from meshwright.core.spatial.loose_quadtree import Q_DEPTH, Q_NODES, STACK_PER_LEVEL, qt_insert, qt_new, qt_query
 from meshwright.sizing.boundary import gradation
 from meshwright.sizing.field import SizeField
 
-__all__ = ["local_feature_size", "lfs_field", "turning_size", "DEFAULT_SCALE", "DEFAULT_GROWTH", "DEFAULT_CAP"]
+__all__ = ["DEFAULT_CAP", "DEFAULT_GROWTH", "DEFAULT_SCALE", "lfs_field", "local_feature_size", "turning_size"]
 
 # Chosen by measurement on Triangle's example files (benchmarks/README.md, issue 14): the
-# smallest sizes for which every method stays within 3x Triangle's pq30 triangle count.
+# one setting tried that kept every method within 3x Triangle's pq30 count at >= 20 degrees
+# on every file but la.poly.
 DEFAULT_SCALE = 1.25  # size = scale * lfs at the sources
 DEFAULT_GROWTH = 1.2  # |grad h| <= 0.2
 DEFAULT_CAP = 0.5  # largest size: this fraction of the graph's extent
@@ -165,7 +167,9 @@ def _nearest(qx, qy, a, b, r, rmax, seg, pxy, owner, qgeo, qchild, qhead, qnext,
 
 
 @nb.njit(cache=True)
-def _feature_sizes(pts, seg, depth, r_vertex, rmax, hcap, step, max_samples, pxy, owner, qgeo, qchild, qhead, qnext, qbox):
+def _feature_sizes(
+    pts, seg, depth, r_vertex, rmax, hcap, step, max_samples, pxy, owner, qgeo, qchild, qhead, qnext, qbox
+):
     """Vertex lfs (n,) and the segment samples: (xy (k, 2), lfs (k,), k); k = -1 when
     more than ``max_samples`` samples would be needed."""
     n = pts.shape[0]
@@ -195,7 +199,9 @@ def _feature_sizes(pts, seg, depth, r_vertex, rmax, hcap, step, max_samples, pxy
         dy = pts[b, 1] - ay
         length = np.hypot(dx, dy)
         r0 = min(vlfs[a], vlfs[b], hcap)
-        la = _nearest(ax, ay, a, b, r0, rmax, seg, pxy, owner, qgeo, qchild, qhead, qnext, qbox, alive, out, stack, fstack)
+        la = _nearest(
+            ax, ay, a, b, r0, rmax, seg, pxy, owner, qgeo, qchild, qhead, qnext, qbox, alive, out, stack, fstack
+        )
         lb = _nearest(
             ax + dx, ay + dy, a, b, r0, rmax, seg, pxy, owner, qgeo, qchild, qhead, qnext, qbox, alive, out, stack,
             fstack,
@@ -325,8 +331,8 @@ def local_feature_size(points, segments, *, hmax: float | None = None, step: flo
         np.minimum.at(r_vertex, s.ravel(), np.repeat(lengths, 2))
     r_vertex = np.maximum(r_vertex, 1e-300)
     vlfs, sxy, slfs, k = _feature_sizes(
-        p, s, int(qmeta[Q_DEPTH]), r_vertex, 4.0 * extent, hcap, float(step), int(max_samples), pxy, owner, qgeo, qchild, qhead, qnext,
-        qbox,
+        p, s, int(qmeta[Q_DEPTH]), r_vertex, 4.0 * extent, hcap, float(step), int(max_samples), pxy, owner, qgeo,
+        qchild, qhead, qnext, qbox,
     )
     if k < 0:
         raise SizeError(
