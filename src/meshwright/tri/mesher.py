@@ -483,13 +483,13 @@ def _area_sources(dom: Domain, disc: Discretization, max_area: float | None):
     # A bound far below the domain's size is refused later (_check_work): until then the
     # lattices stay within _AREA_SOURCES points.
     spread = max(1.0, math.sqrt(float(np.sum((longest / side + 1.0) ** 2)) / _AREA_SOURCES))
+    counts = np.maximum(1, np.ceil(longest / (spread * side))).astype(np.int64)
     xy, h = [], []
-    for corners, s, far in zip(tris, side, longest):
-        k = max(1, math.ceil(far / (spread * s)))
+    for k in np.unique(counts).tolist():
         i, j = np.triu_indices(k + 1)
         w = np.column_stack([k - j, j - i, i]) / k  # barycentric lattice, corners included
-        xy.append(w @ corners)
-        h.append(np.full(len(w), s))
+        xy.append(np.einsum("lc,tcd->tld", w, tris[counts == k]).reshape(-1, 2))
+        h.append(np.repeat(side[counts == k], len(w)))
     return np.concatenate(xy), np.concatenate(h)
 
 
