@@ -97,10 +97,10 @@ def test_random_star_domains_with_a_hole_are_valid(seed):
     assert mesh.area() == pytest.approx(abs(dom.area()), rel=2e-2)
 
 
-@pytest.mark.parametrize("h", [0.15, 0.1, 0.05, 0.03])
+@pytest.mark.parametrize("h", [0.2, 0.155, 0.1, 0.07, 0.05, 0.03])
 def test_disk_angles_meet_the_paving_targets(h):
     """Issue 12's targets on the disk: every interior angle in [45, 150] degrees (measured
-    here: about [49, 134] over these sizes)."""
+    here: within [50, 130] over 48 sizes from 0.015 to 0.25)."""
     mesh = quadrangulate(circle(), h, method="paving")
     _check_all_quad(mesh)
     a = _angles(mesh.points, mesh.cells["quad"])
@@ -137,14 +137,14 @@ def test_holes_grow_rows_with_wedges_and_meeting_fronts_are_joined():
 
 def test_naca_angles_as_measured():
     """Issue 12 asks [45, 150] degrees on the NACA 0012 far field too; measured here:
-    about [35, 147], 99 % of the quads inside [45, 150] (tucks on the nearly flat rows
-    over the mid-chord, and the pairing fill of the void between the airfoil's rows and
-    the far field's).  This pins what is reached."""
+    about [43, 137], 99.8 % of the quads inside [45, 150] (the few below 45 degrees lie
+    where the pairing fill of the void between the airfoil's rows and the far field's
+    meets the rows).  This pins what is reached."""
     mesh = quadrangulate("naca0012", method="paving")
     _check_all_quad(mesh)
     a = _angles(mesh.points, mesh.cells["quad"])
-    assert a.min() > 30.0 and a.max() < 155.0
-    assert np.mean((a.min(axis=1) >= 45.0) & (a.max(axis=1) <= 150.0)) >= 0.98
+    assert a.min() > 40.0 and a.max() < 145.0
+    assert np.mean((a.min(axis=1) >= 45.0) & (a.max(axis=1) <= 150.0)) >= 0.995
 
 
 def test_loops_are_made_even_and_an_odd_fixed_loop_is_named():

@@ -61,8 +61,11 @@ Steps, as the chapter numbers them
    unconstrained paving (Staten et al. 2005) fills its voids after the rows;
    :class:`PavingReport` counts those quads.
 8. **Cleanup.**  Triangles the pairing of a void could not pair are finished by chord
-   refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split),
-   and a final smoothing runs.
+   refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split);
+   then :data:`FINAL_SMOOTH` sweeps of the guarded Laplacian, and a max-min pattern
+   search (:func:`~meshwright.quad._paving_close.polish`) moves the free nodes of every
+   quad with a corner sine below :data:`POLISH_BELOW` where the Laplacian stalls
+   (closures, tucks, joints; all-quad fills only, since it does not look at triangles).
 
 Invariants: every paving boundary has an even node count and the unmeshed region on its
 left; every quad committed is strictly convex by exact ``orient2d``; no paving-boundary
@@ -102,6 +105,7 @@ from meshwright.quad._paving_close import (
     encloses,
     fill_voids,
     loop_angles,
+    polish,
     signed_area,
 )
 from meshwright.quad.pairing import make_loops_even
@@ -138,6 +142,8 @@ REPAIR_SCALE = 0.7  # ... by this factor each time
 THIN = 0.75  # a stopped region thinner than this (area / perimeter / size) is closed by chords
 SPLIT_MAX = 80  # paving boundaries up to this many nodes may be closed by chords
 MAX_ROUNDS = 64  # rounds of rows beyond the bound from the domain's extent
+POLISH_BELOW = 0.8  # quads with a corner sine below this (about 53 degrees) get the max-min cleanup ...
+POLISH_ROUNDS = 8  # ... this many passes
 FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end
 ROW_SMOOTH = 4  # ... over the two previous rows after each row
 
@@ -765,6 +771,8 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     fixed = np.zeros(len(fill.points), dtype=bool)
     fixed[fill.lines.ravel()] = True
     moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH)
+    if not len(fill.triangles):
+        moved = polish(moved, fill.quads, fixed, POLISH_BELOW, POLISH_ROUNDS)
     fill = fill._replace(points=np.ascontiguousarray(moved))
     bad = np.flatnonzero(~convex(fill.points, fill.quads))
     if len(bad):
