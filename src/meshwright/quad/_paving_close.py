@@ -452,34 +452,17 @@ def polish(xy, quads, fixed, floor: float, rounds: int):
     (n, 2) float64
     """
     p = np.array(xy, dtype=np.float64)
-    q = np.asarray(quads, dtype=np.int64)
-    owner = np.repeat(np.arange(len(q)), 4)
+    q = np.ascontiguousarray(quads, dtype=np.int64)
     order = np.argsort(q.ravel(), kind="stable")
-    ptr = np.searchsorted(q.ravel()[order], np.arange(len(p) + 1))
+    cell_idx = np.ascontiguousarray(order // 4)
+    cell_ptr = np.searchsorted(q.ravel()[order], np.arange(len(p) + 1)).astype(np.int64)
     ang = np.arange(16) * (np.pi / 8.0)
-    dirs = np.column_stack([np.cos(ang), np.sin(ang)])
+    dirs = np.ascontiguousarray(np.column_stack([np.cos(ang), np.sin(ang)]))
     steps = np.array([0.25, 0.125, 0.0625])
     for _ in range(rounds):
         bad = np.flatnonzero(min_sine(p, q) < floor)
         nodes = np.unique(q[bad])
         nodes = nodes[~fixed[nodes]]
-        if not len(nodes):
+        if not len(nodes) or not pk.polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
             break
-        for v in nodes.tolist():
-            star = q[owner[order[ptr[v] : ptr[v + 1]]]]
-            corners = p[star]
-            mine = star == v
-            e = np.concatenate([star[:, [k, (k + 1) % 4]] for k in range(4)])
-            e = e[(e == v).any(axis=1)]
-            reach = float(np.hypot(*(p[e[:, 0]] - p[e[:, 1]]).T).min())
-            cand = np.vstack([p[v], p[v] + (steps[:, None, None] * reach * dirs[None, :, :]).reshape(-1, 2)])
-            trial = np.repeat(corners[None], len(cand), axis=0)
-            trial[:, mine] = cand[:, None, :]
-            u = np.roll(trial, -1, axis=2) - trial
-            w = np.roll(trial, 1, axis=2) - trial
-            den = np.hypot(u[..., 0], u[..., 1]) * np.hypot(w[..., 0], w[..., 1])
-            sine = np.where(den > 0.0, (u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0]) / np.where(den > 0.0, den, 1.0), -1.0)
-            worst = sine.reshape(len(cand), -1).min(axis=1)
-            # Candidate 0 is the node where it stands: a move must beat it.
-            p[v] = cand[int(np.argmax(worst))]
     return p

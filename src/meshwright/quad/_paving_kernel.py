@@ -4,7 +4,9 @@ A candidate row of quads (Blacker and Stephenson 1991, step 3) is accepted only 
 its new edges crosses or touches an edge of any paving boundary or another new edge, and no
 node of a paving boundary lies inside or on one of its new quads (step 7's intersection
 check); every sign is the exact ``orient2d``.  :func:`facing_pairs` finds the paving
-nodes close enough to be joined (a quality rule, floating point).
+nodes close enough to be joined and :func:`polish_nodes` is the cleanup's pattern search
+(quality rules, floating point; quads (q, 4) int64 with a vertex-to-quad table in CSR
+form, ``cell_ptr`` (n + 1,), ``cell_idx``).
 
 Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``, ``sb``
 (node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.  The
@@ -20,7 +22,7 @@ from numba import njit
 
 from meshwright.core.predicates import orient2d
 
-__all__ = ["facing_pairs", "nodes_in_quads", "row_crossings"]
+__all__ = ["facing_pairs", "nodes_in_quads", "polish_nodes", "row_crossings"]
 
 
 @njit(inline="always")
@@ -186,3 +188,63 @@ def facing_pairs(p, nrm, reach, ids, fid, pos, size, out_u, out_v, out_d):
                 out_d[cnt] = d
             cnt += 1
     return cnt
+
+
+@njit(inline="always")
+def _star_min_sine(p, q, cell_ptr, cell_idx, v, x, y):
+    """Smallest corner sine over the quads around node ``v`` with ``v`` at ``(x, y)``."""
+    worst = 1.0
+    for t in range(cell_ptr[v], cell_ptr[v + 1]):
+        c = cell_idx[t]
+        for k in range(4):
+            a = q[c, (k + 3) % 4]
+            b = q[c, k]
+            d = q[c, (k + 1) % 4]
+            bx = x if b == v else p[b, 0]
+            by = y if b == v else p[b, 1]
+            ux = (x if d == v else p[d, 0]) - bx
+            uy = (y if d == v else p[d, 1]) - by
+            wx = (x if a == v else p[a, 0]) - bx
+            wy = (y if a == v else p[a, 1]) - by
+            den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+            s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
+            worst = min(worst, s)
+    return worst
+
+
+@njit(cache=True)
+def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
+    """One pass of the max-min pattern search over ``nodes`` in place (see
+    :func:`meshwright.quad._paving_close.polish`): each node takes the move, among
+    ``steps`` times its shortest edge along each of ``dirs``, that raises the smallest
+    corner sine of its quads most, or stays.  Returns the number of nodes moved."""
+    moved = 0
+    for i in range(nodes.shape[0]):
+        v = nodes[i]
+        x0 = p[v, 0]
+        y0 = p[v, 1]
+        reach = np.inf
+        for t in range(cell_ptr[v], cell_ptr[v + 1]):
+            c = cell_idx[t]
+            for k in range(4):
+                if q[c, k] == v:
+                    for o in (1, 3):
+                        w = q[c, (k + o) % 4]
+                        reach = min(reach, np.hypot(p[w, 0] - x0, p[w, 1] - y0))
+        best = _star_min_sine(p, q, cell_ptr, cell_idx, v, x0, y0)
+        bx = x0
+        by = y0
+        for s in range(steps.shape[0]):
+            for d in range(dirs.shape[0]):
+                x = x0 + steps[s] * reach * dirs[d, 0]
+                y = y0 + steps[s] * reach * dirs[d, 1]
+                w = _star_min_sine(p, q, cell_ptr, cell_idx, v, x, y)
+                if w > best:
+                    best = w
+                    bx = x
+                    by = y
+        if bx != x0 or by != y0:
+            p[v, 0] = bx
+            p[v, 1] = by
+            moved += 1
+    return moved
