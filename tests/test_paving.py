@@ -131,7 +131,7 @@ def test_holes_grow_rows_with_wedges_and_meeting_fronts_are_joined():
     """The annulus: the hole's rows grow by wedges, the two fronts meet, are joined and
     zipped by seams, and the rest is closed without any void fill."""
     _, rep = pave_domain(annulus(), 0.08)
-    assert rep.rows > 0 and rep.wedges > 0 and rep.seams > 0
+    assert rep.rows > 0 and rep.wedges > 0 and rep.seams > 0 and rep.joints > 0
     assert rep.voids == 0 and rep.filled == 0 and not rep.split
 
 

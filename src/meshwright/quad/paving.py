@@ -157,8 +157,8 @@ class PavingReport(NamedTuple):
         Loops that received one node to make their count even.
     rows : int
         Rows accepted (all paving boundaries together).
-    tucks, wedges, seams, closures : int
-        Row adjustments, seams and closure templates applied.
+    tucks, wedges, seams, joints, closures : int
+        Row adjustments, seams, joints of meeting paving boundaries and closures applied.
     paved : int
         Quads laid by rows, seams and closures.
     voids : int
@@ -176,6 +176,7 @@ class PavingReport(NamedTuple):
     tucks: int
     wedges: int
     seams: int
+    joints: int
     closures: int
     paved: int
     voids: int
@@ -782,7 +783,7 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
             + ", ".join(fmt_point(fill.points[v]) for v in fill.quads[c])
         )
     report = PavingReport(
-        added, pv.rows, pv.tucks, pv.wedges, pv.seams, pv.closures, paved, len(voids), filled, split,
+        added, pv.rows, pv.tucks, pv.wedges, pv.seams, pv.joints, pv.closures, paved, len(voids), filled, split,
         len(fill.triangles),
     )
     return fill, report
