@@ -1,7 +1,10 @@
-"""Closure and joining of paving boundaries (steps 2 and 7 of :mod:`meshwright.quad.paving`).
+"""Closure, joining and cleanup of paving boundaries (steps 2, 7 and 8 of
+:mod:`meshwright.quad.paving`).
 
-Blacker and Stephenson (1991) close a paving boundary of six or fewer nodes by templates
-and connect paving boundaries that meet.  This module holds those pieces:
+Blacker and Stephenson (1991) close a paving boundary of six or fewer nodes by templates,
+connect paving boundaries that meet and clean the mesh up at the end.  This module holds
+those pieces (and the paving boundaries' geometry: :func:`boundary_loops`,
+:func:`loop_angles`, :func:`signed_area`, :func:`encloses`):
 
 * :func:`closure_quads`: the four- and six-node templates (one quad; two quads along a
   long diagonal or three around a centre node, the valid one with the best smallest
@@ -16,7 +19,9 @@ and connect paving boundaries that meet.  This module holds those pieces:
   ``n_outer + n_hole + 2 k + 2`` nodes: even), after which :func:`close_loop` can close it;
 * :func:`closest_facing`: the pair of paving nodes the paver joins next;
 * :func:`fill_voids`: the region left between stopped paving boundaries, meshed by
-  advancing-front triangles paired into quads (18.5.1, :mod:`meshwright.quad.pairing`).
+  advancing-front triangles paired into quads (18.5.1, :mod:`meshwright.quad.pairing`);
+* :func:`polish`: the cleanup's max-min pattern search on the worst quads' free nodes
+  (kernel :func:`meshwright.quad._paving_kernel.polish_nodes`).
 
 Every chord is checked against every paving-boundary edge by the exact crossing kernel
 (:func:`meshwright.quad._paving_kernel.row_crossings`); every quad of a template is
@@ -37,7 +42,22 @@ from meshwright.quad.enhancement import enhance, unpair_nonconvex
 from meshwright.quad.pairing import pair_triangles
 from meshwright.quad.smoothing import smooth_cells
 
-__all__ = ["bridge", "close_loop", "closure_quads", "convex", "edges_of", "loop_angles", "min_sine", "signed_area"]
+__all__ = [
+    "boundary_loops",
+    "bridge",
+    "close_loop",
+    "closest_facing",
+    "closure_quads",
+    "convex",
+    "edges_of",
+    "encloses",
+    "fill_voids",
+    "loop_angles",
+    "min_sine",
+    "polish",
+    "signed_area",
+    "star_quads",
+]
 
 CHORD_MIN_ANGLE = 35.0  # degrees: a chord leaves no angle sharper than this beside it
 CHORD_REACH = 4.0  # sizes: chords up to this long are tried first
