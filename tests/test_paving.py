@@ -11,6 +11,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from meshwright.core.errors import InputError, MeshingError
 from meshwright.geometry import annulus, circle, circles, polygon, rectangle
@@ -95,6 +97,30 @@ def test_random_star_domains_with_a_hole_are_valid(seed):
     mesh = quadrangulate(dom, lambda xy: 0.04 + 0.06 * np.hypot(*xy.T), method="paving")
     _check_all_quad(mesh)
     assert mesh.area() == pytest.approx(abs(dom.area()), rel=2e-2)
+
+
+@settings(max_examples=8, deadline=None)
+@given(
+    radii=st.lists(st.floats(0.5, 1.0), min_size=5, max_size=14),
+    h=st.floats(0.05, 0.2),
+)
+def test_random_star_polygons_are_paved_validly(radii, h):
+    t = np.linspace(0.0, 2.0 * np.pi, len(radii), endpoint=False)
+    r = np.asarray(radii)
+    dom = polygon(np.column_stack([r * np.cos(t), r * np.sin(t)]))
+    mesh = quadrangulate(dom, h, method="paving")
+    _check_all_quad(mesh)
+    assert mesh.area() == pytest.approx(abs(dom.area()), rel=1e-9)
+
+
+def test_quad_dominant_fill_reports_its_triangles():
+    """all_quad=False: the void fill's unpaired triangles stay (counted), nothing split."""
+    fill, rep = pave_domain(circles(), 0.15, all_quad=False)
+    assert rep.triangles_left == len(fill.triangles)
+    assert not rep.split
+    mesh = quadrangulate(circles(), 0.15, method="paving", all_quad=False)
+    mesh.validate()
+    assert len(mesh.cells.get("triangle", ())) == rep.triangles_left
 
 
 @pytest.mark.parametrize("h", [0.2, 0.155, 0.1, 0.07, 0.05, 0.03])

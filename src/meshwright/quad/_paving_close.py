@@ -390,8 +390,15 @@ def fill_voids(xy, voids, field, seed):
     nodes = np.unique(np.concatenate(voids))
     local = {int(v): i for i, v in enumerate(nodes.tolist())}
     seg = np.array([[local[int(a)], local[int(b)]] for f in voids for a, b in zip(f, np.roll(f, -1))], dtype=np.int64)
+    # An edge a paving boundary runs both ways (a slit left by joints and seams) has the
+    # region on both sides: one copy, as a constraint with no side.
+    n = len(nodes)
+    fwd = seg[:, 0] * n + seg[:, 1]
+    slit = np.isin(seg[:, 1] * n + seg[:, 0], fwd)
+    keep = ~slit | (seg[:, 0] < seg[:, 1])
+    seg, sides = seg[keep], np.where(slit[keep], 0, 1)
     ct = cdt_build(xy[nodes], seg, seed=seed)
-    ct.classify(segment_sides=np.ones(len(seg), dtype=np.int64))
+    ct.classify(segment_sides=sides)
     pts, tris = advancing_front(ct, field)
     # Back to global ids: the triangulation's own vertices, then the front's new nodes.
     n_ct = ct.n_points

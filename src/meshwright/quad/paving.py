@@ -189,6 +189,33 @@ def _loop_name(li: int) -> str:
     return "outer loop (loop 0)" if li == 0 else f"loop {li}"
 
 
+def _consistent(fronts) -> bool:
+    """Every directed paving-boundary edge once, none from a node to itself: what a seam
+    or joint must leave (two nodes merged next to each other elsewhere would not)."""
+    if not fronts:
+        return True
+    a = np.concatenate(fronts)
+    b = np.concatenate([np.roll(f, -1) for f in fronts])
+    key = a * (int(max(a.max(), b.max())) + 1) + b
+    return bool((a != b).all() and len(np.unique(key)) == len(key))
+
+
+def _despike(front: np.ndarray) -> np.ndarray:
+    """Drop the spikes ``x, y, x`` of a paving boundary: the edge x y, zipped by seams or
+    joints, has quads on both sides and is no front any more (two nodes fewer: the count
+    stays even)."""
+    f = front
+    for _ in range(len(front)):
+        if len(f) <= 2:
+            return f
+        hit = np.flatnonzero(np.roll(f, 1) == np.roll(f, -1))
+        if not len(hit):
+            return f
+        i = int(hit[0])
+        f = np.delete(f, [i, (i + 1) % len(f)])
+    return f
+
+
 def node_classes(angles_deg) -> np.ndarray:
     """New nodes per paving node from its interior angle (step 1).
 
@@ -453,6 +480,7 @@ class _Paver:
         """Close floating paving nodes sharper than :data:`SEAM_ANGLE` (at most ``cap``);
         no seam moves a paving-boundary edge across another (``others``: the other
         paving boundaries)."""
+        front = _despike(front)
         for _ in range(cap):
             if len(front) <= 2:
                 return front
@@ -465,10 +493,16 @@ class _Paver:
                 if a < self.n_fixed or b < self.n_fixed:
                     continue
                 at = 0.5 * (self.pts[a] + self.pts[b])
-                if self._clear_after_merge([front] + others, a, b, at) and self._merge(a, b, at):
-                    drop = {i, (i + 1) % k}
-                    front = np.array([v for j, v in enumerate(front.tolist()) if j not in drop], dtype=np.int64)
-                    front[front == b] = a
+                drop = {i, (i + 1) % k}
+                trial = np.array([v for j, v in enumerate(front.tolist()) if j not in drop], dtype=np.int64)
+                trial = _despike(np.where(trial == b, a, trial))
+                if (
+                    _consistent([trial] + others)
+                    and self._area_kept(front, trial, a, b, at)
+                    and self._clear_after_merge([front] + others, a, b, at)
+                    and self._merge(a, b, at)
+                ):
+                    front = trial
                     self.seams += 1
                     done = True
                     break
@@ -525,22 +559,43 @@ class _Paver:
             if b < self.n_fixed:
                 continue
             at = self.pts[a].copy() if a < self.n_fixed else 0.5 * (self.pts[a] + self.pts[b])
-            if not self._clear_after_merge(fronts, a, b, at) or not self._merge(a, b, at):
-                continue
             fa, fb, i, j = int(fid[u]), int(fid[v]), int(pos[u]), int(pos[v])
             A, B = fronts[fa], fronts[fb]
             if fa != fb:
                 joined = np.concatenate([A[:i], [a], B[j + 1 :], B[:j], [a], A[i + 1 :]])
-                fronts = [f for k, f in enumerate(fronts) if k not in (fa, fb)] + [joined]
+                new = [f for k, f in enumerate(fronts) if k not in (fa, fb)] + [joined]
             else:
                 i, j = min(i, j), max(i, j)
                 A = np.where(A == b, a, A)
                 one = np.concatenate([[a], A[i + 1 : j]])
                 two = np.concatenate([[a], A[j + 1 :], A[:i]])
-                fronts = [f for k, f in enumerate(fronts) if k != fa] + [g for g in (one, two) if len(g) > 2]
-            fronts = [np.where(f == b, a, f) for f in fronts]
+                new = [f for k, f in enumerate(fronts) if k != fa] + [g for g in (one, two) if len(g) > 2]
+            new = [np.where(f == b, a, f) for f in new]
+            sa, sb = edges_of(fronts)
+            gap = np.array([a]), np.array([b])
+            if (
+                not _consistent(new)
+                or (fa == fb and min(signed_area(self.pts[one]), signed_area(self.pts[two])) <= 0.0)
+                or pk.row_crossings(self.xy, gap[0], gap[1], sa, sb).any()
+                or not self._clear_after_merge(fronts, a, b, at)
+                or not self._merge(a, b, at)
+            ):
+                continue
+            fronts = new
             self.joints += 1
         return fronts
+
+    def _area_kept(self, front, trial, a, b, at) -> bool:
+        """A seam only removes region: the signed area of the paving boundary does not
+        grow, and a boundary around its region (positive area) keeps a positive one
+        unless it closed (two nodes or fewer); a quality rule up to round-off."""
+        before = signed_area(self.pts[front])
+        moved = self.pts[trial]
+        moved[(trial == a) | (trial == b)] = at
+        after = signed_area(moved) if len(trial) > 2 else 0.0
+        # Zipped slits have zero area: round-off is no change.
+        tol = 1e-9 * float(np.ptp(self.pts[front], axis=0).max()) ** 2
+        return after <= before + tol and (before <= tol or after > -tol or len(trial) <= 2)
 
     def _clear_after_merge(self, fronts, a, b, at) -> bool:
         """No paving-boundary edge at node a or b, moved to ``at``, meets another
