@@ -43,15 +43,20 @@ from meshwright.quad.pairing import pair_triangles
 from meshwright.quad.smoothing import smooth_cells
 
 __all__ = [
+    "area_kept",
     "boundary_loops",
     "bridge",
+    "clear_after_merge",
     "close_loop",
     "closest_facing",
     "closure_quads",
+    "consistent",
     "convex",
+    "despike",
     "edges_of",
     "encloses",
     "fill_voids",
+    "front_slots",
     "loop_angles",
     "min_sine",
     "polish",
@@ -493,3 +498,67 @@ def polish(xy, quads, fixed, floor: float, rounds: int):
         if not len(nodes) or not pk.polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
             break
     return p
+
+
+def consistent(fronts) -> bool:
+    """Every directed paving-boundary edge once, none from a node to itself: what a seam
+    or joint must leave (two nodes merged next to each other elsewhere would not)."""
+    if not fronts:
+        return True
+    a = np.concatenate(fronts)
+    b = np.concatenate([np.roll(f, -1) for f in fronts])
+    key = a * (int(max(a.max(), b.max())) + 1) + b
+    return bool((a != b).all() and len(np.unique(key)) == len(key))
+
+
+def despike(front: np.ndarray) -> np.ndarray:
+    """Drop the spikes ``x, y, x`` of a paving boundary: the edge x y, zipped by seams or
+    joints, has quads on both sides and is no front any more (two nodes fewer: the count
+    stays even)."""
+    f = front
+    for _ in range(len(front)):
+        if len(f) <= 2:
+            return f
+        hit = np.flatnonzero(np.roll(f, 1) == np.roll(f, -1))
+        if not len(hit):
+            return f
+        i = int(hit[0])
+        f = np.delete(f, [i, (i + 1) % len(f)])
+    return f
+
+
+def front_slots(pts, fronts):
+    """Every slot of a list of paving boundaries: node ids, boundary index, position
+    along it (all (m,) int64) and the unit bisector into the unmeshed region (m, 2)."""
+    ids = np.concatenate(fronts)
+    fid = np.concatenate([np.full(len(f), k, dtype=np.int64) for k, f in enumerate(fronts)])
+    pos = np.concatenate([np.arange(len(f), dtype=np.int64) for f in fronts])
+    th = np.concatenate([
+        np.arctan2(*(np.roll(pts[f], -1, axis=0) - pts[f])[:, ::-1].T) + 0.5 * loop_angles(pts[f]) for f in fronts
+    ])
+    return ids, fid, pos, np.column_stack([np.cos(th), np.sin(th)])
+
+
+def area_kept(xy, front, trial, a, b, at) -> bool:
+    """A seam only removes region: the signed area of the paving boundary does not
+    grow, and a boundary around its region (positive area) keeps a positive one
+    unless it closed (two nodes or fewer); a quality rule up to round-off."""
+    before = signed_area(xy[front])
+    moved = xy[trial]
+    moved[(trial == a) | (trial == b)] = at
+    after = signed_area(moved) if len(trial) > 2 else 0.0
+    # Zipped slits have zero area: round-off is no change.
+    tol = 1e-9 * float(np.ptp(xy[front], axis=0).max()) ** 2
+    return after <= before + tol and (before <= tol or after > -tol or len(trial) <= 2)
+
+def clear_after_merge(xy, fronts, a, b, at) -> bool:
+    """No paving-boundary edge at node a or b, moved to ``at``, meets another
+    paving-boundary edge (exact)."""
+    trial = xy.copy()
+    trial[a] = trial[b] = at
+    sa, sb = edges_of(fronts)
+    sa = np.where(sa == b, a, sa)
+    sb = np.where(sb == b, a, sb)
+    mine = (sa == a) | (sb == a)
+    keep = sa != sb
+    return not pk.row_crossings(trial, sa[mine & keep], sb[mine & keep], sa[keep], sb[keep]).any()

@@ -5,17 +5,16 @@ quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32, 1991, as summarise
 section 18.5.2 of the reference chapter: rows of quadrilaterals laid one layer at a time
 inward from the *paving boundaries* (the exterior one counter-clockwise, the interior ones
 clockwise, so the unmeshed region is always on their left), every paving boundary kept
-with an even number of nodes.  The node classes and angle thresholds follow the
-description of FASTQ in ``design-notes-quads.md`` (section 3); nothing is copied from it.
+with an even number of nodes.  Node classes and thresholds follow the description of
+FASTQ in ``design-notes-quads.md`` (section 3); nothing is copied from it.
 
 Steps, as the chapter numbers them
 ----------------------------------
 0. **Even boundaries.**  Every loop of the discretised domain gets an even node count
    (:func:`meshwright.quad.pairing.make_loops_even`: one node on the longest segment, on
    the true curve); with ``fixed_boundary=True`` an odd loop raises
-   :class:`~meshwright.quad.pairing.ParityError` naming the loop.  Every later step keeps
-   each paving boundary even (each row, tuck, wedge, seam, joint and closure changes a
-   count by an even number), so rows and closures never need a triangle.
+   :class:`~meshwright.quad.pairing.ParityError` naming the loop.  Rows, tucks, wedges,
+   seams, joints and closures change counts by even numbers: no triangle is needed.
 1. **Row choice.**  Each paving node gets its interior angle (from the edge to the next
    node, counter-clockwise to the edge to the previous one) and a class: *row end*
    (angle below :data:`END_ANGLE`: the row turns there, one quad takes both of its
@@ -32,15 +31,13 @@ Steps, as the chapter numbers them
    a side node's on its bisector, a corner's and a reversal's on spokes that split its
    angle evenly (the diagonal ones making rhombi), a row end's neighbours sharing one
    node on the end's bisector; quads between the old and the new nodes.  The new nodes
-   then relax :data:`ROW_RELAX` times along the row (tangentially only, so corners stay),
-   and the new row is the new paving boundary.
-4. **Smoothing.**  After each row the floating nodes of the two previous rows (now
-   inside the mesh) take the guarded Laplacian of :mod:`meshwright.quad.smoothing`
-   (no move lowers the smallest corner sine around a node); all floating nodes once more
-   at the end.
-5. **Seams.**  A floating paving node with an angle below :data:`SEAM_ANGLE` is closed:
-   its two neighbours merge at their midpoint when every quad around them stays strictly
-   convex and no paving-boundary edge moves across another.
+   relax :data:`ROW_RELAX` times along the row (tangentially: corners stay) and form the
+   new paving boundary.
+4. **Smoothing.**  After each row, the guarded Laplacian (:mod:`meshwright.quad.smoothing`)
+   on the floating nodes of the two previous rows.
+5. **Seams.**  A floating paving node sharper than :data:`SEAM_ANGLE` is closed: its two
+   neighbours merge at their midpoint if every quad around stays strictly convex, no
+   front edge moves across another and the boundary's region only shrinks.
 6. **Row adjustment.**  Along the row, the predicted new edge lengths are compared with
    the size field; their running surplus places *tucks* (a floating side node becomes a
    row end: two nodes fewer) and *wedges* (a floating side node becomes a corner: two
@@ -53,19 +50,17 @@ Steps, as the chapter numbers them
    After every round, paving nodes closer than :data:`CONNECT` times the size and facing
    each other are joined: two paving boundaries become one, one that meets itself splits
    in two even ones, and seams zip the narrow angles beside the joint (no joint or seam
-   moves an edge across another).  At the end, a stopped paving boundary around stopped
-   holes is joined to them by chords; a thin or small region is closed by chords and
-   templates.  *Simplification*: what is left (large regions between fronts that
-   stopped) is filled by the pairing method of 18.5.1 on the same size field
-   (:func:`meshwright.quad.pairing.pair_triangles` and its shape enhancement), as
-   unconstrained paving (Staten et al. 2005) fills its voids after the rows;
-   :class:`PavingReport` counts those quads.
+   moves an edge across another).  At the end, stopped boundaries around stopped holes
+   are bridged to them by chords; a thin or small region is closed by chords and
+   templates.  *Simplification*: what is left (large regions between stopped fronts) is
+   filled by the pairing method of 18.5.1 on the same size field (pairing and shape
+   enhancement of :mod:`meshwright.quad.pairing`), as unconstrained paving (Staten et al.
+   2005) fills its voids after the rows; :class:`PavingReport` counts those quads.
 8. **Cleanup.**  Triangles the pairing of a void could not pair are finished by chord
    refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split);
    then :data:`FINAL_SMOOTH` sweeps of the guarded Laplacian, and a max-min pattern
-   search (:func:`~meshwright.quad._paving_close.polish`) moves the free nodes of every
-   quad with a corner sine below :data:`POLISH_BELOW` where the Laplacian stalls
-   (closures, tucks, joints; all-quad fills only, since it does not look at triangles).
+   search (``_paving_close.polish``) moves the free nodes of every quad with a corner sine
+   below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles).
 
 Invariants: every paving boundary has an even node count and the unmeshed region on its
 left; every quad committed is strictly convex by exact ``orient2d``; no paving-boundary
@@ -76,9 +71,10 @@ the rounds cap raises :class:`~meshwright.core.errors.MeshingError` naming the s
 paving boundary (the loop it grew from, its length and first node), ``max_points`` names
 itself.  The other caps end their step, and what is left goes to the void fill.
 
-Implementation: rows are built per paving boundary with NumPy over the boundary's nodes
-(a Python pass over them builds the row's connectivity); the exact crossing, containment
-and joint searches are Numba kernels (:mod:`meshwright.quad._paving_kernel`).
+Implementation: rows are built with NumPy over a boundary's nodes (one Python pass wires
+them); crossing, containment, joint and cleanup searches are Numba kernels
+(:mod:`meshwright.quad._paving_kernel`); closure, joining and cleanup pieces live in
+:mod:`meshwright.quad._paving_close`.
 
 Array layout: points (n, 2) float64; quads (q, 4) int32 counter-clockwise; a paving
 boundary is an (k,) int64 array of node ids with the unmeshed region on its left.
@@ -90,20 +86,25 @@ from typing import NamedTuple
 
 import numpy as np
 
-from meshwright.core.errors import InputError, MeshingError, fmt_point
+from meshwright.core.errors import GeometryError, InputError, MeshingError, fmt_point
 from meshwright.core.validate_input import check_count, check_flag, check_seed
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad._paving_close import (
+    area_kept,
     boundary_loops,
     bridge,
+    clear_after_merge,
     close_loop,
     closest_facing,
     closure_quads,
+    consistent,
     convex,
+    despike,
     edges_of,
     encloses,
     fill_voids,
+    front_slots,
     loop_angles,
     polish,
     signed_area,
@@ -161,10 +162,8 @@ class PavingReport(NamedTuple):
         Row adjustments, seams, joints of meeting paving boundaries and closures applied.
     paved : int
         Quads laid by rows, seams and closures.
-    voids : int
-        Paving boundaries that stopped and went to the void fill.
-    filled : int
-        Quads of the void fill (pairing, 18.5.1).
+    voids, filled : int
+        Stopped paving boundaries sent to the void fill; quads of the fill (pairing).
     split : bool
         Whether chord refinement finished left-over triangles.
     triangles_left : int
@@ -187,33 +186,6 @@ class PavingReport(NamedTuple):
 
 def _loop_name(li: int) -> str:
     return "outer loop (loop 0)" if li == 0 else f"loop {li}"
-
-
-def _consistent(fronts) -> bool:
-    """Every directed paving-boundary edge once, none from a node to itself: what a seam
-    or joint must leave (two nodes merged next to each other elsewhere would not)."""
-    if not fronts:
-        return True
-    a = np.concatenate(fronts)
-    b = np.concatenate([np.roll(f, -1) for f in fronts])
-    key = a * (int(max(a.max(), b.max())) + 1) + b
-    return bool((a != b).all() and len(np.unique(key)) == len(key))
-
-
-def _despike(front: np.ndarray) -> np.ndarray:
-    """Drop the spikes ``x, y, x`` of a paving boundary: the edge x y, zipped by seams or
-    joints, has quads on both sides and is no front any more (two nodes fewer: the count
-    stays even)."""
-    f = front
-    for _ in range(len(front)):
-        if len(f) <= 2:
-            return f
-        hit = np.flatnonzero(np.roll(f, 1) == np.roll(f, -1))
-        if not len(hit):
-            return f
-        i = int(hit[0])
-        f = np.delete(f, [i, (i + 1) % len(f)])
-    return f
 
 
 def node_classes(angles_deg) -> np.ndarray:
@@ -480,7 +452,7 @@ class _Paver:
         """Close floating paving nodes sharper than :data:`SEAM_ANGLE` (at most ``cap``);
         no seam moves a paving-boundary edge across another (``others``: the other
         paving boundaries)."""
-        front = _despike(front)
+        front = despike(front)
         for _ in range(cap):
             if len(front) <= 2:
                 return front
@@ -495,11 +467,11 @@ class _Paver:
                 at = 0.5 * (self.pts[a] + self.pts[b])
                 drop = {i, (i + 1) % k}
                 trial = np.array([v for j, v in enumerate(front.tolist()) if j not in drop], dtype=np.int64)
-                trial = _despike(np.where(trial == b, a, trial))
+                trial = despike(np.where(trial == b, a, trial))
                 if (
-                    _consistent([trial] + others)
-                    and self._area_kept(front, trial, a, b, at)
-                    and self._clear_after_merge([front] + others, a, b, at)
+                    consistent([trial] + others)
+                    and area_kept(self.xy, front, trial, a, b, at)
+                    and clear_after_merge(self.xy, [front] + others, a, b, at)
                     and self._merge(a, b, at)
                 ):
                     front = trial
@@ -538,15 +510,8 @@ class _Paver:
         for _ in range(cap):
             if not fronts:
                 break
-            ids = np.concatenate(fronts)
-            fid = np.concatenate([np.full(len(f), k) for k, f in enumerate(fronts)])
-            pos = np.concatenate([np.arange(len(f)) for f in fronts])
+            ids, fid, pos, nrm = front_slots(self.pts, fronts)
             p = self.pts[ids]
-            th = np.concatenate([
-                np.arctan2(*(np.roll(self.pts[f], -1, axis=0) - self.pts[f])[:, ::-1].T) + 0.5 * loop_angles(self.pts[f])
-                for f in fronts
-            ])
-            nrm = np.column_stack([np.cos(th), np.sin(th)])
             h = self.field(p)
             pair = closest_facing(ids, fid, pos, p, nrm, CONNECT * h, [len(f) for f in fronts], tried)
             if pair is None:
@@ -574,40 +539,16 @@ class _Paver:
             sa, sb = edges_of(fronts)
             gap = np.array([a]), np.array([b])
             if (
-                not _consistent(new)
+                not consistent(new)
                 or (fa == fb and min(signed_area(self.pts[one]), signed_area(self.pts[two])) <= 0.0)
                 or pk.row_crossings(self.xy, gap[0], gap[1], sa, sb).any()
-                or not self._clear_after_merge(fronts, a, b, at)
+                or not clear_after_merge(self.xy, fronts, a, b, at)
                 or not self._merge(a, b, at)
             ):
                 continue
             fronts = new
             self.joints += 1
         return fronts
-
-    def _area_kept(self, front, trial, a, b, at) -> bool:
-        """A seam only removes region: the signed area of the paving boundary does not
-        grow, and a boundary around its region (positive area) keeps a positive one
-        unless it closed (two nodes or fewer); a quality rule up to round-off."""
-        before = signed_area(self.pts[front])
-        moved = self.pts[trial]
-        moved[(trial == a) | (trial == b)] = at
-        after = signed_area(moved) if len(trial) > 2 else 0.0
-        # Zipped slits have zero area: round-off is no change.
-        tol = 1e-9 * float(np.ptp(self.pts[front], axis=0).max()) ** 2
-        return after <= before + tol and (before <= tol or after > -tol or len(trial) <= 2)
-
-    def _clear_after_merge(self, fronts, a, b, at) -> bool:
-        """No paving-boundary edge at node a or b, moved to ``at``, meets another
-        paving-boundary edge (exact)."""
-        trial = self.xy.copy()
-        trial[a] = trial[b] = at
-        sa, sb = edges_of(fronts)
-        sa = np.where(sa == b, a, sa)
-        sb = np.where(sb == b, a, sb)
-        mine = (sa == a) | (sb == a)
-        keep = sa != sb
-        return not pk.row_crossings(trial, sa[mine & keep], sb[mine & keep], sa[keep], sb[keep]).any()
 
     # -- step 2: closure of small paving boundaries ---------------------------------------
     def close(self, f, others, rnd, limit=SPLIT_MAX) -> bool:
@@ -808,7 +749,15 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     tris = np.zeros((0, 3), dtype=np.int64)
     filled = 0
     if voids:
-        xy, fq, tris = fill_voids(xy, voids, field, seed)
+        try:
+            xy, fq, tris = fill_voids(xy, voids, field, seed)
+        except GeometryError as e:
+            # The stopped paving boundaries are this method's own state, not the user's
+            # geometry: a failure to triangulate them is a meshing failure.
+            raise MeshingError(
+                f"paving: the region left between {len(voids)} stopped paving boundaries could not be filled ({e}); "
+                "please report it with the domain and size"
+            ) from e
         filled = len(fq)
         quads = np.concatenate([quads, fq])
     lines = disc.segments.astype(np.int32)
