@@ -8,6 +8,7 @@ The public API is re-exported here; everything else is private kernels over flat
 >>> vor = mw.voronoi(points, clip=(0, 0, 1, 1))
 >>> mesh = mw.triangulate(mw.geometry.naca("0012"), size=0.02, min_angle=30, smooth=5)
 >>> quads = mw.quadrangulate("three-element", method="quadtree")   # all-quad
+>>> tets = mw.tetrahedralize(mw.geometry.sphere(level=4), radius_edge=1.5)
 >>> mesh = tri.to_mesh(); mesh.validate(); mesh.write("out.vtu")
 """
 
@@ -28,7 +29,7 @@ from meshwright.core.quality import QualityReport
 from meshwright.geometry import Domain
 from meshwright.io import read, read_points
 from meshwright._api import delaunay
-from meshwright.tet import Tetrahedralization
+from meshwright.tet import TET_METHODS, Tetrahedralization, tetrahedralize
 from meshwright.tri import DELAUNAY_ALGORITHMS, MESH_METHODS, Triangulation, triangulate
 from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.tri.smoothing import smooth
@@ -47,9 +48,11 @@ __all__ = [
     "DELAUNAY_ALGORITHMS",
     "MESH_METHODS",
     "QUAD_METHODS",
+    "TET_METHODS",
     "delaunay",
     "triangulate",
     "quadrangulate",
+    "tetrahedralize",
     "voronoi",
     "smooth",
     "read",

@@ -1,0 +1,487 @@
+r"""Boundary recovery: make every face of a closed surface a union of Delaunay faces (18.4.1).
+
+After the surface's vertices are tetrahedralized (:class:`~meshwright.tet.Tetrahedralization`),
+a surface triangle is in general not a face of the Delaunay tetrahedralization: the chapter
+(18.4.1, after Weatherill and Hassan 1994) recovers it by inserting points on the surface.
+This module does the *conforming* variant (George, Hecht and Saltel 1991 call it "boundary
+enforcement by point insertion"; Shewchuk 1998, "Tetrahedral mesh generation by Delaunay
+refinement", analyses it): the input faces are kept as a triangulation of *subfaces*, and a
+subface that is not a face of the tetrahedralization is split, with its points inserted into
+the tetrahedralization, until every subface is present.
+
+Guarantee and choice
+--------------------
+The output is a Delaunay tetrahedralization of the input vertices plus Steiner points lying on
+the input faces (within round-off: a midpoint of a general 3-D segment is not representable;
+on faces parallel to a coordinate plane it is exact), in which every subface is a face, so
+every input triangle is a union of output faces.  It is chosen over a constrained Delaunay
+tetrahedralization (flips plus Steiner points, as TetGen does) because it needs no flip
+machinery that can stall, and because the quality refinement that follows
+(:mod:`meshwright.tet.refine3d`) splits boundary faces anyway.  It is *presence based*: a
+subface is split only when it is missing, not when a vertex merely lies in its diametral
+ball, so a plate thinner than its faces are wide is recovered without refining its faces
+down to its thickness (the top face of a thin prism is a Delaunay face: its two caps share a
+circumsphere).
+
+Before splitting, a missing subface whose neighbour in the same input face would, flipped,
+give two faces the tetrahedralization has, is flipped (:func:`flip_to_match`): cocircular
+points leave the diagonal to the symbolic perturbation, and no split can settle such a tie.
+Splitting is longest-edge bisection (Rivara 1984, "Algorithms for refining triangular grids
+suitable for adaptive and multigrid techniques"): a missing edge is marked; a missing face
+whose edges are present gets its longest edge marked; every subface with a marked edge gets
+its longest edge marked too (the closure), and each subface is then bisected at its longest
+edge's midpoint and its halves at their other marked edges::
+
+        v_i                       v_i
+        / \                       /|\
+       /   \                     / | \
+      /     \         ==>      m3  |  m2      (m3, m2 only where marked)
+     /       \                 /   |   \
+  v_i+1 ----- v_i+2        v_i+1 - m - v_i+2
+
+so the subfaces stay conforming (a marked edge is split in both its subfaces) and their
+angles stay bounded below by half the input's (Rivara).  An edge shorter than ``guard`` is
+never split: recovery that would need one raises :class:`MeshingError` naming the face.
+
+Arrays
+------
+``tets`` (nt, 4) int32 and ``nbr`` (nt, 4) int32 are the public arrays of a
+:class:`~meshwright.tet.Tetrahedralization` (``nbr[t, k]`` across the face opposite vertex
+k, -1 on the hull); ``faces`` (m, 3) int32 the subfaces, vertices of the tetrahedralization,
+oriented as their input face; ``parent`` (m,) int32 the input face each subface lies in.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.errors import MeshingError, fmt_point
+
+__all__ = ["vertex_tets", "find_faces", "find_edges", "flip_to_match", "unique_edges", "bisect_marked", "recover", "insert_new", "raise_cap", "RECOVERY_ROUNDS"]
+
+RECOVERY_ROUNDS = 64  # bisection rounds; each at least halves the longest missing edge
+
+
+@njit(cache=True)
+def vertex_tets(tets, nv):
+    """One tet incident to each vertex, -1 for a vertex in no tet.
+
+    Parameters
+    ----------
+    tets : (nt, 4) int32
+    nv : int
+
+    Returns
+    -------
+    (nv,) int32
+    """
+    vt = np.full(nv, -1, dtype=np.int32)
+    for t in range(tets.shape[0]):
+        for k in range(4):
+            vt[tets[t, k]] = t
+    return vt
+
+
+@njit(cache=True)
+def _star_search(tets, nbr, vt, stamp, queue, gen, a, b, c):
+    """Breadth-first search of the star of vertex a for a tet holding b (and c when c >= 0).
+
+    Returns ``4 t + k`` with k the slot not in {a, b, c} for a face query, ``4 t`` for an
+    edge query, or -1 when no tet of the star holds them.
+    """
+    t0 = vt[a]
+    if t0 < 0:
+        return -1
+    head = 0
+    tail = 1
+    queue[0] = t0
+    stamp[t0] = gen
+    while head < tail:
+        t = queue[head]
+        head += 1
+        hb = -1
+        hc = -1
+        for k in range(4):
+            w = tets[t, k]
+            if w == b:
+                hb = k
+            elif w == c:
+                hc = k
+        if hb >= 0 and (c < 0 or hc >= 0):
+            if c < 0:
+                return 4 * t
+            for k in range(4):
+                w = tets[t, k]
+                if w != a and w != b and w != c:
+                    return 4 * t + k
+        for k in range(4):
+            if tets[t, k] == a:
+                continue
+            u = nbr[t, k]
+            if u >= 0 and stamp[u] != gen:
+                stamp[u] = gen
+                queue[tail] = u
+                tail += 1
+    return -1
+
+
+@njit(cache=True)
+def find_faces(tets, nbr, vt, faces):
+    """Where each face occurs in the tetrahedralization.
+
+    Parameters
+    ----------
+    tets, nbr : (nt, 4) int32
+    vt : (nv,) int32
+        :func:`vertex_tets`.
+    faces : (m, 3) int32
+
+    Returns
+    -------
+    (m,) int64
+        ``4 t + k``: face ``tets[t]`` minus slot k; -1 where the face is missing.
+    """
+    nt = tets.shape[0]
+    stamp = np.zeros(nt, dtype=np.int32)
+    queue = np.empty(nt, dtype=np.int32)
+    out = np.empty(faces.shape[0], dtype=np.int64)
+    for i in range(faces.shape[0]):
+        out[i] = _star_search(tets, nbr, vt, stamp, queue, i + 1, faces[i, 0], faces[i, 1], faces[i, 2])
+    return out
+
+
+@njit(cache=True)
+def find_edges(tets, nbr, vt, edges):
+    """Whether each edge (e, 2) int32 is an edge of the tetrahedralization; (e,) bool."""
+    nt = tets.shape[0]
+    stamp = np.zeros(nt, dtype=np.int32)
+    queue = np.empty(nt, dtype=np.int32)
+    out = np.empty(edges.shape[0], dtype=np.bool_)
+    for i in range(edges.shape[0]):
+        out[i] = _star_search(tets, nbr, vt, stamp, queue, i + 1, edges[i, 0], edges[i, 1], -1) >= 0
+    return out
+
+
+@njit(inline="always")
+def _normal(pts, a, b, c):
+    ux = pts[b, 0] - pts[a, 0]
+    uy = pts[b, 1] - pts[a, 1]
+    uz = pts[b, 2] - pts[a, 2]
+    vx = pts[c, 0] - pts[a, 0]
+    vy = pts[c, 1] - pts[a, 1]
+    vz = pts[c, 2] - pts[a, 2]
+    return uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+
+
+@njit(inline="always")
+def _same_side(pts, a, b, c, d, e, f):
+    """Whether triangles a b c and d e f (nearly coplanar) have normals pointing the same way."""
+    x0, y0, z0 = _normal(pts, a, b, c)
+    x1, y1, z1 = _normal(pts, d, e, f)
+    return x0 * x1 + y0 * y1 + z0 * z1 > 0.0
+
+
+@njit(cache=True)
+def flip_to_match(pts, tets, nbr, vt, faces, parent, face_edges, n_edges, missing):
+    r"""Flip pairs of subfaces of one input face to the diagonal the tetrahedralization has.
+
+    A missing subface f and its neighbour g across an edge p q interior to their input face
+    form a quadrilateral r p s q (r, s the apices); when the tetrahedralization has the edge
+    r s and both faces r p s and r s q, the pair becomes those two (orientation kept)::
+
+            p                   p
+           /|\                 / \
+          / | \               /   \
+         r  f|g  s    ==>     r-----s
+          \ | /               \   /
+           \|/                 \ /
+            q                   q
+
+    Cocircular points (a rectangle split on one diagonal, the midpoint of a right triangle's
+    hypotenuse) leave the choice of diagonal to the symbolic perturbation; matching it needs
+    no new point, where splitting would recreate the tie at every scale.
+
+    Parameters
+    ----------
+    pts : (nv, 3) float64
+    tets, nbr : (nt, 4) int32
+    vt : (nv,) int32
+    faces : (m, 3) int32
+        Modified in place.
+    parent : (m,) int32
+    face_edges : (m, 3) int64
+        Edge ids as :func:`unique_edges` gives (stale after a flip: one flip per face).
+    n_edges : int
+    missing : (m,) bool
+
+    Returns
+    -------
+    int
+        Number of flips.
+    """
+    nt = tets.shape[0]
+    stamp = np.zeros(nt, dtype=np.int32)
+    queue = np.empty(nt, dtype=np.int32)
+    first = np.full(n_edges, -1, dtype=np.int64)
+    second = np.full(n_edges, -1, dtype=np.int64)
+    for f in range(faces.shape[0]):
+        for k in range(3):
+            e = face_edges[f, k]
+            if first[e] < 0:
+                first[e] = 3 * f + k
+            else:
+                second[e] = 3 * f + k
+    touched = np.zeros(faces.shape[0], dtype=np.bool_)
+    gen = 0
+    flips = 0
+    for f in range(faces.shape[0]):
+        if not missing[f] or touched[f]:
+            continue
+        for k in range(3):
+            e = face_edges[f, k]
+            h = second[e] if first[e] == 3 * f + k else first[e]
+            if h < 0:
+                continue
+            g = h // 3
+            j = h % 3
+            if touched[g] or parent[g] != parent[f]:
+                continue
+            r = faces[f, k]
+            p = faces[f, (k + 1) % 3]
+            q = faces[f, (k + 2) % 3]
+            s = faces[g, j]
+            if not (_same_side(pts, r, p, q, r, p, s) and _same_side(pts, r, p, q, r, s, q)):
+                continue  # r p s q not convex: the flipped pair would fold
+            gen += 1
+            if _star_search(tets, nbr, vt, stamp, queue, gen, r, s, -1) < 0:
+                continue
+            gen += 1
+            if _star_search(tets, nbr, vt, stamp, queue, gen, r, p, s) < 0:
+                continue
+            gen += 1
+            if _star_search(tets, nbr, vt, stamp, queue, gen, r, s, q) < 0:
+                continue
+            faces[f, 0], faces[f, 1], faces[f, 2] = r, p, s
+            faces[g, 0], faces[g, 1], faces[g, 2] = r, s, q
+            touched[f] = True
+            touched[g] = True
+            flips += 1
+            break
+    return flips
+
+
+def unique_edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Undirected edges of a triangulation and each face's edge ids.
+
+    Parameters
+    ----------
+    faces : (m, 3) int32
+
+    Returns
+    -------
+    edges : (e, 2) int32
+        Sorted vertex pairs.
+    face_edges : (m, 3) int64
+        ``face_edges[f, k]`` is the edge opposite corner k of face f.
+    """
+    a = faces[:, [1, 2, 0]].astype(np.int64)
+    b = faces[:, [2, 0, 1]].astype(np.int64)
+    lo = np.minimum(a, b)
+    hi = np.maximum(a, b)
+    n = int(faces.max()) + 1 if faces.size else 1
+    keys = (lo * n + hi).ravel()
+    uniq, inv = np.unique(keys, return_inverse=True)
+    edges = np.stack([uniq // n, uniq % n], axis=1).astype(np.int32)
+    return edges, inv.reshape(-1, 3)
+
+
+@njit(cache=True)
+def _longest(pts, faces, face_edges, f):
+    """Corner opposite the longest edge of face f (ties to the larger edge id)."""
+    best = -1.0
+    kb = 0
+    for k in range(3):
+        a = faces[f, (k + 1) % 3]
+        b = faces[f, (k + 2) % 3]
+        d = 0.0
+        for j in range(3):
+            x = pts[a, j] - pts[b, j]
+            d += x * x
+        if d > best or (d == best and face_edges[f, k] > face_edges[f, kb]):
+            best = d
+            kb = k
+    return kb
+
+
+@njit(cache=True)
+def _close_marks(pts, faces, face_edges, mark):
+    """Rivara's closure: every face with a marked edge gets its longest edge marked."""
+    changed = True
+    while changed:
+        changed = False
+        for f in range(faces.shape[0]):
+            if mark[face_edges[f, 0]] or mark[face_edges[f, 1]] or mark[face_edges[f, 2]]:
+                e = face_edges[f, _longest(pts, faces, face_edges, f)]
+                if not mark[e]:
+                    mark[e] = True
+                    changed = True
+
+
+@njit(cache=True)
+def _bisect(pts, faces, parent, face_edges, mark, mid):
+    """Split every face with marked edges (longest first); (faces', parent') new arrays."""
+    m = faces.shape[0]
+    out = np.empty((4 * m, 3), dtype=np.int32)
+    par = np.empty(4 * m, dtype=np.int32)
+    n = 0
+    for f in range(m):
+        k = _longest(pts, faces, face_edges, f)
+        if not mark[face_edges[f, k]]:
+            out[n, 0] = faces[f, 0]
+            out[n, 1] = faces[f, 1]
+            out[n, 2] = faces[f, 2]
+            par[n] = parent[f]
+            n += 1
+            continue
+        vi = faces[f, k]
+        v1 = faces[f, (k + 1) % 3]
+        v2 = faces[f, (k + 2) % 3]
+        mm = mid[face_edges[f, k]]
+        e2 = face_edges[f, (k + 2) % 3]  # edge v_i v_i+1 (opposite v_i+2)
+        e1 = face_edges[f, (k + 1) % 3]  # edge v_i+2 v_i (opposite v_i+1)
+        if mark[e2]:  # half (v_i, v_i+1, m) split at m2 on v_i v_i+1
+            m2 = mid[e2]
+            out[n, 0], out[n, 1], out[n, 2] = mm, vi, m2
+            out[n + 1, 0], out[n + 1, 1], out[n + 1, 2] = mm, m2, v1
+            par[n] = parent[f]
+            par[n + 1] = parent[f]
+            n += 2
+        else:
+            out[n, 0], out[n, 1], out[n, 2] = vi, v1, mm
+            par[n] = parent[f]
+            n += 1
+        if mark[e1]:  # half (v_i, m, v_i+2) split at m3 on v_i+2 v_i
+            m3 = mid[e1]
+            out[n, 0], out[n, 1], out[n, 2] = mm, v2, m3
+            out[n + 1, 0], out[n + 1, 1], out[n + 1, 2] = mm, m3, vi
+            par[n] = parent[f]
+            par[n + 1] = parent[f]
+            n += 2
+        else:
+            out[n, 0], out[n, 1], out[n, 2] = vi, mm, v2
+            par[n] = parent[f]
+            n += 1
+    return out[:n].copy(), par[:n].copy()
+
+
+def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex):
+    """Close ``mark`` (Rivara), create the midpoints and bisect the subfaces.
+
+    Parameters
+    ----------
+    pts : (n, 3) float64
+        Coordinates of every vertex the faces use.
+    faces : (m, 3) int32
+    parent : (m,) int32
+    edges : (e, 2) int32
+    face_edges : (m, 3) int64
+    mark : (e,) bool
+        Edges to split (closed in place).
+    new_vertex : callable
+        ``new_vertex(points (k, 3)) -> (k,) int32`` inserts the midpoints, returns their ids.
+
+    Returns
+    -------
+    faces, parent : the bisected subfaces; ``pts`` rows are not updated (read them again).
+    """
+    _close_marks(pts, faces, face_edges, mark)
+    sel = np.flatnonzero(mark)
+    if sel.size == 0:
+        return faces, parent, 0
+    e = edges[sel]
+    midpoints = 0.5 * (pts[e[:, 0]] + pts[e[:, 1]])
+    ids = new_vertex(midpoints)
+    mid = np.full(edges.shape[0], -1, dtype=np.int32)
+    mid[sel] = ids
+    faces2, parent2 = _bisect(pts, faces, parent, face_edges, mark, mid)
+    return faces2, parent2, int(sel.size)
+
+
+def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, rounds: int = RECOVERY_ROUNDS):
+    """Split missing subfaces until every one is a face of the tetrahedralization ``tz``.
+
+    Parameters
+    ----------
+    tz : Tetrahedralization
+        Holds every vertex of ``faces``; points are inserted into it.
+    faces : (m, 3) int32
+    parent : (m,) int32
+    guard : float
+        Shortest edge that may be split.
+    max_points : int
+        Cap on the vertices of ``tz``.
+    rounds : int
+
+    Returns
+    -------
+    faces, parent, where : the recovered subfaces and :func:`find_faces` of each.
+    """
+    faces = np.array(faces, dtype=np.int32)  # flips change it in place
+    splits = 0
+    for _ in range(8 * rounds):
+        tets = tz.tetrahedra
+        nbr = tz.neighbors
+        vt = vertex_tets(tets, tz.points.shape[0])
+        where = find_faces(tets, nbr, vt, faces)
+        missing = where < 0
+        if not missing.any():
+            return faces, parent, where
+        edges, face_edges = unique_edges(faces)
+        if flip_to_match(tz.points, tets, nbr, vt, faces, parent, face_edges, edges.shape[0], missing):
+            continue
+        splits += 1
+        if splits > rounds:
+            break
+        mark = ~find_edges(tets, nbr, vt, edges)
+        pts = tz.points
+        lonely = missing & ~mark[face_edges].any(axis=1)
+        for f in np.flatnonzero(lonely):
+            mark[face_edges[f, _longest(pts, faces, face_edges, f)]] = True
+        short = mark & (np.linalg.norm(pts[edges[:, 0]] - pts[edges[:, 1]], axis=1) < guard)
+        if short.any():
+            e = int(np.flatnonzero(short)[0])
+            a, b = edges[e]
+            raise MeshingError(
+                f"boundary recovery needs to split the edge {fmt_point(pts[a])} - {fmt_point(pts[b])} "
+                f"shorter than {guard:.3g}: the surface has features closer than its faces allow "
+                "(faces nearly touching, or a needle face next to a large one)"
+            )
+        if tz.points.shape[0] + int(mark.sum()) > max_points:
+            raise_cap(max_points, "boundary recovery")
+        faces, parent, _ = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p))
+    f = int(np.flatnonzero(missing)[0])
+    raise MeshingError(
+        f"boundary recovery did not converge in {rounds} rounds: subface {fmt_point(tz.points[faces[f, 0]])}, "
+        f"{fmt_point(tz.points[faces[f, 1]])}, {fmt_point(tz.points[faces[f, 2]])} is still missing"
+    )
+
+
+def insert_new(tz, points: np.ndarray) -> np.ndarray:
+    """Insert points that must all be new vertices of ``tz``; (k,) int32 their ids."""
+    before = tz.points.shape[0]
+    ids = tz.insert(points)
+    old = np.flatnonzero(ids < before)
+    if old.size:
+        i = int(old[0])
+        raise MeshingError(f"a Steiner point {fmt_point(points[i])} coincides with vertex {int(ids[i])}")
+    return ids
+
+
+def raise_cap(max_points: int, stage: str):
+    """Raise the :class:`SizeError` of a mesh that would exceed ``max_points`` vertices."""
+    from meshwright.core.errors import SizeError
+
+    raise SizeError(
+        f"{stage} needs more than max_points={max_points} vertices; raise max_points or give a larger size"
+    )
