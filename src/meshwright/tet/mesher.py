@@ -284,7 +284,7 @@ def _run_delaunay(job: _Job) -> Mesh:
         solid, _, vmax = classify(tz, barrier, job.holes, job.regions)
         pts = tz.points
         cc, r2, lmin, vol = circumspheres(pts, tets)
-        bad = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume))
+        bad = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), float(floor.min()))
         if bad.size == 0:
             break
         order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)
@@ -320,13 +320,15 @@ def _run_delaunay(job: _Job) -> Mesh:
     return _to_mesh(job, tz, faces, parent, where)
 
 
-def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax) -> np.ndarray:
+def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax, floor: float) -> np.ndarray:
     """Solid tets breaking the radius-edge, size or volume bound; (b,) int64."""
     cand = np.flatnonzero(solid)
     r = np.sqrt(r2[cand])
     bad = vol[cand] > vmax[cand]
     if job.radius_edge is not None:
-        bad |= r > MARGIN * job.radius_edge * lmin[cand]
+        # tets already finer than the surface floor are exempt: near an acute input angle
+        # no radius-edge bound is reachable, and splitting there would cascade
+        bad |= (r > MARGIN * job.radius_edge * lmin[cand]) & (lmin[cand] >= floor)
     if job.field is not None:
         centroid = pts[tets[cand]].mean(axis=1)
         bad |= r > SIZE_FACTOR * job.field(centroid)

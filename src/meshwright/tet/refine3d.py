@@ -7,7 +7,8 @@ solid tet is *bad* when its radius-edge ratio ``R / l_min`` exceeds the bound B,
 circumradius exceeds ``0.8 h`` (``h`` the size field at its centroid; 0.612 h is the regular
 tet of edge h) or its volume exceeds its region's bound, and the point inserted for it is its
 circumcentre c, unless c *encroaches* a subface: c lies beyond a subface (the walk from the tet
-to c would cross it) or inside the diametral ball of a subface met by its cavity.  Then the
+to c would cross it), inside the diametral ball of a subface met by its cavity, or inside the
+circumballs of the tets on both sides of one (inserting c would delete it).  Then the
 subface is split instead (its longest edge bisected, :mod:`meshwright.tet.recovery`), which
 keeps new points away from the boundary, the condition of Shewchuk's termination proof for
 B > 2 and input angles >= 90 degrees.  Smaller input angles can make splits cascade: an edge
@@ -195,7 +196,15 @@ def select_points(pts, tets, nbr, barrier, cc, r2, bad, rng_state):
                 break
             for k in range(4):
                 if barrier[w, k]:
-                    if _in_diametral_ball(pts, tets, w, k, cx, cy, cz):
+                    # encroached, or deleted outright: the tet across conflicts too
+                    x = nbr[w, k]
+                    gone = False
+                    if x >= 0:
+                        dx = cx - cc[x, 0]
+                        dy = cy - cc[x, 1]
+                        dz = cz - cc[x, 2]
+                        gone = dx * dx + dy * dy + dz * dz < r2[x]
+                    if gone or _in_diametral_ball(pts, tets, w, k, cx, cy, cz):
                         enc[i] = 4 * w + k
                         break
                     continue
