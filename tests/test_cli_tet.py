@@ -119,3 +119,116 @@ def test_plot_tet_mesh_refuses_bad_arguments():
         plot_tet_mesh(mesh, bins=0)
     with pytest.raises(InputError, match="must be a meshwright Mesh"):
         plot_tet_mesh("mesh.vtu")
+
+
+# ---------------------------------------------------------------------------- the CLI
+
+
+def icosahedron_file(path, drop_face=False):
+    """A unit icosahedron (outward faces) written by meshio, optionally with a face missing."""
+    meshio = pytest.importorskip("meshio")
+    t = (1.0 + 5.0**0.5) / 2.0
+    pts = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
+                    [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], float)  # fmt: skip
+    pts /= np.linalg.norm(pts, axis=1)[:, None]
+    faces = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
+                      [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
+                      [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]])  # fmt: skip
+    if drop_face:
+        faces = faces[1:]
+    meshio.write_points_cells(str(path), pts, [("triangle", faces)])
+    return pts, faces
+
+
+def enclosed_volume(pts, faces):
+    """Volume inside outward faces: the sum of det[a, b, c] / 6 (exact rationals)."""
+    total = Fraction(0)
+    for f in faces:
+        total += det3(np.zeros(3), *(pts[v] for v in f))
+    return total / 6
+
+
+def one_error_line(capsys):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("meshwright tet: error:"), err
+    return err[0]
+
+
+def test_cli_tet_meshes_a_surface_file_and_writes_mesh_plot_quality(tmp_path, capsys):
+    from meshwright import read
+    from meshwright.cli import main
+
+    pts, faces = icosahedron_file(tmp_path / "ico.stl")
+    out, png = tmp_path / "ico.vtu", tmp_path / "ico.png"
+    argv = ["tet", str(tmp_path / "ico.stl"), "-o", str(out), "--size", "0.4", "--radius-edge", "1.6"]
+    assert main([*argv, "--quality", "--plot", str(png), "--seed", "3"]) == 0
+    text = capsys.readouterr().out
+    assert "tetrahedra in" in text and "min_dihedral" in text and f"wrote {png}" in text
+    assert_png(png)
+    mesh = read(out)
+    assert mesh.dim == 3 and len(mesh.tetra) > 20
+    vol = mesh.quality()["tetra"]["volume"]
+    assert (vol > 0).all()
+    assert vol.sum() == pytest.approx(float(enclosed_volume(pts, faces)), rel=1e-9)
+
+
+def test_cli_tet_meshes_a_builtin_solid_by_name(tmp_path):
+    from meshwright import read
+    from meshwright.cli import main
+
+    assert main(["tet", "box", "--size", "0.5", "-o", str(tmp_path / "box.vtu")]) == 0
+    mesh = read(tmp_path / "box.vtu")
+    assert mesh.quality()["tetra"]["volume"].sum() == pytest.approx(1.0, rel=1e-12)
+    assert set(np.unique(mesh.cell_data["marker"]["triangle"])) == {1, 2, 3, 4, 5, 6}
+
+
+def test_cli_tet_options_reach_the_mesher(tmp_path, capsys):
+    from meshwright.cli import main
+
+    icosahedron_file(tmp_path / "ico.stl")
+    src = str(tmp_path / "ico.stl")
+    assert main(["tet", src, "--no-refine"]) == 0
+    coarse = int(capsys.readouterr().out.split(": ")[1].split()[0])
+    assert main(["tet", src, "--max-volume", "0.01", "--slivers", "keep"]) == 0
+    fine = int(capsys.readouterr().out.split(": ")[1].split()[0])
+    assert fine > 10 * coarse
+    assert main(["tet", src, "--region", "0", "0", "0", "5", "-1", "-o", str(tmp_path / "r.vtu")]) == 0
+    from meshwright import read
+
+    assert set(np.unique(read(tmp_path / "r.vtu").cell_data["marker"]["tetra"])) == {5}
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["missing.stl"], "no such file"),
+        (["{ico}", "--size", "-1"], "size"),
+        (["{ico}", "--size", "nan"], "size"),
+        (["{ico}", "--radius-edge", "0.5"], "radius_edge"),
+        (["{ico}", "--max-volume", "0"], "max_volume"),
+        (["{ico}", "--smooth", "-2"], "smooth"),
+        (["{ico}", "--max-points", "5", "--size", "0.01"], "max_points"),
+        (["{ico}", "--no-refine", "--radius-edge", "2"], "mutually exclusive"),
+        (["{ico}", "--region", "0", "0", "0", "1.5", "0"], "region id must be an integer"),
+        (["{open}"], "open edge"),
+    ],
+)
+def test_cli_tet_bad_input_is_one_line_and_exit_2(tmp_path, capsys, args, words):
+    from meshwright.cli import main
+
+    icosahedron_file(tmp_path / "ico.stl")
+    icosahedron_file(tmp_path / "open.stl", drop_face=True)
+    argv = [a.format(ico=tmp_path / "ico.stl", open=tmp_path / "open.stl") for a in args]
+    assert main(["tet", *argv]) == 2
+    assert words in one_error_line(capsys)
+
+
+def test_cli_tet_usage_errors_exit_2(capsys):
+    from meshwright.cli import main
+
+    for argv in (["tet"], ["tet", "x.stl", "--slivers", "maybe"], ["tet", "x.stl", "--method", "nope"]):
+        with pytest.raises(SystemExit) as info:
+            main(argv)
+        assert info.value.code == 2
+    assert "invalid choice" in capsys.readouterr().err
+

@@ -22,6 +22,7 @@ from meshwright.cli import delaunay as _delaunay
 from meshwright.cli import demo as _demo
 from meshwright.cli import mesh as _mesh
 from meshwright.cli import quad as _quad
+from meshwright.cli import tet as _tet
 from meshwright.cli import voronoi as _voronoi
 from meshwright.core.errors import MeshingError, MeshwrightError, ValidationError
 
@@ -30,7 +31,7 @@ __all__ = ["main", "build_parser", "SUBCOMMANDS", "EXIT_FAILED", "EXIT_USAGE"]
 EXIT_FAILED = 1  # the input was fine, the method could not finish
 EXIT_USAGE = 2  # bad arguments or input, as argparse's own usage errors
 
-SUBCOMMANDS = (_delaunay, _voronoi, _mesh, _quad, _demo)
+SUBCOMMANDS = (_delaunay, _voronoi, _mesh, _quad, _tet, _demo)
 
 
 def build_parser() -> argparse.ArgumentParser:
