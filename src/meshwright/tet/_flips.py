@@ -93,7 +93,7 @@ def _orient(pts, a, b, c, d):
 
 @njit(inline="always")
 def _ratio_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
-    """Signed r_in / R_circ of the tet (a, b, c, d); 0 when the float volume is 0."""
+    """Signed r_in / R_circ of the tet (a, b, c, d); 0 when the float volume or radius is 0."""
     ux, uy, uz = bx - ax, by - ay, bz - az
     vx, vy, vz = cx - ax, cy - ay, cz - az
     wx, wy, wz = dx - ax, dy - ay, dz - az
@@ -120,6 +120,8 @@ def _ratio_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
         + np.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
         + np.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
     )
+    if big_r == 0.0:
+        return 0.0  # nearly flat and cocircular: the centre's numerator cancelled exactly
     # r = 3 V / S = det / (2 S) = det / area2, with area2 = 2 S.
     return (det / area2) / big_r
 

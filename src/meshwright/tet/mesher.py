@@ -36,15 +36,18 @@ __all__ = ["tetrahedralize", "TET_METHODS", "TetMethod", "SLIVER_MODES", "REFINE
 SLIVER_MODES = ("remove", "keep")
 REFINE_ROUNDS = 400  # refinement rounds; the mesh roughly doubles in a few rounds
 GUARD = 2.0**-12  # shortest splittable edge, relative to the shortest input edge
-# Refinement splits no subface edge shorter than FLOOR times the shortest edge of its input
-# face: near acute input angles (a wedge) encroachment would otherwise cascade to round-off.
-FLOOR = 0.25
+# Quality refinement splits no subface edge shorter than FLOOR times the shortest edge of its
+# input face, and tets with a shorter edge are exempt from the radius-edge bound: near acute
+# input angles (a wing's trailing-edge wedge) encroachment would otherwise cascade to
+# round-off.  Size and volume bounds are not limited by it.
+FLOOR = 1.0
 MIN_RADIUS_EDGE = 1.0
 # Refinement aims at MARGIN times the radius-edge bound: sliver flips and moves may raise a
 # tet's ratio a little (2.05 measured for a bound of 2 refined exactly).
 MARGIN = 0.95
 SLIVER_RATIO = 0.12
 SLIVER_RATIO_MAX = 0.24
+SLIVER_PASSES = 10  # flip + move passes per threshold (moves near exempt tets crawl on)
 
 
 class TetMethod(NamedTuple):
@@ -284,21 +287,22 @@ def _run_delaunay(job: _Job) -> Mesh:
         solid, _, vmax = classify(tz, barrier, job.holes, job.regions)
         pts = tz.points
         cc, r2, lmin, vol = circumspheres(pts, tets)
-        bad = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), float(floor.min()))
+        bad, hard = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), float(floor.min()))
         if bad.size == 0:
             break
         order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)
         accept, enc = select_points(pts, tets, nbr, barrier, cc, r2, order, int(rng.integers(1, 2**31)))
         hit = face_of[enc[enc >= 0]]
+        forced = hard[order[enc >= 0]]  # size-driven: split down to the guard
         new_interior = np.ascontiguousarray(cc[order[accept]])
         added = 0
         if hit.size:
             edges, face_edges = unique_edges(faces)
             mark = np.zeros(edges.shape[0], dtype=bool)
-            for f in np.unique(hit):
+            for f, must in zip(hit, forced):
                 e = face_edges[f, _longest(pts, faces, face_edges, f)]
                 a, b = edges[e]
-                if np.linalg.norm(pts[a] - pts[b]) >= max(guard, floor[parent[f]]):
+                if np.linalg.norm(pts[a] - pts[b]) >= (guard if must else max(guard, floor[parent[f]])):
                     mark[e] = True
             if mark.any():
                 if tz.points.shape[0] + int(mark.sum()) > job.max_points:
@@ -320,19 +324,26 @@ def _run_delaunay(job: _Job) -> Mesh:
     return _to_mesh(job, tz, faces, parent, where)
 
 
-def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax, floor: float) -> np.ndarray:
-    """Solid tets breaking the radius-edge, size or volume bound; (b,) int64."""
+def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax, floor: float) -> tuple[np.ndarray, np.ndarray]:
+    """Solid tets breaking the radius-edge, size or volume bound, and which break size or volume.
+
+    Returns (b,) int64 tets and (nt,) bool ``hard``: size or volume bound broken (the surface
+    floor does not stop those splits).
+    """
     cand = np.flatnonzero(solid)
     r = np.sqrt(r2[cand])
-    bad = vol[cand] > vmax[cand]
+    hard_c = vol[cand] > vmax[cand]
+    if job.field is not None:
+        centroid = pts[tets[cand]].mean(axis=1)
+        hard_c |= r > SIZE_FACTOR * job.field(centroid)
+    bad = hard_c.copy()
     if job.radius_edge is not None:
         # tets already finer than the surface floor are exempt: near an acute input angle
         # no radius-edge bound is reachable, and splitting there would cascade
         bad |= (r > MARGIN * job.radius_edge * lmin[cand]) & (lmin[cand] >= floor)
-    if job.field is not None:
-        centroid = pts[tets[cand]].mean(axis=1)
-        bad |= r > SIZE_FACTOR * job.field(centroid)
-    return cand[bad]
+    hard = np.zeros(solid.shape[0], dtype=bool)
+    hard[cand[hard_c]] = True
+    return cand[bad], hard
 
 
 def _to_mesh(job: _Job, tz, faces, parent, where) -> Mesh:
@@ -390,7 +401,7 @@ def _remove_slivers(mesh: Mesh, min_dihedral: float | None) -> Mesh:
 
     threshold = SLIVER_RATIO
     while True:
-        out, _ = remove_slivers(mesh, threshold=threshold)
+        out, _ = remove_slivers(mesh, threshold=threshold, max_iter=SLIVER_PASSES)
         if min_dihedral is None:
             return out
         worst = float(tetra_quality(out.points, out.cells["tetra"])["min_dihedral"].min())
