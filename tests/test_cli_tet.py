@@ -232,3 +232,19 @@ def test_cli_tet_usage_errors_exit_2(capsys):
         assert info.value.code == 2
     assert "invalid choice" in capsys.readouterr().err
 
+
+def test_demo_solids_are_meshed_written_and_drawn(tmp_path, capsys):
+    from meshwright import read
+    from meshwright.cli.demo import mesh_solids, solids
+
+    mesh_solids(tmp_path)
+    assert capsys.readouterr().out.count("(tetrahedralize)") == 3
+    for name, surface, _ in solids():
+        assert_png(tmp_path / f"{name}-tet.png")
+        mesh = read(tmp_path / f"{name}-tet.vtu")
+        mesh.validate()
+        # The tets fill what the input surface encloses: its exact volume, face by face.
+        vol = enclosed_volume(surface.points, surface.triangles)
+        assert mesh.quality()["tetra"]["volume"].sum() == pytest.approx(float(vol), rel=1e-9)
+        got = set(np.unique(mesh.cell_data["marker"]["triangle"]))
+        assert got == set(np.unique(surface.markers)), name
