@@ -18,8 +18,8 @@ from pathlib import Path
 from meshwright.cli._common import Timer, add_max_points_argument, add_output_arguments, emit_mesh
 from meshwright.core.errors import FormatError, InputError
 from meshwright.geometry.surface_io import read_surface
-from meshwright.tet.builtin_surfaces import BUILTIN_SURFACES
 from meshwright.tet import TET_METHODS, tetrahedralize
+from meshwright.tet.builtin_surfaces import BUILTIN_SURFACES
 from meshwright.tet.mesher import SLIVER_MODES
 
 NAME = "tet"
