@@ -252,5 +252,7 @@ def test_doors():
         mw.tetrahedralize(s.flipped())
     with pytest.raises(InputError):
         mw.tetrahedralize(s, holes=[(np.nan, 0, 0)])
+    with pytest.raises(InputError, match="regions"):
+        mw.tetrahedralize(s, regions=[((0, 0, 0), 1, 0.1)])
     with pytest.raises(GeometryError, match="seed"):
         mw.tetrahedralize(s, holes=[(5.0, 0, 0)])

@@ -7,7 +7,8 @@ field by Delaunay refinement, Weatherill's point generation with smoothing (18.1
 and the advancing front (18.2), and of the three-element airfoil (Figure 18.3.1) by
 Delaunay refinement and by the frontal Delaunay method (18.3); then all-quad meshes
 (18.5) of the three-element airfoil by the quadtree (Yerry and Shephard, 18.5.3) and of
-NACA 0012 by triangle pairing (Zhu et al., 18.5.1); last, quality tetrahedral meshes (18.4)
+NACA 0012 by triangle pairing (Zhu et al., 18.5.1) and by paving (Blacker and Stephenson,
+18.5.2); last, quality tetrahedral meshes (18.4)
 of a sphere, a box with a spherical cavity and a NACA 0012 wing (the section extruded) in a
 box far field (Figure 18.4.1), each drawn as its boundary, a clipped cut and the dihedral
 histogram.  Sizes are coarse so that every case takes seconds once compiled.
@@ -20,10 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from meshwright.cli._common import Timer
-from meshwright.geometry import builtin, extrude, far_field, naca, sphere
+from meshwright.geometry import builtin, sphere
 from meshwright.quad import quadrangulate
 from meshwright.tet import tetrahedralize
-from meshwright.tet.builtin_surfaces import box_cavity
+from meshwright.tet.builtin_surfaces import box_cavity, naca_wing
 from meshwright.tri import delaunay, triangulate
 from meshwright.tri.voronoi import voronoi
 
@@ -94,7 +95,7 @@ def run(args) -> int:
             f"{q['radius_ratio']['mean']:.3f} -> {stem}.vtu, .png"
         )
 
-    for name, method in (("three-element", "quadtree"), ("naca0012", "pairing")):
+    for name, method in (("three-element", "quadtree"), ("naca0012", "pairing"), ("naca0012", "paving")):
         with Timer() as t:
             mesh = quadrangulate(builtin(name), method=method)
         stem = out / f"{name}-quad-{method}"
@@ -128,20 +129,15 @@ def mesh_solids(out: Path) -> None:
 def solids() -> list:
     """The 3-D demo cases: ``(name, Surface, size)``.
 
-    The sphere and the box with a spherical cavity are the built-ins of
-    :mod:`meshwright.tet.builtin_surfaces` with icosahedra subdivided twice.  The wing is
-    NACA 0012 of unit chord and span in a box far field one chord away (the mesh fills the
-    air around it), its section meshed at 0.1 chord and extruded in ten layers; unlike the
-    built-in ``naca_wing`` its trailing edge is sharp: the built-in's blunt one, 0.25 % of
-    the chord thick, draws the refinement down to that thickness along the whole span
-    (420,000 tets in minutes), too slow for a demo.
+    The built-ins of :mod:`meshwright.tet.builtin_surfaces`: the sphere and the box with a
+    spherical cavity from icosahedra subdivided twice, and NACA 0012 of unit chord and span
+    in a box far field one chord away (the mesh fills the air around it), its section meshed
+    at 0.1 chord and extruded in ten layers.
     """
-    section = triangulate(naca("0012", closed_te=True), 0.1)
-    wing = extrude(section, 1.0, z0=-0.5, layers=10, markers=(11, 12, 13))
     return [
         ("sphere", sphere(level=2), 0.25),
         ("box-cavity", box_cavity(level=2), 0.25),
-        ("naca-wing", far_field(wing, (-1.0, -1.0, -1.5), (2.0, 1.0, 1.5)), 0.3),
+        ("naca-wing", naca_wing(), 0.3),
     ]
 
 

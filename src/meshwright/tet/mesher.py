@@ -114,7 +114,10 @@ def _as_surface(surface):
 
 def _seeds(value, width: int, what: str) -> np.ndarray:
     """(k, width) float64 seed rows; region rows of 4 get max_volume 0 (none)."""
-    arr = np.asarray(value if value is not None else (), dtype=np.float64)
+    try:
+        arr = np.asarray(value if value is not None else (), dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{what} must be rows of {width} numbers (x, y, z{', id, max_volume' if width == 5 else ''}): {exc}") from None
     if arr.size == 0:
         return np.zeros((0, width))
     if arr.ndim == 1:
