@@ -32,6 +32,9 @@ bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/delaunay2d.py
 	$(BIN)/python benchmarks/quality2d.py
 	$(BIN)/python benchmarks/quad2d.py
+	$(BIN)/python benchmarks/delaunay3d.py
+	$(BIN)/python benchmarks/quality3d.py
+	$(BIN)/python benchmarks/default_size.py
 
 # Numba's on-disk cache is keyed by each function's own file: after editing a kernel that
 # other modules call (e.g. tri/_kernel2d.py), drop the cache so callers are recompiled.
