@@ -31,6 +31,7 @@ import numpy as np
 from meshwright.core.errors import InputError, SizeError, fmt_point
 
 __all__ = [
+    "as_node_indices",
     "COORD_MIN",
     "COORD_MAX",
     "as_points",
@@ -232,3 +233,40 @@ def check_positive(value, what: str, error: type = SizeError) -> float:
     if not (np.isfinite(v) and v > 0.0):
         raise error(f"{what} must be positive and finite, got {v!r}")
     return v
+
+
+def as_node_indices(fixed, n: int, what: str = "fixed") -> np.ndarray:
+    """Node indices given as indices or an (n,) bool mask, checked against ``n``.
+
+    Parameters
+    ----------
+    fixed : None, (k,) array_like of int, or (n,) array_like of bool
+    n : int
+        Number of nodes.
+    what : str
+        Argument name for messages.
+
+    Returns
+    -------
+    (k,) int64
+        Empty for None.
+
+    Raises
+    ------
+    InputError
+        A mask of the wrong shape, non-integer indices, an index outside ``[0, n)``.
+    """
+    if fixed is None:
+        return np.zeros(0, dtype=np.int64)
+    f = np.asarray(fixed)
+    if f.dtype == bool:
+        if f.shape != (n,):
+            raise InputError(f"{what} as a mask must have shape ({n},), got {f.shape}")
+        return np.flatnonzero(f)
+    f = f.ravel()
+    if f.size and not np.issubdtype(f.dtype, np.integer):
+        raise InputError(f"{what} must be node indices (integers) or an (n,) bool mask, got dtype {f.dtype}")
+    bad = np.flatnonzero((f < 0) | (f >= n))
+    if len(bad):
+        raise InputError(f"{what} entry {bad[0]} is node {int(f[bad[0]])}, outside [0, {n})")
+    return f.astype(np.int64)

@@ -60,7 +60,7 @@ from meshwright.core.errors import InputError, ValidationError
 from meshwright.core.flat import TET_FACES
 from meshwright.core.mesh import build_neighbors_tet
 from meshwright.core.predicates import orient2d, orient3d, orient3d_batch
-from meshwright.core.validate_input import as_cells, as_exact_points, check_count
+from meshwright.core.validate_input import as_cells, as_exact_points, as_node_indices, check_count
 
 __all__ = ["MAX_HALVINGS", "smooth_tets"]
 
@@ -339,20 +339,6 @@ def _smooth(xyz, tets, star_off, star, nb_off, nb, snb_off, snb, kind, plane, no
     return total
 
 
-def _fixed_nodes(fixed, n: int) -> np.ndarray:
-    """Node indices of ``fixed`` (indices or an (n,) bool mask), checked against ``n``."""
-    if fixed is None:
-        return np.zeros(0, dtype=np.int64)
-    f = np.asarray(fixed)
-    if f.dtype == bool:
-        if f.shape != (n,):
-            raise InputError(f"fixed as a mask must have shape ({n},), got {f.shape}")
-        return np.flatnonzero(f)
-    if f.size == 0:
-        return np.zeros(0, dtype=np.int64)
-    return as_cells(f.reshape(-1, 1), "fixed", 1, n).ravel().astype(np.int64)
-
-
 def _boundary(tets: np.ndarray, boundary_faces, markers, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Checked ``(faces (b, 3) int32, markers (b,) int64)``; default: faces on one tet only."""
     tet_faces = tets[:, TET_FACES].reshape(-1, 3)
@@ -450,7 +436,7 @@ def smooth_tets(
     if isinstance(relax, bool) or not isinstance(relax, numbers.Real) or not 0.0 < float(relax) <= 1.0:
         raise InputError(f"relax = c*dt must be a number in (0, 1], got {relax!r}")
     relax = float(relax)
-    fixed_nodes = _fixed_nodes(fixed, n)
+    fixed_nodes = as_node_indices(fixed, n)
     if len(cells):
         sign = orient3d_batch(xyz, cells)
         bad = np.flatnonzero(sign <= 0.0)

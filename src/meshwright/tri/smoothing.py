@@ -43,7 +43,7 @@ from numba import njit
 from meshwright.core.errors import InputError
 from meshwright.core.predicates import orient2d
 from meshwright.core.topology import boundary_edges_of
-from meshwright.core.validate_input import as_cells, as_exact_points, check_count
+from meshwright.core.validate_input import as_cells, as_exact_points, as_node_indices, check_count
 
 __all__ = ["smooth", "node_adjacency"]
 
@@ -240,24 +240,6 @@ def _boundary_tangents(points: np.ndarray, bnbr: np.ndarray, on_boundary: np.nda
     return kind, tangent
 
 
-def _fixed_nodes(fixed, n: int) -> np.ndarray:
-    """Node indices of ``fixed`` (indices or an (n,) mask), checked against ``n``."""
-    if fixed is None:
-        return np.zeros(0, dtype=np.int64)
-    f = np.asarray(fixed)
-    if f.dtype == bool:
-        if f.shape != (n,):
-            raise InputError(f"fixed as a mask must have shape ({n},), got {f.shape}")
-        return np.flatnonzero(f)
-    f = f.ravel()
-    if f.size and not np.issubdtype(f.dtype, np.integer):
-        raise InputError(f"fixed must be node indices (integers) or an (n,) bool mask, got dtype {f.dtype}")
-    bad = np.flatnonzero((f < 0) | (f >= n))
-    if len(bad):
-        raise InputError(f"fixed entry {bad[0]} is node {int(f[bad[0]])}, outside [0, {n})")
-    return f.astype(np.int64)
-
-
 def smooth(
     points: np.ndarray,
     triangles: np.ndarray,
@@ -316,7 +298,7 @@ def smooth(
     relax = float(relax)
     if project is not None and not callable(project):
         raise InputError(f"project must be callable project(nodes, xy) -> xy, got {type(project).__name__}")
-    fixed_nodes = _fixed_nodes(fixed, n)
+    fixed_nodes = as_node_indices(fixed, n)
     if boundary_edges is None:
         boundary_edges = boundary_edges_of(tris)
     boundary_edges = as_cells(boundary_edges, "boundary_edges", 2, n)
