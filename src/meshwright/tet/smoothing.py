@@ -69,7 +69,6 @@ MAX_HALVINGS = 4
 INTERIOR, SLIDING, FIXED = 0, 1, 2
 
 
-
 @njit(cache=True)
 def _incidence(cells, n):
     """CSR ``(offsets (n + 1,) int64, rows int32)``: the rows of ``cells`` (k, w) at each node."""
