@@ -61,6 +61,7 @@ from meshwright.core.flat import TET_FACES
 from meshwright.core.mesh import build_neighbors_tet
 from meshwright.core.predicates import orient2d, orient3d, orient3d_batch
 from meshwright.core.validate_input import as_cells, as_exact_points, as_node_indices, check_count
+from meshwright.tet._flips import _ratio_xyz
 
 __all__ = ["MAX_HALVINGS", "smooth_tets"]
 
@@ -119,34 +120,9 @@ def _neighbours(cells, off, rows, n):
 
 @njit(inline="always")
 def _radius_ratio(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
-    """3 r / R of a tetrahedron (1 regular, 0 flat); floating-point, a measure, not a decision."""
-    ux, uy, uz = bx - ax, by - ay, bz - az
-    vx, vy, vz = cx - ax, cy - ay, cz - az
-    wx, wy, wz = dx - ax, dy - ay, dz - az
-    # v x w, w x u, u x v
-    p1, p2, p3 = vy * wz - vz * wy, vz * wx - vx * wz, vx * wy - vy * wx
-    q1, q2, q3 = wy * uz - wz * uy, wz * ux - wx * uz, wx * uy - wy * ux
-    s1, s2, s3 = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
-    det = ux * p1 + uy * p2 + uz * p3
-    if det <= 0.0:
-        return 0.0
-    lu = ux * ux + uy * uy + uz * uz
-    lv = vx * vx + vy * vy + vz * vz
-    lw = wx * wx + wy * wy + wz * wz
-    ox = (lu * p1 + lv * q1 + lw * s1) / (2.0 * det)
-    oy = (lu * p2 + lv * q2 + lw * s2) / (2.0 * det)
-    oz = (lu * p3 + lv * q3 + lw * s3) / (2.0 * det)
-    big_r = np.sqrt(ox * ox + oy * oy + oz * oz)
-    # The face opposite a: (c - b) x (d - b) = v x w + w x u + u x v.
-    f1, f2, f3 = p1 + q1 + s1, p2 + q2 + s2, p3 + q3 + s3
-    area2 = (
-        np.sqrt(p1 * p1 + p2 * p2 + p3 * p3)
-        + np.sqrt(q1 * q1 + q2 * q2 + q3 * q3)
-        + np.sqrt(s1 * s1 + s2 * s2 + s3 * s3)
-        + np.sqrt(f1 * f1 + f2 * f2 + f3 * f3)
-    )
-    # r = 3 V / A = det / (sum of twice the face areas).
-    return 3.0 * (det / area2) / big_r
+    """3 r / R of a tetrahedron (1 regular, 0 flat or inverted); floating-point, a measure, not a decision."""
+    r = _ratio_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
+    return 3.0 * r if r > 0.0 else 0.0
 
 
 @njit(inline="always")
