@@ -17,7 +17,8 @@ Invariants
   component alone can be a poor approximation of the value (when it has few significant
   bits); :func:`estimate` sums the components for a good one with the same exact sign.
 * Every routine here requires IEEE-754 double precision with round-to-nearest-even and no
-  fused multiply-add contraction (Numba's default, i.e. ``fastmath`` off) and is exact only
+  fused multiply-add contraction (Numba's default, i.e. ``fastmath`` off; an explicit
+  :func:`fma` is a single correctly rounded operation and fine) and is exact only
   while no intermediate overflows or underflows (see :mod:`meshwright.core.predicates` for a
   sufficient condition on coordinates); ``split`` needs ``|x| < 2**996``.
 * An output region must not overlap any input region of the same call.
@@ -32,6 +33,9 @@ ranges of the 2098 bit positions 2**-1074 .. 2**1023, so no expansion ever excee
 from __future__ import annotations
 
 import numba as nb
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
 
 __all__ = [
     "EPSILON",
@@ -41,6 +45,7 @@ __all__ = [
     "two_diff",
     "split",
     "two_product",
+    "fma",
     "diff_into",
     "expansion_sum",
     "scale_expansion",
@@ -142,6 +147,35 @@ def two_product(a, b):
     err = err - alo * bhi
     err = err - ahi * blo
     return x, alo * blo - err
+
+
+@intrinsic
+def fma(typingctx, a, b, c):
+    """``a * b + c`` with one rounding (LLVM's ``llvm.fma.f64``; a library call where the CPU
+    has no fused multiply-add, still correctly rounded).
+
+    ``p = a * b; e = fma(a, b, -p)`` is Two-Product in two operations: ``p + e == a * b``
+    exactly (barring underflow of ``e``), and ``e == 0`` iff the product ``a * b`` is exact.
+
+    Parameters
+    ----------
+    a, b, c : float
+
+    Returns
+    -------
+    float
+    """
+    if not all(isinstance(x, types.Float) for x in (a, b, c)):
+        return None
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        args = [context.cast(builder, v, t, types.float64) for v, t in zip(args, signature.args)]
+        d = ir.DoubleType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [d], ir.FunctionType(d, [d, d, d]))
+        return builder.call(fn, args)
+
+    return sig, codegen
 
 
 @nb.njit("int64(float64, float64, float64[::1], int64)", cache=True)

@@ -43,8 +43,11 @@ Invariants
   returns it when ``|det|`` exceeds ``errbound * permanent``; it allocates nothing.  Otherwise
   the exact stage recomputes the determinant from exact coordinate differences (two-component
   expansions) and returns the exact value rounded to a double, never flipping its sign.
-  Shewchuk's intermediate stages B/C are not implemented: zero elimination already keeps the
-  exact stage short when the differences are exact (grid-like, degenerate inputs).
+  Between the two, ``orient2d`` and ``incircle`` run the cheap exact stages of
+  :mod:`meshwright.core.exact_stages2d`: an error-free evaluation that proves the sign (and
+  exact zeros) when every operation is exact (grids), and, for ``incircle``, a double-word
+  filter for near-degenerate inputs (points on a circle).  Shewchuk's stages B/C are not
+  implemented.
 * Exactly degenerate inputs return exactly ``0.0``; the SoS variants return ``0`` only in the
   documented fully degenerate cases.
 * All kernels are ``@njit(cache=True)`` and take scalars (batch helpers take arrays).
@@ -75,6 +78,7 @@ from meshwright.core.expansion import (
     expansion_sum,
     mul_small,
 )
+from meshwright.core.exact_stages2d import incircle_dd, incircle_eft, orient2d_eft
 
 __all__ = [
     "orient2d",
@@ -184,6 +188,9 @@ def orient2d(ax, ay, bx, by, cx, cy):
     errbound = CCW_ERRBOUND_A * detsum
     if det >= errbound or -det >= errbound:
         return det
+    det, proven = orient2d_eft(ax, ay, bx, by, cx, cy)
+    if proven:
+        return det
     return _orient2d_exact(ax, ay, bx, by, cx, cy)
 
 
@@ -285,6 +292,12 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
     """
     det, errbound = incircle_stage_a(ax, ay, bx, by, cx, cy, dx, dy)
     if det > errbound or -det > errbound:
+        return det
+    det, proven = incircle_eft(ax, ay, bx, by, cx, cy, dx, dy)
+    if proven:
+        return det
+    det, proven = incircle_dd(ax, ay, bx, by, cx, cy, dx, dy)
+    if proven:
         return det
     return _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
 
@@ -613,6 +626,14 @@ def incircle_sos(ax, ay, bx, by, cx, cy, dx, dy, ia, ib, ic, id):
         return 1
     if det < 0.0:
         return -1
+    if id > ia and id > ib and id > ic:
+        # The query point's cofactor comes first: what an insertion kernel meets, the new
+        # vertex having the largest key, decided by one orientation.
+        o = orient2d(ax, ay, bx, by, cx, cy)
+        if o > 0.0:
+            return -1
+        if o < 0.0:
+            return 1
     # Lowest sentinel for the unused fifth slot so it never outranks a real point.
     lowest = min(min(ia, ib), min(ic, id)) - 1
     for r in range(4):
