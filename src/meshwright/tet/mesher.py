@@ -25,6 +25,7 @@ import numpy as np
 from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.flat import TET_FACES
 from meshwright.core.mesh import Mesh
+from meshwright.core.predicates import orient3d
 from meshwright.core.validate_input import check_count, check_flag, check_positive, check_seed
 from meshwright.tet.exterior import classify
 from meshwright.tet.recovery import _longest, bisect_marked, insert_new, raise_cap, recover, unique_edges
@@ -51,6 +52,7 @@ MIN_RADIUS_EDGE = 1.0
 MARGIN = 0.95
 SLIVER_RATIO = 0.12
 SLIVER_RATIO_MAX = 0.24
+UNFLATTEN_PASSES = 8  # flat tets moved out per round; one pass settles each tet
 SLIVER_PASSES = 4  # flip + move passes per threshold: 4 and 10 gave the same sphere quality; moves near exempt tets crawl on
 
 
@@ -288,6 +290,7 @@ def _run_delaunay(job: _Job) -> Mesh:
         rounds += 1
         if rounds > REFINE_ROUNDS:
             raise MeshingError(f"Delaunay refinement did not finish in {REFINE_ROUNDS} rounds ({tz.points.shape[0]} vertices)")
+        faces, where, flat = _unflatten(job, tz, faces, parent, where)
         tets = tz.tetrahedra
         nbr = tz.neighbors
         barrier, face_of = _barrier(tets.shape[0], nbr, where)
@@ -295,12 +298,13 @@ def _run_delaunay(job: _Job) -> Mesh:
         pts = tz.points
         cc, r2, lmin, vol = circumspheres(pts, tets)
         bad, hard = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), EXEMPT / FLOOR * float(floor.min()))
-        if bad.size == 0:
+        if bad.size == 0 and flat.size == 0:
             break
         order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)
         accept, enc = select_points(pts, tets, nbr, barrier, cc, r2, order, int(rng.integers(1, 2**31)))
-        hit = face_of[enc[enc >= 0]]
-        forced = hard[order[enc >= 0]]  # size-driven: split down to the guard
+        # size-driven and flat tets: split down to the guard
+        hit = np.concatenate([face_of[enc[enc >= 0]], flat])
+        forced = np.concatenate([hard[order[enc >= 0]], np.ones(flat.size, dtype=bool)])
         new_interior = np.ascontiguousarray(cc[order[accept]])
         added = 0
         if hit.size:
@@ -328,7 +332,68 @@ def _run_delaunay(job: _Job) -> Mesh:
         faces, parent, where = recover(tz, faces, parent, guard, job.max_points)
     if bar is not None:
         bar.close()
+    faces, where, _ = _unflatten(job, tz, faces, parent, where)
     return _to_mesh(job, tz, faces, parent, where)
+
+
+def _unflatten(job: _Job, tz, faces, parent, where):
+    """Move flat solid tets lying on an input face out of the solid by flipping its subfaces.
+
+    Steiner points on a general plane are off it by round-off, so four nearly cocircular
+    points of one input face can make a tet of round-off volume whose four faces are all in
+    the tetrahedralization: two of them subfaces, the other two facing the solid.  Such a tet
+    is classified solid, has an infinite or huge circumradius (size splits cascade to the
+    guard) and no flip or move can repair it.  Taking the tet's other two faces as the
+    subfaces (the same input face, the other diagonal of the quadrilateral) puts it on the
+    exterior side; the boundary keeps its vertices and its input face.  When the two subfaces
+    lie in two different but exactly coplanar input faces (a wall rectangle's two triangles)
+    the flip would cross their common input edge: such a tet's first subface is returned to be
+    split instead, which breaks the cocircular tie.
+
+    Returns the subfaces (m, 3) int32, their positions ``where`` (m,) int64 and the subfaces
+    (s,) int64 to split.
+    """
+    for _ in range(UNFLATTEN_PASSES):
+        split = np.zeros(0, dtype=np.int64)
+        tets = tz.tetrahedra
+        nbr = tz.neighbors
+        barrier, face_of = _barrier(tets.shape[0], nbr, where)
+        solid, _, _ = classify(tz, barrier, job.holes, job.regions)
+        cand = np.flatnonzero(solid & (barrier.sum(axis=1) == 2))
+        if cand.size == 0:
+            break
+        slots = np.argsort(~barrier[cand], axis=1, kind="stable")
+        f1 = face_of[4 * cand + slots[:, 0]]
+        f2 = face_of[4 * cand + slots[:, 1]]
+        across = nbr[cand[:, None], slots[:, :2]]
+        outside = ~np.where(across >= 0, solid[np.maximum(across, 0)], False).any(axis=1)
+        pick = (parent[f1] == parent[f2]) & outside
+        split = np.array([f1[i] for i in np.flatnonzero(outside & ~pick) if _coplanar(job, parent[f1[i]], parent[f2[i]])], dtype=np.int64)
+        if not pick.any():
+            break
+        faces = faces.copy()
+        where = where.copy()
+        used = np.zeros(faces.shape[0], dtype=bool)
+        for i in np.flatnonzero(pick):
+            a, b = int(f1[i]), int(f2[i])
+            if used[a] or used[b]:
+                continue
+            used[a] = used[b] = True
+            t = int(cand[i])
+            out = tets[t, TET_FACES[slots[i, 0]]]
+            # the subface runs as the tet's outward face (a rotation of it) or against it
+            same = any(np.array_equal(np.roll(out, r), faces[a]) for r in range(3))
+            for f, k in ((a, slots[i, 2]), (b, slots[i, 3])):
+                tri = tets[t, TET_FACES[k]]
+                faces[f] = tri[::-1] if same else tri
+                where[f] = 4 * t + k
+    return faces, where, split
+
+
+def _coplanar(job: _Job, f: int, g: int) -> bool:
+    """Whether input faces f and g lie exactly in one plane (exact orient3d)."""
+    a, b, c = job.points[job.faces[f]]
+    return all(orient3d(*a, *b, *c, *job.points[v]) == 0.0 for v in job.faces[g])
 
 
 def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax, floor: float) -> tuple[np.ndarray, np.ndarray]:
