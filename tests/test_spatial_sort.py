@@ -116,3 +116,53 @@ def test_spatial_sort_rejects_other_shapes(bad):
 def test_3d_bits_limit():
     with pytest.raises(InputError, match="bits"):
         hilbert_order(np.zeros((3, 3)), bits=20)
+
+
+def _reference_keys(pts, bits):
+    """Per-level Hilbert index in plain Python (the textbook rotate-and-reflect loop)."""
+    lo = pts.min(axis=0)
+    ext = pts.max(axis=0) - lo
+    side = 1 << bits
+    out = []
+    for px, py in pts:
+        x = min(int((px - lo[0]) * (side / ext[0] if ext[0] else 0.0)), side - 1)
+        y = min(int((py - lo[1]) * (side / ext[1] if ext[1] else 0.0)), side - 1)
+        d = 0
+        s = side >> 1
+        while s:
+            rx = 1 if x & s else 0
+            ry = 1 if y & s else 0
+            d += s * s * ((3 * rx) ^ ry)
+            if ry == 0:
+                if rx == 1:
+                    x ^= s - 1
+                    y ^= s - 1
+                x, y = y, x
+            s >>= 1
+        out.append(d)
+    return np.array(out, dtype=np.int64)
+
+
+@pytest.mark.parametrize("bits", [1, 2, 3, 4, 5, 6, 7, 9, 16, 26])
+def test_table_driven_keys_match_per_level_reference(bits):
+    rng = np.random.default_rng(bits)
+    for pts in (rng.random((300, 2)), rng.integers(0, 9, (300, 2)).astype(float)):
+        assert np.array_equal(hilbert_keys(pts, bits), _reference_keys(pts, bits))
+
+
+@pytest.mark.parametrize("n", [2, 3, 1000, 50000])
+def test_orders_equal_stable_argsort(n):
+    rng = np.random.default_rng(n)
+    # Few distinct cells: many equal keys, whose input order must survive.
+    pts = rng.integers(0, 7, (n, 2)).astype(float)
+    assert np.array_equal(hilbert_order(pts, 3), np.argsort(hilbert_keys(pts, 3), kind="stable"))
+    pts = rng.random((n, 2))
+    keys = hilbert_keys(pts, 16)
+    assert np.array_equal(hilbert_order(pts), np.argsort(keys, kind="stable"))
+    # BRIO: the same composite (round, key) order as a stable argsort would give.
+    a = brio_order(pts, np.random.default_rng(3))
+    rounds = max(1, int(np.floor(np.log2(max(n, 1) / 128))) + 1)
+    if rounds > 1:
+        back = np.minimum(np.random.default_rng(3).geometric(0.5, size=n), rounds)
+        keys = keys | ((rounds - back) << 32)
+    assert np.array_equal(a, np.argsort(keys, kind="stable"))

@@ -30,7 +30,10 @@ coordinates into the "transposed" Hilbert index (inverse undo of the excess work
 encoding), whose bits interleaved from the most significant down are the index along the
 curve; consecutive indices are face-adjacent cells.  The 2-D keys are unchanged.
 
-The permutation is a stable argsort of the keys, so equal cells keep their input order.
+The 2-D keys are computed four levels at a time from a 1024-entry table of the curve's
+four states (transpose, mirror: they commute, so their compositions are four).  The
+permutation is a stable LSD radix sort of the keys (digits of at most 12 bits, passes over
+a constant digit skipped), so equal cells keep their input order.
 
 BRIO
 ----
@@ -38,7 +41,7 @@ Every point falls independently into round ``r`` with probability ``2**-(R - r)`
 round ``R - 1`` takes about half the points, the one before a quarter, ...); rounds smaller
 than ``min_round`` points are merged into round 0.  Rounds are inserted one after the other,
 each in Hilbert order.  Sorting once by the composite key ``(round, hilbert)`` gives the whole
-order in one argsort.
+order in one sort.
 
 Arrays
 ------
@@ -111,6 +114,42 @@ def _hilbert_keys_3d(points, bits):
     return keys
 
 
+@njit(inline="always")
+def _hilbert_step(state, rx, ry):
+    """One level of the 2-D curve: ``(quadrant index, next state)`` for the raw cell bits.
+
+    ``state`` records the transform the coarser levels applied to the lower bits: bit 0 a
+    transpose, bit 1 a mirror of both axes.  The two commute and are involutions, so the
+    composition of all of them is one of these four states.
+    """
+    if state & 1:
+        rx, ry = ry, rx
+    if state & 2:
+        rx ^= 1
+        ry ^= 1
+    if ry == 0:
+        state ^= 1
+        if rx == 1:
+            state ^= 2
+    return (3 * rx) ^ ry, state
+
+
+@njit(cache=True)
+def _hilbert_table():
+    """Four levels at once: entry ``256 state + 16 x4 + y4`` is ``(8 key bits << 2) | next state``."""
+    lut = np.empty(1024, dtype=np.int64)
+    for st in range(4):
+        for xc in range(16):
+            for yc in range(16):
+                s = st
+                d = 0
+                for lv in range(3, -1, -1):
+                    q, s = _hilbert_step(s, (xc >> lv) & 1, (yc >> lv) & 1)
+                    d = (d << 2) | q
+                lut[256 * st + 16 * xc + yc] = (d << 2) | s
+    return lut
+
+
 @njit(cache=True)
 def hilbert_keys(points, bits):
     """Hilbert-curve index of every point, quantised on the points' bounding box.
@@ -149,25 +188,68 @@ def hilbert_keys(points, bits):
     # Cells of width extent / 2**bits; the maximum falls on the boundary and is clamped.
     sx = 0.0 if xmax == xmin else side / (xmax - xmin)
     sy = 0.0 if ymax == ymin else side / (ymax - ymin)
+    lut = _hilbert_table()
+    lead = bits % 4
     for i in range(n):
         x = min(np.int64((points[i, 0] - xmin) * sx), top)
         y = min(np.int64((points[i, 1] - ymin) * sy), top)
         d = np.int64(0)
-        s = np.int64(1) << (bits - 1)
-        while s > 0:
-            rx = 1 if (x & s) != 0 else 0
-            ry = 1 if (y & s) != 0 else 0
-            d += s * s * ((3 * rx) ^ ry)
-            if ry == 0:
-                # Quadrants 0 and 3: transpose the lower bits, mirrored for quadrant 3.
-                low = s - 1
-                if rx == 1:
-                    x = x ^ low
-                    y = y ^ low
-                x, y = y, x
-            s >>= 1
+        state = 0
+        for lv in range(bits - 1, bits - 1 - lead, -1):
+            q, state = _hilbert_step(state, (x >> lv) & 1, (y >> lv) & 1)
+            d = (d << 2) | q
+        # The remaining levels four at a time: a quarter of the branchy per-level steps.
+        for c in range(bits - lead - 4, -1, -4):
+            e = lut[256 * state + 16 * ((x >> c) & 15) + ((y >> c) & 15)]
+            d = (d << 8) | (e >> 2)
+            state = e & 3
         keys[i] = d
     return keys
+
+
+@njit(cache=True)
+def _radix_order(keys):
+    """Stable argsort of non-negative int64 keys: LSD radix sort, equal digits of <= 12 bits.
+
+    Same permutation as ``np.argsort(keys, kind="stable")``; a pass whose digit is the same
+    for every key is skipped.  Scratch: two int64 key arrays and two index arrays.
+    """
+    n = keys.shape[0]
+    idx = np.arange(n)
+    if n < 2:
+        return idx
+    top = keys.max()
+    nbits = 0
+    while (top >> nbits) > 0:
+        nbits += 1
+    passes = max(1, (nbits + 11) // 12)
+    dbits = (nbits + passes - 1) // passes
+    mask = (1 << dbits) - 1
+    k = keys.copy()
+    k2 = np.empty(n, dtype=np.int64)
+    idx2 = np.empty(n, dtype=np.int64)
+    cnt = np.empty(mask + 1, dtype=np.int64)
+    for p in range(passes):
+        shift = p * dbits
+        cnt[:] = 0
+        for i in range(n):
+            cnt[(k[i] >> shift) & mask] += 1
+        if cnt.max() == n:
+            continue
+        total = 0
+        for b in range(mask + 1):
+            c = cnt[b]
+            cnt[b] = total
+            total += c
+        for i in range(n):
+            x = k[i]
+            j = cnt[(x >> shift) & mask]
+            cnt[(x >> shift) & mask] = j + 1
+            k2[j] = x
+            idx2[j] = idx[i]
+        k, k2 = k2, k
+        idx, idx2 = idx2, idx
+    return idx
 
 
 def _check(points, bits: int) -> tuple[np.ndarray, int]:
@@ -201,7 +283,7 @@ def hilbert_order(points, bits: int = 16) -> np.ndarray:
         ``points[order]`` follows the curve.
     """
     pts, bits = _check(points, bits)
-    return np.argsort(hilbert_keys(pts, bits), kind="stable")
+    return _radix_order(hilbert_keys(pts, bits))
 
 
 def brio_order(points, rng: np.random.Generator, min_round: int = 128, bits: int = 16) -> np.ndarray:
@@ -232,4 +314,4 @@ def brio_order(points, rng: np.random.Generator, min_round: int = 128, bits: int
         back = np.minimum(rng.geometric(0.5, size=n), rounds)
         keys |= (rounds - back) << (pts.shape[1] * bits)
         del back
-    return np.argsort(keys, kind="stable")
+    return _radix_order(keys)
