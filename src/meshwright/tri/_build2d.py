@@ -6,8 +6,8 @@ Helpers of :class:`meshwright.tri.triangulation.Triangulation` around the insert
 (:func:`init_triangle` builds them with their three ghosts), :func:`insert_batch` inserts
 the rest (growing the :class:`~meshwright.tri._kernel2d.TriState` as needed),
 :func:`locate_points` answers point location, and after the insertions
-:func:`compact` moves finite triangles before ghosts, :func:`relabel` and
-:func:`scatter_rows` renumber vertices from insertion order to input order, and
+:func:`compact` moves finite triangles before ghosts, :func:`relabel` renumbers vertices
+from insertion order to input order (the caller copies the input rows back), and
 :func:`hull_loop` reads the convex hull off the ghosts.
 """
 
@@ -20,12 +20,12 @@ from meshwright.core.flat import GHOST, grown
 from meshwright.core.predicates import orient2d
 from meshwright.tri import watson
 from meshwright.tri._kernel2d import (
-    BROKEN, DUP_BASE, M_LAST, M_NTRI, M_SHORT_WORK, NEED_SPACE, TriState, insert_vertex, walk,
+    BROKEN, DUP_BASE, M_LAST, M_NTRI, M_SHORT_WORK, NEED_SPACE, TriState, insert_arrays, walk,
 )
 
 __all__ = [
     "find_start", "promote", "init_triangle", "make_room", "insert_batch", "locate_points", "compact", "relabel",
-    "scatter_rows", "hull_loop",
+    "hull_loop",
 ]
 
 
@@ -160,12 +160,16 @@ def insert_batch(order, start, stop, vbase, s, vmap):
     """
     t = s.meta[M_LAST]
     rows = s.pts.shape[0]
+    # The bundle's fields are read once (and after each growth), never per point: a field
+    # read is an atomic reference-count pair (see insert_arrays).
+    pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
     for i in range(start, stop):
         v = order[i] if order.shape[0] > 0 else i
-        st = insert_vertex(v, t, s)
+        st = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t)
         while st == NEED_SPACE:
             s = make_room(s, rows)
-            st = insert_vertex(v, t, s)
+            pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
+            st = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t)
         if st >= 0:
             vmap[v - vbase] = v
             t = st
@@ -288,38 +292,6 @@ def relabel(tri, ntri, newid, base):
         v = tri[e]
         if v >= base:
             tri[e] = newid[v - base]
-
-
-@njit(cache=True)
-def scatter_rows(a, dest):
-    """Move row i of ``a`` to row ``dest[i]`` in place, following the permutation's cycles.
-
-    Parameters
-    ----------
-    a : (m, 2) float64
-    dest : (m,) int32
-        A permutation of ``range(m)``.
-    """
-    m = dest.shape[0]
-    done = np.zeros(m, dtype=np.bool_)
-    for i in range(m):
-        if done[i]:
-            continue
-        x = a[i, 0]
-        y = a[i, 1]
-        j = dest[i]
-        while j != i:
-            xj = a[j, 0]
-            yj = a[j, 1]
-            a[j, 0] = x
-            a[j, 1] = y
-            done[j] = True
-            x = xj
-            y = yj
-            j = dest[j]
-        a[i, 0] = x
-        a[i, 1] = y
-        done[i] = True
 
 
 @njit(cache=True)

@@ -49,7 +49,7 @@ from meshwright.core.spatial_sort import brio_order
 from meshwright.core.validate_input import as_exact_points, check_seed
 from meshwright.tri import bowyer, watson
 from meshwright.tri._build2d import (
-    compact, find_start, hull_loop, init_triangle, insert_batch, locate_points, promote, relabel, scatter_rows,
+    compact, find_start, hull_loop, init_triangle, insert_batch, locate_points, promote, relabel,
 )
 from meshwright.tri._kernel2d import M_NTRI, M_NV, grow, new_state
 
@@ -146,7 +146,7 @@ class Triangulation:
         vmap[:3] = np.arange(3)
         self._insert_rows(np.empty(0, dtype=np.int32), 3, n, vmap, 0)
         relabel(self.state.tri, self.state.meta[M_NTRI], order, 0)
-        scatter_rows(self.state.pts, order)
+        self.state.pts[:n] = pts  # rows back in input order: a sequential copy, not a scatter
         index_map = np.empty(n, dtype=np.int32)
         index_map[order] = order[vmap]
         del vmap
