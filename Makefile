@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 DEMO_DIR ?= demo-output
 
-.PHONY: demo test bench clean clean-jit
+.PHONY: demo test bench stress clean clean-jit
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +35,13 @@ bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/delaunay3d.py
 	$(BIN)/python benchmarks/quality3d.py
 	$(BIN)/python benchmarks/default_size.py
+
+# Random domains through every 2-D method (tests/stress2d.py); failures become reproducers
+# under tests/regressions/ that `make test` replays.  STRESS_COUNT domains per run.
+STRESS_COUNT ?= 2000
+STRESS_SEED ?= 0
+stress: $(VENV)/.stamp-test
+	$(BIN)/python tests/stress2d.py --count $(STRESS_COUNT) --seed $(STRESS_SEED)
 
 # Numba's on-disk cache is keyed by each function's own file: after editing a kernel that
 # other modules call (e.g. tri/_kernel2d.py), drop the cache so callers are recompiled.

@@ -1,0 +1,341 @@
+"""Stress harness for the 2-D meshers (issue 13): random domains through every method.
+
+``make stress`` runs this file; it is not part of ``make test``.  A seeded generator
+(:func:`generate`) draws domains of the kinds that break meshers in practice:
+
+* star-shaped outer polygons at random scales (1e-3 .. 1e3) and offsets;
+* near-collinear boundary runs (a vertex 1e-9 .. 1e-14 of the edge length off its edge) and
+  near-cocircular ones (every radius 1 up to a few ulps);
+* tiny features (a vertex pair 1e-6 of the extent apart), spikes (input angles of
+  0.5 .. 5 degrees), thin domains (aspect ratio up to 1e4), a hole 1e-6 .. 1e-3 away from
+  the outer boundary;
+* polygonal holes, interior constraint segments and interior points, each in its own disk
+  of an inscribed disk so that no two features cross;
+* sizes: the default (none), ``"boundary"``, a number, a jump of 1e4 inside a small disk
+  (a callable), and a stretched background grid (the front honours it; the other methods
+  use its isotropic spacing).
+
+Each case (a JSON-safe dict, :func:`build` turns it into a domain and keyword arguments)
+runs through every ``triangulate`` method in a worker process with a time limit.  A mesh
+passes when ``Mesh.validate()`` is clean, its area equals the domain's (polygons: up to
+round-off) and every input vertex and interior point is a mesh vertex.  A failure — an
+exception of any kind (the domains are valid by construction, so a ``MeshwrightError``
+counts too), a broken mesh, a time-out — is written to ``tests/regressions/`` as a
+reproducer that ``tests/test_regressions.py`` replays: ``"status": "open"`` until fixed
+(replayed as a strict xfail, so a fix is noticed), then ``"fixed"`` (replayed as a test).
+
+Usage::
+
+    python tests/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--timeout 60]
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import math
+import multiprocessing as mp
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REGRESSIONS = Path(__file__).resolve().parent / "regressions"
+AREA_RTOL = 1e-9
+KINDS = ("plain", "collinear", "cocircular", "tiny", "spike", "thin")
+JIT_TIMEOUT = 1800.0  # seconds a fresh worker may take to compile every method
+
+
+def _star(rng, n, r_lo, r_hi, max_gap=math.pi / 2):
+    """n vertices of a star polygon about the origin, no angular gap above ``max_gap``
+    (so the disk of radius ``r_lo * cos(max_gap / 2)`` lies inside it)."""
+    for _ in range(100):
+        ang = np.sort(rng.random(n)) * 2 * math.pi
+        gaps = np.diff(np.r_[ang, ang[0] + 2 * math.pi])
+        if gaps.max() < max_gap and gaps.min() > 1e-3:
+            break
+    else:
+        ang = np.arange(n) * 2 * math.pi / n
+    r = rng.uniform(r_lo, r_hi, n)
+    return np.c_[r * np.cos(ang), r * np.sin(ang)]
+
+
+def _perturb_boundary(rng, outer, kind):
+    """Insert a near-collinear run, near-cocircular radii or a tiny feature."""
+    n = len(outer)
+    if kind == "collinear":
+        i = int(rng.integers(n))
+        a, b = outer[i], outer[(i + 1) % n]
+        k = int(rng.integers(1, 5))
+        t = np.sort(rng.uniform(0.1, 0.9, k))
+        d = b - a
+        nrm = np.array([-d[1], d[0]])
+        off = 10.0 ** rng.uniform(-14, -9, k) * rng.choice([-1.0, 0.0, 1.0], k)
+        run = a + t[:, None] * d + off[:, None] * nrm
+        return np.concatenate([outer[: i + 1], run, outer[i + 1 :]])
+    if kind == "cocircular":
+        ang = np.arctan2(outer[:, 1], outer[:, 0])
+        r = 1.0 + rng.integers(-4, 5, n) * np.finfo(float).eps
+        return np.c_[r * np.cos(ang), r * np.sin(ang)]
+    if kind == "spike":
+        i = int(rng.integers(n))
+        a, b = outer[i], outer[(i + 1) % n]
+        mid = 0.5 * (a + b)
+        tip = mid * (1.0 + 0.5 * np.linalg.norm(b - a) / math.tan(math.radians(rng.uniform(0.5, 5))) / np.linalg.norm(mid))
+        return np.concatenate([outer[: i + 1], tip[None], outer[i + 1 :]])
+    if kind == "thin":
+        return outer * np.array([1.0, 10.0 ** rng.uniform(-4, -2)])
+    if kind == "tiny":
+        i = int(rng.integers(n))
+        a, b = outer[i], outer[(i + 1) % n]
+        c = a + 1e-6 * (b - a) / np.linalg.norm(b - a) * rng.uniform(0.5, 2)
+        return np.concatenate([outer[: i + 1], c[None], outer[i + 1 :]])
+    return outer
+
+
+def _features(rng, r_in, nholes, nsegs, npts):
+    """Holes, segments and points, each inside its own disk within radius ``r_in``."""
+    disks = []
+    want = nholes + nsegs + npts
+    for _ in range(50 * want):
+        if len(disks) == want:
+            break
+        rad = r_in * rng.uniform(0.05, 0.25)
+        c = rng.uniform(-1, 1, 2) * (r_in - rad) / math.sqrt(2)
+        if all(np.hypot(*(c - d[0])) > rad + d[1] for d in disks):
+            disks.append((c, rad))
+    holes, segs, pts = [], [], []
+    for j, (c, rad) in enumerate(disks):
+        if j < nholes:
+            holes.append((c + _star(rng, int(rng.integers(3, 9)), 0.4 * rad, 0.9 * rad, math.pi * 0.9)).tolist())
+        elif j < nholes + nsegs:
+            a = rng.uniform(0, 2 * math.pi)
+            k = int(rng.integers(2, 4))
+            t = np.linspace(-0.8, 0.8, k) * rad
+            line = c + np.c_[t * math.cos(a), t * math.sin(a)]
+            if k == 3:
+                line[1] += rng.uniform(-0.2, 0.2, 2) * rad
+            segs.append(line.tolist())
+        else:
+            pts.append(c.tolist())
+    return holes, segs, pts
+
+
+def generate(rng: np.random.Generator, methods) -> dict:
+    """One random case: a JSON-safe dict (see the module docstring)."""
+    n = int(rng.integers(5, 40))
+    outer = _star(rng, n, 0.5, 1.0)
+    kind = str(rng.choice(KINDS, p=[0.25, 0.15, 0.15, 0.15, 0.15, 0.15]))
+    if kind == "cocircular":
+        outer = _star(rng, int(rng.integers(8, 200)), 1.0, 1.0)
+    outer = _perturb_boundary(rng, outer, kind)
+    r_in = 0.5 * math.cos(math.pi / 4) * 0.95
+    holes, segs, pts = _features(rng, r_in, int(rng.integers(0, 4)), int(rng.integers(0, 3)), int(rng.integers(0, 3)))
+    if kind == "thin":
+        holes, segs, pts = [], [], []
+    elif holes and rng.random() < 0.3:
+        # a hole pushed to within 1e-6 .. 1e-3 of the outer boundary (invalid draws are
+        # refused by the domain's validation and skipped)
+        h = np.asarray(holes[0])
+        v = outer[int(rng.integers(len(outer)))]
+        far = h[np.argmax(h @ v)]
+        holes[0] = (h + (v - far) * (1 - 10.0 ** rng.uniform(-6, -3))).tolist()
+    scale = float(10.0 ** rng.uniform(-3, 3))
+    shift = (rng.uniform(-1, 1, 2) * scale * 10).tolist()
+    size_kind = str(rng.choice(["none", "boundary", "number", "jump", "background"], p=[0.3, 0.1, 0.3, 0.15, 0.15]))
+    size = {"kind": size_kind}
+    if size_kind in ("number", "jump", "background"):
+        size["h"] = float(rng.uniform(0.03, 0.3))
+    if size_kind == "jump":
+        size["center"] = (outer[int(rng.integers(len(outer)))] if rng.random() < 0.5 else rng.uniform(-1, 1, 2) * 0.3).tolist()
+        size["factor"] = 1e-4
+    if size_kind == "background":
+        size["stretch"] = float(rng.uniform(1, 10))
+        size["direction"] = float(rng.uniform(0, math.pi))
+    return {
+        "kind": kind,
+        "outer": outer.tolist(),
+        "holes": holes,
+        "segments": segs,
+        "points": pts,
+        "scale": scale,
+        "shift": shift,
+        "size": size,
+        "min_angle": None if rng.random() < 0.5 else float(rng.choice([20.0, 25.0, 30.0])),
+        "seed": int(rng.integers(1 << 20)),
+        "methods": list(methods),
+    }
+
+
+def _jump_size(h, center, radius, factor):
+    def size(xy):
+        xy = np.asarray(xy, dtype=np.float64)
+        d = np.hypot(xy[..., 0] - center[0], xy[..., 1] - center[1])
+        return np.where(d < radius, h * factor, h)
+
+    return size
+
+
+def build(case: dict, method: str):
+    """The domain, keyword arguments and input vertices of ``case`` for ``method``."""
+    import meshwright as mw
+
+    s, sh = case["scale"], np.asarray(case["shift"])
+
+    def tr(p):
+        return np.asarray(p, dtype=np.float64).reshape(-1, 2) * s + sh
+
+    outer = tr(case["outer"])
+    holes = [tr(h) for h in case["holes"]]
+    segs = [tr(g) for g in case["segments"]]
+    pts = tr(case["points"]) if case["points"] else None
+    dom = mw.geometry.polygon(outer, holes=holes, segments=segs, points=pts)
+    spec = case["size"]
+    if spec["kind"] == "none":
+        size = None
+    elif spec["kind"] == "boundary":
+        size = "boundary"
+    elif spec["kind"] == "number":
+        size = spec["h"] * s
+    elif spec["kind"] == "jump":
+        h = spec["h"] * s
+        small = h * spec["factor"]
+        size = _jump_size(h, tr(spec["center"])[0], 20 * small, spec["factor"])
+    else:
+        x0, y0, x1, y1 = dom.bbox
+        pad = 0.1 * max(x1 - x0, y1 - y0)
+        bp = np.array([[x0 - pad, y0 - pad], [x1 + pad, y0 - pad], [x1 + pad, y1 + pad], [x0 - pad, y1 + pad]])
+        size = mw.sizing.BackgroundGrid(
+            bp, np.array([[0, 1, 2], [0, 2, 3]]), spec["h"] * s, spec["stretch"], spec["direction"]
+        )
+    kw = {"method": method, "seed": case["seed"]}
+    if case["min_angle"] is not None and mw.MESH_METHODS[method].max_min_angle >= case["min_angle"]:
+        kw["min_angle"] = case["min_angle"]
+    inputs = [outer, *holes, *segs] + ([pts] if pts is not None else [])
+    return dom, size, kw, np.concatenate(inputs)
+
+
+def check(case: dict, method: str) -> None:
+    """Run one method on one case; raise on any failure (see the module docstring)."""
+    import meshwright as mw
+
+    dom, size, kw, inputs = build(case, method)
+    mesh = mw.triangulate(dom, size, **kw)
+    mesh.validate()
+    area = float(mesh.area())
+    want = float(dom.area())
+    if not abs(area - want) <= AREA_RTOL * abs(want):
+        raise AssertionError(f"mesh area {area!r} != domain area {want!r}")
+    pts = np.ascontiguousarray(mesh.points[:, :2])
+    have = {tuple(p) for p in pts.tolist()}
+    missing = [p for p in inputs.tolist() if tuple(p) not in have]
+    if missing:
+        raise AssertionError(f"{len(missing)} input vertices missing, e.g. {missing[0]}")
+
+
+def _worker(conn, methods) -> None:
+    import meshwright as mw
+
+    # Compile every method's kernels before the first job, so no time-out counts JIT time.
+    square = mw.geometry.polygon([[0, 0], [1, 0], [1, 1], [0, 1]])
+    for m in methods:
+        mw.triangulate(square, 0.3, method=m)
+    conn.send("ready")
+    while True:
+        job = conn.recv()
+        if job is None:
+            return
+        case, method = job
+        t = time.perf_counter()
+        try:
+            check(case, method)
+            conn.send(("ok", "", time.perf_counter() - t))
+        except BaseException as e:  # noqa: BLE001 - every failure is recorded
+            conn.send(("fail", f"{type(e).__name__}: {e}"[:2000], time.perf_counter() - t))
+
+
+class _Pool:
+    """One worker process fed one job at a time, killed and restarted on a time-out."""
+
+    def __init__(self, methods):
+        self.methods = methods
+        self.proc = None
+
+    def start(self):
+        a, b = mp.Pipe()
+        self.conn = a
+        self.proc = mp.Process(target=_worker, args=(b, self.methods), daemon=True)
+        self.proc.start()
+        if not self.conn.poll(JIT_TIMEOUT) or self.conn.recv() != "ready":
+            raise RuntimeError(f"the worker did not compile the kernels in {JIT_TIMEOUT} s")
+
+    def run(self, job, timeout):
+        if self.proc is None or not self.proc.is_alive():
+            self.start()
+        self.conn.send(job)
+        if self.conn.poll(timeout):
+            return self.conn.recv()
+        self.proc.kill()
+        self.proc.join()
+        self.proc = None
+        return ("fail", f"Timeout: no result in {timeout} s", timeout)
+
+    def close(self):
+        if self.proc is not None and self.proc.is_alive():
+            self.conn.send(None)
+            self.proc.join(5)
+
+
+def record(case: dict, method: str, message: str) -> Path:
+    """Write a reproducer for ``case`` under ``method`` (idempotent: named by its hash)."""
+    body = {"case": case, "method": method}
+    key = hashlib.sha1(json.dumps(body, sort_keys=True).encode()).hexdigest()[:12]
+    path = REGRESSIONS / f"stress-{method}-{key}.json"
+    if not path.exists():
+        REGRESSIONS.mkdir(exist_ok=True)
+        body.update(status="open", error=message, hang=message.startswith("Timeout"))
+        path.write_text(json.dumps(body, indent=1) + "\n")
+    return path
+
+
+def main(argv=None) -> int:
+    import meshwright as mw
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--count", type=int, default=1000, help="number of domains")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--methods", nargs="*", choices=sorted(mw.MESH_METHODS), default=sorted(mw.MESH_METHODS))
+    ap.add_argument("--timeout", type=float, default=60.0, help="seconds per mesh before it counts as a hang")
+    ap.add_argument("--no-record", action="store_true", help="report failures without writing reproducers")
+    args = ap.parse_args(argv)
+    rng = np.random.default_rng(args.seed)
+    pool = _Pool(args.methods)
+    fails = runs = 0
+    t0 = time.perf_counter()
+    try:
+        for i in range(args.count):
+            case = generate(rng, args.methods)
+            try:
+                build(case, args.methods[0])[0].validate()
+            except mw.MeshwrightError as e:
+                print(f"[{i}] generator produced an invalid domain, skipped: {e}")
+                continue
+            for method in args.methods:
+                status, msg, dt = pool.run((case, method), args.timeout)
+                runs += 1
+                if status != "ok":
+                    fails += 1
+                    where = "" if args.no_record else f" -> {record(case, method, msg).name}"
+                    print(f"[{i}] {method} ({case['kind']}, size {case['size']['kind']}): {msg[:200]}{where}", flush=True)
+            if (i + 1) % 100 == 0:
+                print(f"{i + 1} domains, {runs} meshes, {fails} failures, {time.perf_counter() - t0:.0f} s", flush=True)
+    finally:
+        pool.close()
+    print(f"done: {args.count} domains, {runs} meshes, {fails} failures in {time.perf_counter() - t0:.0f} s")
+    return 1 if fails else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
