@@ -11,10 +11,11 @@ runs Bowyer, a sized one runs Watson (a branch on an array length, predicted per
 
 The state bundle: :class:`TriState`
 ----------------------------------
-Every kernel function takes the whole state as ONE argument, a :class:`TriState` (a
-``typing.NamedTuple`` of flat arrays, which Numba types as a tuple: attribute access is
-resolved at compile time and costs nothing), and scalar header values live in its int64
-``meta`` array.  A kernel that finds an array too small returns ``NEED_SPACE`` *before*
+Every kernel entry takes the whole state as ONE argument, a :class:`TriState` (a
+``typing.NamedTuple`` of flat arrays, which Numba types as a tuple), and scalar header values
+live in its int64 ``meta`` array.  Each field read is an atomic reference-count pair, so the
+entries are thin wrappers over bodies taking the unpacked arrays (``_walk``, ``_cavity``,
+``_fan``, :func:`insert_arrays`), which per-point loops call with arrays read once.  A kernel that finds an array too small returns ``NEED_SPACE`` *before*
 modifying anything (the cavity scratch ``work`` is found short only while the cavity grows:
 then only ``work`` and ``meta[M_SHORT_WORK] = 1`` have been written), and :func:`grow`, on the
 Python side, returns a new bundle with doubled arrays (``state._replace(...)``); inside a
@@ -107,29 +108,9 @@ from meshwright.core.rng import seed_state, xorshift32
 from meshwright.tri import bowyer, watson
 
 __all__ = [
-    "GHOST",
-    "NEED_SPACE",
-    "BROKEN",
-    "DUP_BASE",
-    "M_NTRI",
-    "M_LAST",
-    "M_RNG",
-    "M_SPLIT_A",
-    "M_SPLIT_B",
-    "M_SPLIT_C",
-    "M_NV",
-    "M_SHORT_WORK",
-    "TriState",
-    "new_state",
-    "grow",
-    "walk",
-    "cavity",
-    "fan",
-    "insert_vertex",
-    "insert_arrays",
-    "split_edge",
-    "flip",
-    "on_constraint",
+    "GHOST", "NEED_SPACE", "BROKEN", "DUP_BASE", "M_NTRI", "M_LAST", "M_RNG", "M_SPLIT_A",
+    "M_SPLIT_B", "M_SPLIT_C", "M_NV", "M_SHORT_WORK", "TriState", "new_state", "grow", "walk",
+    "cavity", "fan", "insert_vertex", "insert_arrays", "split_edge", "flip", "on_constraint",
 ]
 
 # insert_vertex status: >= 0 is a new triangle incident to v; otherwise one of these, and a

@@ -43,7 +43,8 @@ from __future__ import annotations
 from numba import njit
 
 from meshwright.core.flat import GHOST
-from meshwright.core.predicates import incircle_sos, incircle_stage_a, orient2d
+from meshwright.core.geom2d import orient_filtered
+from meshwright.core.predicates import incircle_sos, incircle_stage_a
 
 __all__ = ["ghost_conflict", "conflict"]
 
@@ -69,7 +70,7 @@ def ghost_conflict(pts, a, b, px, py):
     ay = pts[a, 1]
     bx = pts[b, 0]
     by = pts[b, 1]
-    o = orient2d(ax, ay, bx, by, px, py)
+    o = orient_filtered(ax, ay, bx, by, px, py)
     if o != 0.0:
         return o > 0.0
     if ax != bx:
