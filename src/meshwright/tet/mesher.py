@@ -28,7 +28,7 @@ from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient3d
 from meshwright.core.validate_input import check_count, check_flag, check_positive, check_seed
 from meshwright.tet.exterior import classify
-from meshwright.tet.recovery import _longest, bisect_marked, insert_new, raise_cap, recover, unique_edges
+from meshwright.tet.recovery import _longest, bisect_marked, dominant_axes, insert_new, raise_cap, recover, unique_edges
 from meshwright.tet.refine3d import SIZE_FACTOR, circumspheres, select_points
 from meshwright.tet.tetrahedralization import Tetrahedralization
 
@@ -47,6 +47,7 @@ GUARD = 2.0**-12  # shortest splittable edge, relative to the shortest input edg
 FLOOR = 1.0
 EXEMPT = 0.25  # the exemption's edge length, relative to the shortest input edge
 MIN_RADIUS_EDGE = 1.0
+SIZE_SPLIT = 0.5  # a size bound splits subface edges down to SIZE_SPLIT times the size
 # Refinement aims at MARGIN times the radius-edge bound: sliver flips and moves may raise a
 # tet's ratio a little (2.05 measured for a bound of 2 refined exactly).
 MARGIN = 0.95
@@ -278,7 +279,8 @@ def _run_delaunay(job: _Job) -> Mesh:
     guard = GUARD * float(lengths.min())
     fp = job.points[job.faces]
     floor = FLOOR * np.linalg.norm(fp - fp[:, [1, 2, 0]], axis=2).min(axis=1)
-    faces, parent, where = recover(tz, job.faces, np.arange(job.faces.shape[0], dtype=np.int32), guard, job.max_points)
+    axis = dominant_axes(job.points, job.faces)
+    faces, parent, where = recover(tz, job.faces, np.arange(job.faces.shape[0], dtype=np.int32), guard, job.max_points, axis)
     refine = job.radius_edge is not None or job.field is not None or np.isfinite(job.max_volume) or (job.regions[:, 4] > 0).any()
     bar = None
     if job.progress and refine:
@@ -297,23 +299,24 @@ def _run_delaunay(job: _Job) -> Mesh:
         solid, _, vmax = classify(tz, barrier, job.holes, job.regions)
         pts = tz.points
         cc, r2, lmin, vol = circumspheres(pts, tets)
-        bad, hard = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), EXEMPT / FLOOR * float(floor.min()))
+        bad, reach = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), EXEMPT / FLOOR * float(floor.min()), guard)
         if bad.size == 0 and flat.size == 0:
             break
         order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)
         accept, enc = select_points(pts, tets, nbr, barrier, cc, r2, order, int(rng.integers(1, 2**31)))
-        # size-driven and flat tets: split down to the guard
+        # a subface edge is split down to the tet's reach (size and volume bounds), else to
+        # the surface floor (quality, flat tets)
         hit = np.concatenate([face_of[enc[enc >= 0]], flat])
-        forced = np.concatenate([hard[order[enc >= 0]], np.ones(flat.size, dtype=bool)])
+        least = np.concatenate([reach[order[enc >= 0]], np.full(flat.size, np.inf)])
         new_interior = np.ascontiguousarray(cc[order[accept]])
         added = 0
         if hit.size:
             edges, face_edges = unique_edges(faces)
             mark = np.zeros(edges.shape[0], dtype=bool)
-            for f, must in zip(hit, forced):
+            for f, r in zip(hit, least):
                 e = face_edges[f, _longest(pts, faces, face_edges, f)]
                 a, b = edges[e]
-                if np.linalg.norm(pts[a] - pts[b]) >= (guard if must else max(guard, floor[parent[f]])):
+                if np.linalg.norm(pts[a] - pts[b]) >= (r if np.isfinite(r) else max(guard, floor[parent[f]])):
                     mark[e] = True
             if mark.any():
                 if tz.points.shape[0] + int(mark.sum()) > job.max_points:
@@ -329,7 +332,7 @@ def _run_delaunay(job: _Job) -> Mesh:
             bar.update(added)
         if added == 0:
             break
-        faces, parent, where = recover(tz, faces, parent, guard, job.max_points)
+        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, axis)
     if bar is not None:
         bar.close()
     faces, where, _ = _unflatten(job, tz, faces, parent, where)
@@ -396,26 +399,33 @@ def _coplanar(job: _Job, f: int, g: int) -> bool:
     return all(orient3d(*a, *b, *c, *job.points[v]) == 0.0 for v in job.faces[g])
 
 
-def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax, floor: float) -> tuple[np.ndarray, np.ndarray]:
-    """Solid tets breaking the radius-edge, size or volume bound, and which break size or volume.
+def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax, floor: float, guard: float) -> tuple[np.ndarray, np.ndarray]:
+    """Solid tets breaking the radius-edge, size or volume bound, and how far their splits reach.
 
-    Returns (b,) int64 tets and (nt,) bool ``hard``: size or volume bound broken (the surface
-    floor does not stop those splits).
+    Returns (b,) int64 tets and (nt,) float64 ``reach``: the shortest subface edge a tet's
+    encroachment may split, where a size or volume bound is broken (the surface floor does
+    not stop those splits), inf elsewhere.  A size bound splits subface edges down to
+    :data:`SIZE_SPLIT` h only: a flat tet on a nearly flat crease of the surface has a huge
+    circumradius whatever its edges, and splitting for it cascaded to the guard.
     """
     cand = np.flatnonzero(solid)
     r = np.sqrt(r2[cand])
     hard_c = vol[cand] > vmax[cand]
+    reach_c = np.where(hard_c, guard, np.inf)
     if job.field is not None:
         centroid = pts[tets[cand]].mean(axis=1)
-        hard_c |= r > SIZE_FACTOR * job.field(centroid)
+        h = job.field(centroid)
+        big = r > SIZE_FACTOR * h
+        hard_c |= big
+        reach_c = np.where(big & ~np.isfinite(reach_c), np.maximum(guard, SIZE_SPLIT * h), reach_c)
     bad = hard_c.copy()
     if job.radius_edge is not None:
         # tets already finer than the surface floor are exempt: near an acute input angle
         # no radius-edge bound is reachable, and splitting there would cascade
         bad |= (r > MARGIN * job.radius_edge * lmin[cand]) & (lmin[cand] >= floor)
-    hard = np.zeros(solid.shape[0], dtype=bool)
-    hard[cand[hard_c]] = True
-    return cand[bad], hard
+    reach = np.full(solid.shape[0], np.inf)
+    reach[cand] = reach_c
+    return cand[bad], reach
 
 
 def _to_mesh(job: _Job, tz, faces, parent, where) -> Mesh:

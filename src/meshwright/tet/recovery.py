@@ -23,6 +23,10 @@ ball, so a plate thinner than its faces are wide is recovered without refining i
 down to its thickness (the top face of a thin prism is a Delaunay face: its two caps share a
 circumsphere).
 
+The subfaces of each input face are kept a 2-D Delaunay triangulation (Lawson's flips,
+:func:`lawson`, decided on the face's projection along its dominant axis) after every
+bisection: a subface whose circumcircle holds a point of its own face is not a Delaunay face
+in 3-D either, and bisecting it instead cascaded on nearly planar walls.
 Before splitting, a missing subface whose neighbour in the same input face would, flipped,
 give two faces the tetrahedralization has, is flipped (:func:`flip_to_match`): cocircular
 points leave the diagonal to the symbolic perturbation, and no split can settle such a tie.
@@ -57,10 +61,12 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import MeshingError, fmt_point
+from meshwright.core.predicates import incircle, orient2d
 
-__all__ = ["vertex_tets", "find_faces", "find_edges", "flip_to_match", "unique_edges", "bisect_marked", "recover", "insert_new", "raise_cap", "RECOVERY_ROUNDS"]
+__all__ = ["vertex_tets", "find_faces", "find_edges", "flip_to_match", "unique_edges", "bisect_marked", "recover", "insert_new", "raise_cap", "lawson", "lawson_pass", "dominant_axes", "RECOVERY_ROUNDS"]
 
 RECOVERY_ROUNDS = 64  # bisection rounds; each at least halves the longest missing edge
+LAWSON_PASSES = 64  # bound on the work of one lawson() call (flips terminate anyway)
 
 
 @njit(cache=True)
@@ -271,6 +277,112 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, face_edges, n_edges, missin
     return flips
 
 
+@njit(inline="always")
+def _orient_in(pts, ax, a, b, c):
+    """orient2d of a, b, c projected along coordinate axis ``ax`` (exact)."""
+    i = (ax + 1) % 3
+    j = (ax + 2) % 3
+    return orient2d(pts[a, i], pts[a, j], pts[b, i], pts[b, j], pts[c, i], pts[c, j])
+
+
+@njit(cache=True)
+def lawson_pass(pts, faces, parent, axis, face_edges, n_edges):
+    r"""One pass of Lawson's edge flips toward the 2-D Delaunay triangulation of each input face.
+
+    The subfaces of an input face are flipped, pair by pair (each face at most once per
+    pass), where the apex s of the neighbour lies strictly inside the circumcircle of r p q
+    and r p s q is strictly convex, decided by exact ``orient2d`` / ``incircle`` on the
+    face's projection along its dominant normal axis (a consistent planar point set even
+    where Steiner points are off the plane by round-off).  Longest-edge bisection alone
+    leaves needles whose circumcircles hold the next row of points; on a nearly planar
+    wall, every split then made another missing subface (a cascade to the guard).
+
+    Parameters
+    ----------
+    pts : (nv, 3) float64
+    faces : (m, 3) int32
+        Modified in place.
+    parent : (m,) int32
+    axis : (p,) int64
+        Dominant normal axis of each input face.
+    face_edges : (m, 3) int64
+        As :func:`unique_edges` gives.
+    n_edges : int
+
+    Returns
+    -------
+    int
+        Number of flips.
+    """
+    first = np.full(n_edges, -1, dtype=np.int64)
+    second = np.full(n_edges, -1, dtype=np.int64)
+    for f in range(faces.shape[0]):
+        for k in range(3):
+            e = face_edges[f, k]
+            if first[e] < 0:
+                first[e] = 3 * f + k
+            else:
+                second[e] = 3 * f + k
+    touched = np.zeros(faces.shape[0], dtype=np.bool_)
+    flips = 0
+    for f in range(faces.shape[0]):
+        if touched[f]:
+            continue
+        ax = axis[parent[f]]
+        i = (ax + 1) % 3
+        j = (ax + 2) % 3
+        for k in range(3):
+            e = face_edges[f, k]
+            h = second[e] if first[e] == 3 * f + k else first[e]
+            if h < 0:
+                continue
+            g = h // 3
+            if touched[g] or parent[g] != parent[f]:
+                continue
+            r = faces[f, k]
+            p = faces[f, (k + 1) % 3]
+            q = faces[f, (k + 2) % 3]
+            s = faces[g, h % 3]
+            o = _orient_in(pts, ax, r, p, q)
+            if o == 0.0:
+                continue
+            sg = 1.0 if o > 0.0 else -1.0
+            if sg * _orient_in(pts, ax, r, p, s) <= 0.0 or sg * _orient_in(pts, ax, r, s, q) <= 0.0:
+                continue
+            if sg * incircle(pts[r, i], pts[r, j], pts[p, i], pts[p, j], pts[q, i], pts[q, j], pts[s, i], pts[s, j]) <= 0.0:
+                continue
+            faces[f, 0], faces[f, 1], faces[f, 2] = r, p, s
+            faces[g, 0], faces[g, 1], faces[g, 2] = r, s, q
+            touched[f] = True
+            touched[g] = True
+            flips += 1
+            break
+    return flips
+
+
+def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, axis: np.ndarray) -> int:
+    """:func:`lawson_pass` until no flip is left (at most :data:`LAWSON_PASSES`); total flips.
+
+    ``faces`` is modified in place.  The cap only bounds the work: Lawson's flips terminate,
+    and subfaces still missing afterwards are split.
+    """
+    total = 0
+    for _ in range(LAWSON_PASSES):
+        _, face_edges = unique_edges(faces)
+        n = lawson_pass(pts, faces, parent, axis, face_edges, int(face_edges.max()) + 1)
+        total += n
+        if n == 0:
+            break
+    return total
+
+
+def dominant_axes(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Coordinate axis of the largest normal component of each input face; (p,) int64."""
+    p = points[faces]
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    return np.argmax(np.abs(n), axis=1).astype(np.int64)
+
+
 def unique_edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Undirected edges of a triangulation and each face's edge ids.
 
@@ -408,7 +520,7 @@ def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex):
     return faces2, parent2, int(sel.size)
 
 
-def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, rounds: int = RECOVERY_ROUNDS):
+def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, axis: np.ndarray, rounds: int = RECOVERY_ROUNDS):
     """Split missing subfaces until every one is a face of the tetrahedralization ``tz``.
 
     Parameters
@@ -421,6 +533,8 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         Shortest edge that may be split.
     max_points : int
         Cap on the vertices of ``tz``.
+    axis : (p,) int64
+        :func:`dominant_axes` of the input faces.
     rounds : int
 
     Returns
@@ -428,6 +542,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
     faces, parent, where : the recovered subfaces and :func:`find_faces` of each.
     """
     faces = np.array(faces, dtype=np.int32)  # flips change it in place
+    lawson(tz.points, faces, parent, axis)
     splits = 0
     for _ in range(8 * rounds):
         tets = tz.tetrahedra
@@ -460,6 +575,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         if tz.points.shape[0] + int(mark.sum()) > max_points:
             raise_cap(max_points, "boundary recovery")
         faces, parent, _ = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p))
+        lawson(tz.points, faces, parent, axis)
     f = int(np.flatnonzero(missing)[0])
     raise MeshingError(
         f"boundary recovery did not converge in {rounds} rounds: subface {fmt_point(tz.points[faces[f, 0]])}, "
