@@ -88,6 +88,11 @@ def add_arguments(parser) -> None:
     )
     add_convex_hull_argument(parser)
     parser.add_argument("--seed", type=int, default=0, help="seed of the randomized insertion order")
+    parser.add_argument(
+        "--workers", type=int, metavar="N",
+        help="mesh in parts on N local Dask worker processes (meshwright.distributed; -o OUT.xdmf, delaunay only)",
+    )
+    parser.add_argument("--scheduler", metavar="ADDRESS", help="as --workers, on the Dask cluster at ADDRESS")
     add_output_arguments(parser)
 
 
@@ -182,9 +187,50 @@ def _size_option(args, domain):
     return stretched_background(domain, args.size, args.stretch, args.direction)
 
 
+def _run_distributed(args, domain, size) -> int:
+    """``--workers`` / ``--scheduler``: :func:`meshwright.distributed.triangulate` writes the XDMF itself."""
+    from meshwright.distributed import local_cluster
+    from meshwright.distributed import triangulate as distributed_triangulate
+
+    if args.workers is not None and args.scheduler:
+        raise InputError("--workers and --scheduler are mutually exclusive: local processes or a cluster")
+    unsupported = [
+        flag for flag, on in (
+            ("--smooth", args.smooth), ("--max-area", args.max_area is not None), ("--conforming", args.conforming),
+            ("--convex-hull", args.convex_hull), ("--alpha", args.alpha is not None), ("--plot", args.plot),
+            ("--quality", args.quality),
+        ) if on
+    ]
+    if unsupported:
+        raise InputError(f"{', '.join(unsupported)} cannot be honoured by distributed meshing (--workers/--scheduler)")
+    if not args.output or Path(args.output).suffix.lower() != ".xdmf":
+        raise InputError(f"distributed meshing writes XDMF: give -o OUT.xdmf (got {args.output!r})")
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be >= 1, got {args.workers}")
+    client = args.scheduler or local_cluster(args.workers)
+    try:
+        with Timer() as t:
+            dm = distributed_triangulate(
+                domain, size, client=client, min_angle=args.min_angle, method=args.method, seed=args.seed,
+                out=args.output, max_points=args.max_points,
+            )
+    finally:
+        if not isinstance(client, str):
+            client.close()
+    s = dm.stats
+    print(
+        f"{args.method}: {dm.n_cells} triangles in {t.elapsed:.3f} s on {s['workers']} workers "
+        f"({s['parts']} parts, {s['rounds']} exchange rounds, imbalance {s['imbalance']:.3f})"
+    )
+    print(f"wrote {', '.join(dm.files[:2])} and {len(dm.files) - 2} part files")
+    return 0
+
+
 def run(args) -> int:
     domain = load_input(args.input)
     size = _size_option(args, domain)
+    if args.workers is not None or args.scheduler:
+        return _run_distributed(args, domain, size)
     with Timer() as t:
         mesh = triangulate(
             domain,

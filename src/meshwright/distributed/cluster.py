@@ -1,0 +1,150 @@
+"""Dask clients for distributed meshing: resolving the ``client`` argument, local clusters, warming.
+
+Source: the dask.distributed documentation ("Client", "LocalCluster", "Worker memory
+management": spill at 60 %, pause at 80 %, terminate at 95 % of ``memory_limit``), and the
+Numba cache practice of OasisLMF/OasisPlatform#1398: compile once in one process, then let the
+other workers load the cache (several workers building one cache at once can crash,
+numba/numba#4807).
+
+Workers are single-threaded processes: the meshing kernels hold the GIL.  Memory a Numba task
+allocates is unmanaged (it cannot spill), so a part must fit in :data:`MEMORY_FRACTION` of its
+worker's ``memory_limit``; :func:`worker_memory_limit` reads the smallest limit of a cluster.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+
+from meshwright.core.errors import InputError
+from meshwright.core.validate_input import check_count
+
+__all__ = ["BYTES_PER_TRIANGLE", "MEMORY_FRACTION", "local_cluster", "resolve_client", "warm", "worker_memory_limit"]
+
+MEMORY_FRACTION = 0.6  # largest share of a worker's memory_limit a part may need
+BYTES_PER_TRIANGLE = 150  # peak bytes per triangle of the serial Delaunay refinement (measured, 3.7e6 triangles)
+
+
+def _require_distributed():
+    try:
+        import distributed  # noqa: F401
+        import h5py  # noqa: F401
+    except ImportError as exc:
+        raise InputError(
+            f"distributed meshing needs dask.distributed and h5py ({exc.name} is missing): "
+            "pip install 'meshwright[distributed]'"
+        ) from None
+
+
+def local_cluster(n_workers: int | None = None, memory_limit="auto"):
+    """A ``LocalCluster`` of single-threaded worker processes and its ``Client``.
+
+    Parameters
+    ----------
+    n_workers : int, optional
+        Default: the number of CPUs.
+    memory_limit : str or int
+        Per worker, as dask takes it (``"auto"``, ``"2GiB"``, bytes).
+
+    Returns
+    -------
+    distributed.Client
+        Closing it (or leaving its ``with`` block) also closes the cluster.
+    """
+    _require_distributed()
+    from distributed import Client
+
+    n = (os.cpu_count() or 1) if n_workers is None else check_count(n_workers, "n_workers", 1)
+    # A client given cluster keywords owns the LocalCluster it starts and closes it with itself.
+    return Client(n_workers=n, threads_per_worker=1, processes=True, memory_limit=memory_limit, dashboard_address=":0")
+
+
+@contextlib.contextmanager
+def resolve_client(client):
+    """The client to use, as a context: an existing ``Client``, a scheduler address, or None.
+
+    None takes the default client if one exists, else starts a :func:`local_cluster` that is
+    closed on exit.  An address connects a client that is closed on exit.
+
+    Raises
+    ------
+    InputError
+        ``client`` of another type, dask.distributed or h5py missing, or an address that does
+        not answer (named).
+    """
+    _require_distributed()
+    from distributed import Client, default_client
+
+    if client is not None and not isinstance(client, (Client, str)):
+        raise InputError(
+            f"client must be a distributed.Client, a scheduler address or None, got {type(client).__name__}"
+        )
+    if isinstance(client, Client):
+        yield client
+        return
+    if isinstance(client, str):
+        try:
+            c = Client(client, timeout="10s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise InputError(f"cannot reach the dask scheduler at {client!r}: {exc}") from None
+        try:
+            yield c
+        finally:
+            c.close()
+        return
+    try:
+        yield default_client()
+        return
+    except ValueError:
+        pass
+    c = local_cluster()
+    try:
+        yield c
+    finally:
+        c.close()
+
+
+def worker_memory_limit(client) -> int:
+    """The smallest ``memory_limit`` (bytes) of the client's workers; 0 when none is set."""
+    limits = [w.get("memory_limit") or 0 for w in client.scheduler_info()["workers"].values()]
+    limits = [m for m in limits if m > 0]
+    return min(limits) if limits else 0
+
+
+def _warm_once() -> float:
+    """Compile (or load from the cache) the kernels a part uses by meshing a small square."""
+    import time
+
+    from meshwright.geometry.shapes import polygon
+    from meshwright.tri.mesher import triangulate
+
+    t0 = time.perf_counter()
+    triangulate(polygon([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]), 0.25, min_angle=30.0)
+    return time.perf_counter() - t0
+
+
+def warm(client) -> dict:
+    """Load the meshing kernels on every worker: one worker first (it may build the Numba
+    cache), then all the others (they load it).
+
+    Parameters
+    ----------
+    client : distributed.Client
+
+    Returns
+    -------
+    dict
+        Worker address -> seconds it took.
+    """
+    _require_distributed()
+    from distributed import Client
+
+    if not isinstance(client, Client):
+        raise InputError(f"warm needs a distributed.Client, got {type(client).__name__}")
+    workers = sorted(client.scheduler_info()["workers"])
+    if not workers:
+        return {}
+    out = client.run(_warm_once, workers=workers[:1])
+    if len(workers) > 1:
+        out.update(client.run(_warm_once, workers=workers[1:]))
+    return out

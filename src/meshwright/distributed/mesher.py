@@ -1,0 +1,403 @@
+"""``meshwright.distributed.triangulate``: decompose, mesh the parts on Dask workers, exchange, write.
+
+Sources: L. Linardakis and N. Chrisochoides, "Delaunay decoupling method for parallel
+guaranteed quality planar mesh refinement", SIAM J. Sci. Comput. 27(4), 2006 (parts meshed
+independently by the serial code between pre-discretised separators); A. Chernikov and
+N. Chrisochoides, "Parallel 2D constrained Delaunay mesh generation", ACM TOMS 34(1), 2008
+(interface splits as messages, here deterministic rounds); the dask.distributed documentation
+("Futures": data stays on the worker that made it, and tasks that depend on it run there).
+
+Pipeline (client work is O(boundary + parts); mesh bytes never reach the client)::
+
+    door checks --> decompose (client) --> round 0: one task per part (largest first), kept as futures
+        --> while split requests: exchange (client merges requests, splits the skeleton),
+            the parts beside a split mesh again (round r, at most max_rounds)
+        --> numbering (prefix sums of the parts' own point counts)
+        --> every part writes its HDF5 piece on its worker --> client writes skeleton, VDS, XDMF
+
+Determinism: part ``i`` is meshed with the seed ``SeedSequence([seed, i])`` gives, from a
+planar straight-line graph that depends only on the decomposition and the requests, so the
+files are the same bytes for any number of workers and on reruns (fixed ``parts`` and ``seed``).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+import uuid
+from pathlib import Path
+
+import numpy as np
+
+from meshwright.core.errors import InputError, MeshingError, MeshwrightError, SizeError
+from meshwright.core.mesh import Mesh
+from meshwright.core.validate_input import check_count, check_flag, check_seed
+from meshwright.distributed import cluster as _cluster
+from meshwright.distributed.exchange import apply_splits
+from meshwright.distributed.numbering import part_offsets
+from meshwright.distributed.part import mesh_part, summarize
+from meshwright.distributed.partition import decompose_domain, part_pslg
+from meshwright.distributed.writer import (
+    part_path,
+    read_mesh_arrays,
+    write_mesh,
+    write_part,
+)
+from meshwright.tri.mesher import (
+    DEFAULT_MAX_POINTS,
+    MESH_METHODS,
+    _domain_and_field,
+    _min_angle,
+)
+
+__all__ = ["DEFAULT_MAX_CELLS", "FORMATS", "PARTS_PER_WORKER", "DistributedMesh", "decompose", "triangulate"]
+
+FORMATS = ("xdmf",)
+DEFAULT_MAX_CELLS = 10_000_000  # to_mesh: about 1.5 GB in one process
+PARTS_PER_WORKER = 4  # over-decomposition of parts="auto"
+
+
+class DistributedMesh:
+    """The result of :func:`triangulate`: files on disk and their statistics, not the arrays.
+
+    Attributes
+    ----------
+    path : str
+        The XDMF file.
+    files : list of str
+        XDMF, the stitching HDF5 file, then the part pieces in part order.
+    n_points, n_cells : int
+        Vertices and triangles of the whole mesh.
+    stats : dict
+        ``parts``, ``workers``, ``rounds``, ``seconds`` (decompose, mesh, write, total),
+        ``part_seconds`` (one list per round: ``(part, seconds)``), ``triangles`` and
+        ``predicted`` per part, ``imbalance`` (largest part's triangles over the mean),
+        ``predicted_imbalance``, ``min_angle``, ``min_cut_angle``, ``split_points``,
+        ``triangles_over_predicted`` (total over the serial prediction), ``bytes_written``.
+    """
+
+    def __init__(self, path: str, files: list[str], n_points: int, n_cells: int, stats: dict):
+        self.path, self.files, self.n_points, self.n_cells, self.stats = path, files, n_points, n_cells, stats
+
+    def __repr__(self) -> str:
+        return (
+            f"DistributedMesh({self.n_points} points, {self.n_cells} triangles, {self.stats['parts']} parts, "
+            f"{self.stats['rounds']} exchange rounds, {self.path!r})"
+        )
+
+    def to_mesh(self, max_cells: int = DEFAULT_MAX_CELLS) -> Mesh:
+        """The whole mesh in this process, read from the files; refused above ``max_cells``.
+
+        Parameters
+        ----------
+        max_cells : int
+            Largest number of triangles to load.
+
+        Returns
+        -------
+        Mesh
+            ``"triangle"`` and ``"line"`` cells (int32) with ``cell_data["marker"]`` and
+            ``point_data["marker"]``, as :func:`meshwright.triangulate` returns.
+
+        Raises
+        ------
+        InputError
+            ``max_cells`` not a positive integer.
+        MeshingError
+            More triangles than ``max_cells`` (or than int32 ids can hold).
+        """
+        cap = check_count(max_cells, "max_cells", 1)
+        if self.n_cells > cap or self.n_points >= 2**31:
+            raise MeshingError(
+                f"the mesh has {self.n_cells} triangles and {self.n_points} points, above max_cells = {cap} "
+                f"(or int32 ids); read the pieces of {self.path} part by part instead"
+            )
+        a = read_mesh_arrays(Path(self.path))
+        return Mesh(
+            a["points"],
+            {"triangle": a["cells"].astype(np.int32), "line": a["lines"].astype(np.int32)},
+            point_data={"marker": a["point_marker"]},
+            cell_data={"marker": {"triangle": a["cell_marker"], "line": a["line_marker"]}},
+        )
+
+
+def _check_domain(domain, size):
+    """The Domain and size field, refusing what the distributed path cannot honour."""
+    dom, field = _domain_and_field(domain, size, False, None, False)
+    if field is None:
+        raise SizeError(
+            "distributed meshing needs a size (a number, a callable h(xy) or a SizeField): its interfaces "
+            "are discretised from it before meshing; 'boundary' names no spacing away from the boundary"
+        )
+    if dom.regions:
+        raise InputError(
+            f"the domain has {len(dom.regions)} region seed(s); distributed meshing does not split regions "
+            "across parts yet: mesh it with meshwright.triangulate"
+        )
+    return dom, field
+
+
+def _check_parts(parts) -> int | None:
+    if isinstance(parts, str):
+        if parts != "auto":
+            raise InputError(f"parts must be 'auto' or an integer >= 1, got {parts!r}")
+        return None
+    return check_count(parts, "parts", 1)
+
+
+def decompose(domain, size, parts: int):
+    """The decomposition :func:`triangulate` would mesh (for inspection and plots).
+
+    Parameters
+    ----------
+    domain : Domain, str, path or (n, 2) array_like
+        As :func:`meshwright.triangulate` takes it (no region seeds).
+    size : number, callable or SizeField
+        The target edge length (required).
+    parts : int
+        Number of parts, at least 1.
+
+    Returns
+    -------
+    Decomposition
+        See :mod:`meshwright.distributed.partition`.
+
+    Raises
+    ------
+    InputError, GeometryError, SizeError
+        As :func:`triangulate`'s door.
+    MeshingError
+        No admissible cut position.
+    """
+    p = check_count(parts, "parts", 1)
+    if size is None:
+        raise SizeError("decompose needs a size: the cuts are balanced and discretised by it")
+    dom, field = _check_domain(domain, size)
+    return decompose_domain(dom, field, p)
+
+
+def _check_out(out) -> Path | None:
+    if out is None:
+        return None
+    if not isinstance(out, (str, os.PathLike)):
+        raise InputError(f"out must be a path ending in .xdmf or None, got {type(out).__name__}")
+    path = Path(out)
+    if path.suffix.lower() != ".xdmf":
+        raise InputError(f"out {str(out)!r} must end in .xdmf (the only format written: {', '.join(FORMATS)})")
+    if not path.parent.is_dir():
+        raise InputError(f"out {str(out)!r}: directory {str(path.parent)!r} does not exist")
+    return path
+
+
+def _results(futures: dict, what: str):
+    """Results of futures in part order; a part's failure is re-raised naming the part."""
+    out = {}
+    for i in sorted(futures):
+        try:
+            out[i] = futures[i].result()
+        except MeshwrightError as exc:
+            raise type(exc)(f"part {i} ({what}): {exc}") from exc
+    return out
+
+
+def triangulate(
+    domain,
+    size=None,
+    *,
+    client=None,
+    parts="auto",
+    min_angle: float | None = 30.0,
+    method: str = "delaunay",
+    seed: int = 0,
+    out=None,
+    format: str = "xdmf",
+    max_rounds: int = 4,
+    progress: bool = False,
+    max_points: int | None = None,
+) -> DistributedMesh:
+    """Quality triangle mesh of a 2-D domain meshed in parts on Dask workers, written as XDMF/HDF5.
+
+    Every argument is checked here before any work (the client's workers are contacted only
+    after the others pass).
+
+    Parameters
+    ----------
+    domain : Domain, str, path or (n, 2) array_like
+        As :func:`meshwright.triangulate`; region seeds (and so islands) are not supported.
+    size : number, callable or SizeField, optional
+        Target edge length; default the domain's own, else its local feature size, graded.
+    client : distributed.Client, str or None
+        A client, a scheduler address, or None: the default client if one exists, else a
+        local cluster of single-threaded processes (closed on return).
+    parts : "auto" or int
+        Number of parts; ``"auto"`` is :data:`PARTS_PER_WORKER` per worker.
+    min_angle : float, optional
+        Degrees, up to the serial mesher's 33.8 (None: its default 30).
+    method : str
+        ``"delaunay"`` only (the refinement whose interface splits the exchange reproduces).
+    seed : int
+        Non-negative; part ``i`` uses a seed derived from ``(seed, i)``.
+    out : path, optional
+        ``NAME.xdmf``; the pieces go next to it (:mod:`meshwright.distributed.writer`), on a
+        file system the workers share.  Default: a new temporary directory.
+    format : str
+        ``"xdmf"`` (XDMF3 over HDF5 virtual datasets).
+    max_rounds : int
+        Most exchange rounds; one more needed raises :class:`MeshingError`.
+    progress : bool
+        A progress bar over the parts of each round.
+    max_points : int, optional
+        Cap on every part's vertices (default :data:`meshwright.tri.mesher.DEFAULT_MAX_POINTS`).
+
+    Returns
+    -------
+    DistributedMesh
+
+    Raises
+    ------
+    InputError
+        A malformed argument (named), an unsupported method or format, region seeds, dask or
+        h5py missing, an unreachable scheduler.
+    GeometryError, SizeError, FormatError
+        As :func:`meshwright.triangulate`'s door.
+    MeshingError
+        A part predicted to need more than 60 % of a worker's memory limit (part, bytes and
+        limit named), more than ``max_rounds`` exchange rounds, a part hitting ``max_points``
+        (part named), or no cut position.
+    """
+    if not isinstance(method, str) or method not in MESH_METHODS:
+        raise InputError(f"unknown method {method!r}; choose one of {', '.join(sorted(MESH_METHODS))}")
+    if method != "delaunay":
+        raise InputError(
+            f"distributed meshing runs method 'delaunay' only (its interface splits are the midpoints the "
+            f"exchange reproduces), got {method!r}"
+        )
+    angle = _min_angle(MESH_METHODS[method], min_angle)
+    seed = check_seed(seed)
+    if isinstance(seed, np.random.Generator):
+        raise InputError("seed must be a non-negative integer here: a Generator cannot be shared by workers")
+    n_parts = _check_parts(parts)
+    out_path = _check_out(out)
+    if not isinstance(format, str) or format not in FORMATS:
+        raise InputError(f"format must be one of {', '.join(FORMATS)}, got {format!r}")
+    rounds_cap = check_count(max_rounds, "max_rounds", 0)
+    progress = check_flag(progress, "progress")
+    cap = DEFAULT_MAX_POINTS if max_points is None else check_count(max_points, "max_points", 3)
+    _cluster._require_distributed()
+    from distributed import Client
+
+    if client is not None and not isinstance(client, (Client, str)):
+        raise InputError(
+            f"client must be a distributed.Client, a scheduler address or None, got {type(client).__name__}"
+        )
+    dom, field = _check_domain(domain, size)
+    if out_path is None:
+        out_path = Path(tempfile.mkdtemp(prefix="meshwright-")) / "mesh.xdmf"
+    with _cluster.resolve_client(client) as c:
+        return _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, cap)
+
+
+def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, cap) -> DistributedMesh:
+    t_start = time.perf_counter()
+    workers = len(c.scheduler_info()["workers"])
+    if workers == 0:
+        raise MeshingError("the dask cluster has no workers")
+    P = PARTS_PER_WORKER * workers if n_parts is None else n_parts
+    dec = decompose_domain(dom, field, P)
+    t_dec = time.perf_counter() - t_start
+    limit = _cluster.worker_memory_limit(c)
+    need = dec.predicted * _cluster.BYTES_PER_TRIANGLE
+    if limit and need.max() > _cluster.MEMORY_FRACTION * limit:
+        i = int(np.argmax(need))
+        raise MeshingError(
+            f"part {i} would need about {need[i] / 2**20:.0f} MiB ({dec.predicted[i]:.3g} triangles at "
+            f"{_cluster.BYTES_PER_TRIANGLE} B) but a worker's memory limit is {limit / 2**20:.0f} MiB "
+            f"(a part may use {_cluster.MEMORY_FRACTION:.0%}); use more parts or workers with more memory"
+        )
+    token = uuid.uuid4().hex[:12]
+    n_curves = len(dom.curves)
+    curves_f = c.scatter(dom.curves, broadcast=True, hash=False)
+    field_f = c.scatter(field, broadcast=True, hash=False)
+    seeds = [int(np.random.SeedSequence([seed, i]).generate_state(1)[0]) for i in range(P)]
+    futs, summaries, part_seconds = {}, {}, []
+    todo = np.argsort(-dec.predicted, kind="stable")
+    rounds = 0
+    split_points = 0
+    n_skeleton0 = len(dec.points)
+    t_mesh = time.perf_counter()
+    while True:
+        for i in todo.tolist():
+            futs[i] = c.submit(
+                mesh_part, part_pslg(dec, i, n_curves), curves_f, field_f, angle, seeds[i], cap,
+                key=f"meshwright-{token}-mesh-r{rounds}-{i}", pure=False,
+            )
+        small = {
+            i: c.submit(summarize, futs[i], key=f"meshwright-{token}-summary-r{rounds}-{i}", pure=False)
+            for i in todo.tolist()
+        }
+        if progress:
+            from distributed import as_completed
+            from tqdm import tqdm
+
+            for _ in tqdm(as_completed(list(small.values())), total=len(small), desc=f"round {rounds}", leave=False):
+                pass
+        done = _results(small, f"round {rounds}")
+        summaries.update(done)
+        part_seconds.append([(i, done[i].seconds) for i in sorted(done)])
+        requests = {}
+        for i in sorted(summaries):
+            for s, xy in summaries[i].requests:
+                requests[s] = np.concatenate([requests[s], xy]) if s in requests else xy
+        if not requests:
+            break
+        if rounds >= rounds_cap:
+            raise MeshingError(
+                f"interfaces still need splits after {rounds} exchange rounds (max_rounds = {rounds_cap}): "
+                f"{len(requests)} interface segment(s), e.g. skeleton segment {min(requests)} from "
+                f"{dec.points[dec.segments[min(requests), 0]].tolist()}; raise max_rounds or use fewer parts"
+            )
+        n_before = len(dec.points)
+        dec, todo = apply_splits(dec, requests)
+        split_points += len(dec.points) - n_before
+        rounds += 1
+        for i in todo.tolist():
+            summaries.pop(i, None)
+    t_mesh = time.perf_counter() - t_mesh
+    t_write = time.perf_counter()
+    offsets = part_offsets(len(dec.points), [summaries[i].n_points for i in range(P)])
+    writes = {
+        i: c.submit(
+            write_part, futs[i], int(offsets[i]), str(part_path(out_path, i)),
+            key=f"meshwright-{token}-write-{i}", pure=False,
+        )
+        for i in range(P)
+    }
+    pieces = _results(writes, "writing")
+    pieces = [pieces[i] for i in range(P)]
+    del futs
+    files = write_mesh(out_path, dec.points, dec.point_markers, pieces) + [p.path for p in pieces]
+    t_write = time.perf_counter() - t_write
+    tris = np.array([summaries[i].n_triangles for i in range(P)], dtype=np.int64)
+    n_points = len(dec.points) + sum(p.n_points for p in pieces)
+    stats = {
+        "parts": P,
+        "workers": workers,
+        "rounds": rounds,
+        "seconds": {
+            "decompose": t_dec, "mesh": t_mesh, "write": t_write, "total": time.perf_counter() - t_start,
+        },
+        "part_seconds": part_seconds,
+        "write_seconds": [p.seconds for p in pieces],
+        "triangles": tris.tolist(),
+        "predicted": dec.predicted.tolist(),
+        "imbalance": float(tris.max() / tris.mean()),
+        "predicted_imbalance": dec.imbalance,
+        "min_angle": float(min(summaries[i].min_angle for i in range(P))),
+        "min_cut_angle": dec.min_cut_angle,
+        "skeleton_points": n_skeleton0,
+        "split_points": split_points,
+        "triangles_over_predicted": float(tris.sum() / dec.predicted.sum()),
+        "bytes_written": int(sum(os.path.getsize(f) for f in files)),
+    }
+    return DistributedMesh(str(out_path), files, int(n_points), int(tris.sum()), stats)

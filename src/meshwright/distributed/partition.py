@@ -1,0 +1,577 @@
+"""Domain decomposition for distributed meshing: straight cuts balanced by the size-field integral.
+
+Sources: L. Linardakis and N. Chrisochoides, "Delaunay decoupling method for parallel guaranteed
+quality planar mesh refinement", SIAM J. Sci. Comput. 27(4), 2006, and "Graded Delaunay
+decoupling method for parallel guaranteed quality planar mesh generation", SIAM J. Sci. Comput.
+30(4), 2008 (separators meeting the boundary at angles of at least 60 degrees, the input
+condition of Ruppert's guarantee, and discretised before meshing so that parts mesh with no
+communication); D. Morozov and T. Peterka, "Efficient Delaunay tessellation through k-d tree
+decomposition", SC16 (recursive bisection balanced by the work, not by width).
+
+Algorithm
+---------
+1. The domain's boundary is discretised once (``Domain.discretize``); its vertices and segments
+   start the *skeleton*, the points every part shares by global id.
+2. The cost of a region is ``kappa * 4 / sqrt(3) * integral(1 / h^2)`` triangles (``kappa`` =
+   :data:`KAPPA`, measured for ``method="delaunay"``), integrated on a grid of samples of the
+   bounding box.
+3. Recursive bisection (an explicit stack, no recursion): a cell holding ``k`` parts is cut by an
+   axis-parallel line into cells of ``k // 2`` and ``k - k // 2`` parts.  Candidate positions lie
+   within the first of :data:`BALANCE_WINDOWS` of the balanced cost that holds one; a candidate is admissible when every
+   crossing with a boundary chord makes an angle of at least :data:`MIN_CUT_ANGLE` with it and
+   no boundary vertex (nor interior point, nor end of an earlier cut) lies closer than the
+   first of :data:`VERTEX_CLEARANCES` (times ``h``) to the line; in each window the preferred
+   clearance is tried before the accepted one.  The admissible candidate nearest the balance wins, on the longer axis first;
+   without one the best-scoring candidate of both axes is taken and its angle reported.
+   Cut/cut junctions are right angles by construction.
+4. Crossings split boundary chords: on straight curves at the exact line coordinate, on curved
+   ones at the curve parameter found by bisection, so every skeleton point lies on its true
+   curve (its coordinate along the cut axis is set to the cut's, exactly).
+5. Each cut is broken at its crossings and at the ends of the cuts that meet it (T-junctions);
+   the pieces inside the domain are discretised by the boundary's own 1-D placer
+   (:func:`meshwright.geometry._discretize.place_params`) and become *interface* segments with
+   global ids, oriented with the part on their left.
+
+Layout of the result (:class:`Decomposition`): skeleton points ``(n, 2)`` float64 and their
+markers; skeleton segments ``(m, 2)`` int64 with ``kind`` (0 loop, 1 interior constraint, 2
+interface), ``left``/``right`` parts (-1 where none), markers, curve ids (-1 for interfaces)
+and curve parameters; cells ``(p, 4)`` float64 ``(x0, y0, x1, y1)``, predicted triangles per
+part, cuts ``(c, 5)`` ``(axis, coordinate, lo, hi, smallest crossing angle)``.
+
+Invariants: every skeleton segment lies in exactly one part (kind 0, 1) or on the common edge of
+two parts (kind 2); segments of kind 0 and 2 run with their ``left`` part on their left; no two
+skeleton points coincide.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from meshwright.core.errors import InputError, MeshingError
+from meshwright.geometry._discretize import place_params
+from meshwright.geometry._kernels import INSIDE, classify_points
+from meshwright.geometry.curves import Line, Polyline
+from meshwright.sizing.field import SizeField
+
+__all__ = ["KAPPA", "MIN_CUT_ANGLE", "Decomposition", "PartPSLG", "decompose_domain", "part_pslg"]
+
+KAPPA = 1.60  # triangles over the equilateral count of integral(1/h^2), Delaunay refinement at 30 degrees
+MIN_CUT_ANGLE = 60.0  # degrees: Ruppert's input condition (and MADD's Phi_0)
+VERTEX_CLEARANCES = (0.25, 0.1)  # in units of h: how near a cut may pass a boundary vertex (preferred, accepted)
+TANGENT_CLEARANCE = 1.0  # in units of h: vertices of chords the cut does not cross
+JUNCTION_CLEARANCE = 1.0  # in units of h: how near a cut may pass the end of another (unless it meets it)
+BALANCE_WINDOWS = (0.03, 0.06, 0.1)  # fractions of a cell's cost a cut may move to find a good position
+INTERFACE_SPACING = 0.75  # of h: interfaces a little finer than h rarely need splits (measured)
+INTERFACE_GROWTH = 0.5  # how fast the interface spacing grows away from a boundary crossing
+_CANDIDATES = 81
+_BISECTIONS = 80
+_EQUILATERAL = 4.0 / math.sqrt(3.0)
+
+KIND_LOOP, KIND_CONSTRAINT, KIND_INTERFACE = 0, 1, 2
+
+
+class Decomposition(NamedTuple):
+    """A domain cut into parts, with its skeleton (see the module docstring for the layout).
+
+    Attributes
+    ----------
+    points : (n, 2) float64
+        Skeleton points: boundary vertices, cut crossings, interface vertices, interior points.
+    point_markers : (n,) int32
+        Largest boundary marker of the loop/constraint segments at each point (0 elsewhere).
+    segments : (m, 2) int64
+        Skeleton segments as point ids.
+    kind : (m,) int8
+        0 loop, 1 interior constraint, 2 interface.
+    left, right : (m,) int32
+        Part on the left (the one holding kind 0 and 1 segments), part on the right (kind 2), or -1.
+    markers : (m,) int32
+        Boundary markers (0 on interfaces).
+    curve : (m,) int32
+        ``Domain.curves`` index, -1 on interfaces.
+    params : (m, 2) float64
+        Curve parameters of the ends (0, 1 on interfaces).
+    interior : (q,) int64
+        Skeleton ids of the domain's interior points.
+    interior_part : (q,) int32
+    cells : (p, 4) float64
+        ``(x0, y0, x1, y1)`` of each part's cell.
+    predicted : (p,) float64
+        Predicted triangles per part.
+    cuts : (c, 5) float64
+        ``(axis, coordinate, lo, hi, smallest crossing angle in degrees)`` (180 without crossings).
+    """
+
+    points: np.ndarray
+    point_markers: np.ndarray
+    segments: np.ndarray
+    kind: np.ndarray
+    left: np.ndarray
+    right: np.ndarray
+    markers: np.ndarray
+    curve: np.ndarray
+    params: np.ndarray
+    interior: np.ndarray
+    interior_part: np.ndarray
+    cells: np.ndarray
+    predicted: np.ndarray
+    cuts: np.ndarray
+
+    @property
+    def n_parts(self) -> int:
+        return len(self.cells)
+
+    @property
+    def min_cut_angle(self) -> float:
+        """Smallest angle between a cut and a boundary chord it crosses (degrees)."""
+        return float(self.cuts[:, 4].min()) if len(self.cuts) else 180.0
+
+    @property
+    def imbalance(self) -> float:
+        """Largest predicted part cost over the mean."""
+        return float(self.predicted.max() / self.predicted.mean())
+
+
+class PartPSLG(NamedTuple):
+    """What one part meshes: a planar straight-line graph over skeleton points.
+
+    Attributes
+    ----------
+    index : int
+    gids : (k,) int64
+        Skeleton id of each local point.
+    points : (k, 2) float64
+    segments : (s, 2) int32
+        Local point ids, oriented with the part on the left (loops, interfaces).
+    sides : (s,) int8
+        +1 (domain on the left), 0 for interior constraints.
+    markers : (s,) int32
+    curve : (s,) int32
+        ``Domain.curves`` index; interfaces point past the domain's curves (a straight dummy).
+    params : (s, 2) float64
+    skeleton_segment : (s,) int64
+        Skeleton segment id of each segment.
+    interface : (s,) bool
+    """
+
+    index: int
+    gids: np.ndarray
+    points: np.ndarray
+    segments: np.ndarray
+    sides: np.ndarray
+    markers: np.ndarray
+    curve: np.ndarray
+    params: np.ndarray
+    skeleton_segment: np.ndarray
+    interface: np.ndarray
+
+
+def _sample_grid(dom_segments, bbox, field, n_samples: int):
+    """Centres of a uniform grid over ``bbox`` inside the domain and their cost weights."""
+    x0, y0, x1, y1 = bbox
+    w, h = x1 - x0, y1 - y0
+    step = math.sqrt(w * h / n_samples)
+    nx, ny = max(8, math.ceil(w / step)), max(8, math.ceil(h / step))
+    xs = x0 + (np.arange(nx) + 0.5) * (w / nx)
+    ys = y0 + (np.arange(ny) + 0.5) * (h / ny)
+    xy = np.ascontiguousarray(np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2))
+    inside = classify_points(xy, *dom_segments) == INSIDE
+    xy = xy[inside]
+    hv = field(xy)
+    return xy, (w / nx) * (h / ny) / (hv * hv)
+
+
+def _crossing(curves, pts, seg, curve, params, s: int, axis: int, c: float):
+    """The point where skeleton segment ``s`` crosses the line ``xy[axis] == c`` and its curve parameter."""
+    a, b = pts[seg[s, 0]], pts[seg[s, 1]]
+    ta, tb = params[s]
+    cv = curves[curve[s]]
+    f = (c - a[axis]) / (b[axis] - a[axis])
+    if isinstance(cv, (Line, Polyline)):
+        p = a + f * (b - a)
+        t = ta + f * (tb - ta)
+    else:
+        # Bisection on the curve parameter: the chord's ends straddle the line, so does the curve.
+        lo, hi = ta, tb
+        slo = a[axis] - c
+        for _ in range(_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            v = float(cv.evaluate(np.array([mid]))[0, axis]) - c
+            if v == 0.0:
+                lo = hi = mid
+                break
+            if (v < 0.0) == (slo < 0.0):
+                lo, slo = mid, v
+            else:
+                hi = mid
+        t = 0.5 * (lo + hi)
+        p = cv.evaluate(np.array([t]))[0]
+    p = np.array(p, dtype=np.float64)
+    p[axis] = c
+    return p, t
+
+
+def _score(pts, seg, segs_in, verts, vh, clearance, exy, eh, axis: int, c: float) -> tuple[float, float]:
+    """``(score, smallest angle)`` of the cut ``xy[axis] == c``: score >= 1 is admissible.
+
+    ``verts`` (k,) are the skeleton points the cut must keep clear of (boundary vertices,
+    interior points), ``vh`` (k,) the size there: the ends of the chords it crosses by
+    ``clearance * vh``, any other by :data:`TANGENT_CLEARANCE` ``* vh``, so that a cut never
+    runs along a curve it does not cross (a thin sliver of domain between them).  ``exy`` (e, 2) are the ends of earlier
+    cuts on the cell's edges, which the cut either meets exactly (a cross junction) or passes
+    at :data:`JUNCTION_CLEARANCE` ``h`` (``eh`` (e,)) at least, so that no interface piece
+    between two junctions is short."""
+    a, b = pts[seg[segs_in, 0], axis], pts[seg[segs_in, 1], axis]
+    crossed = np.unique(seg[segs_in[(a - c) * (b - c) < 0.0]].ravel())
+    if len(verts):
+        factor = np.where(np.isin(verts, crossed), clearance, TANGENT_CLEARANCE)
+        clear = float(np.min(np.abs(pts[verts, axis] - c) / (factor * vh)))
+    else:
+        clear = np.inf
+    if len(exy):
+        d = np.abs(exy[:, axis] - c)
+        clear = min(clear, float(np.min(np.where(d == 0.0, np.inf, d / (JUNCTION_CLEARANCE * eh)))))
+    angle = 180.0
+    if len(segs_in):
+        a, b = pts[seg[segs_in, 0]], pts[seg[segs_in, 1]]
+        cross = (a[:, axis] - c) * (b[:, axis] - c) < 0.0
+        if cross.any():
+            d = b[cross] - a[cross]
+            along = np.abs(d[:, 1 - axis]) / np.hypot(d[:, 0], d[:, 1])
+            angle = float(np.degrees(np.arccos(np.clip(along, 0.0, 1.0))).min())
+    return min(clear, angle / MIN_CUT_ANGLE), angle
+
+
+class _Skeleton:
+    """Growing skeleton arrays during the bisection (client side, O(boundary))."""
+
+    def __init__(self, disc, dom):
+        self.pts = disc.points.copy()
+        self.seg = disc.segments.astype(np.int64)
+        self.markers = disc.segment_markers.astype(np.int32)
+        self.curve = disc.segment_curve.astype(np.int32)
+        self.params = disc.segment_params.copy()
+        self.kind = np.where(dom.curve_loop[self.curve] >= 0, KIND_LOOP, KIND_CONSTRAINT).astype(np.int8)
+
+    def split(self, curves, segs, axis: int, c: float) -> tuple[np.ndarray, np.ndarray]:
+        """Split segments ``segs`` at the line; returns the new point ids and the new segment ids."""
+        new_p, new_s = [], []
+        for s in segs.tolist():
+            p, t = _crossing(curves, self.pts, self.seg, self.curve, self.params, s, axis, c)
+            pid = len(self.pts)
+            self.pts = np.vstack([self.pts, p[None]])
+            b = int(self.seg[s, 1])
+            tb = self.params[s, 1]
+            self.seg[s, 1] = pid
+            self.params[s, 1] = t
+            sid = len(self.seg)
+            self.seg = np.vstack([self.seg, [[pid, b]]])
+            self.params = np.vstack([self.params, [[t, tb]]])
+            self.markers = np.append(self.markers, self.markers[s])
+            self.curve = np.append(self.curve, self.curve[s])
+            self.kind = np.append(self.kind, self.kind[s])
+            new_p.append(pid)
+            new_s.append(sid)
+        return np.array(new_p, dtype=np.int64), np.array(new_s, dtype=np.int64)
+
+
+def _choose_cut(sk, cell, samples, weights, segs_in, verts, vh, exy, eh, frac):
+    """Best cut of a cell: ``(axis, c, angle)`` (see the module docstring, step 3)."""
+    x0, y0, x1, y1 = cell
+    axes = (0, 1) if (x1 - x0) >= (y1 - y0) else (1, 0)
+    total = weights.sum()
+    best = None
+    sorted_axes = []
+    for axis in axes:
+        # Cumulative cost at each distinct sample coordinate, interpolated in between, so
+        # that candidates are not tied to the sample grid (gaps between boundary vertices
+        # are finer than it where h is small).
+        coord, inv = np.unique(samples[:, axis], return_inverse=True)
+        cum = np.cumsum(np.bincount(inv.ravel(), weights, minlength=len(coord)))
+        sorted_axes.append((axis, coord, cum))
+    for clearance, window in [(q, w) for w in BALANCE_WINDOWS for q in VERTEX_CLEARANCES]:
+        for axis, coord, cum in sorted_axes:
+            lo_cell, hi_cell = cell[axis], cell[axis + 2]
+            targets = frac * total + np.linspace(-window, window, _CANDIDATES) * total
+            # Nearest the balance first.
+            targets = targets[np.argsort(np.abs(targets - frac * total), kind="stable")]
+            cs = np.interp(targets, cum, coord) if len(coord) > 1 else np.full(len(targets), 0.5 * (lo_cell + hi_cell))
+            if len(exy) and len(coord) > 1:
+                # Cross junctions first: the coordinates of earlier cut ends within the window.
+                at = np.unique(exy[:, axis])
+                cost = np.abs(np.interp(at, coord, cum) - frac * total)
+                at = at[cost <= window * total]
+                cs = np.concatenate([at[np.argsort(cost[cost <= window * total], kind="stable")], cs])
+            for c in cs.tolist():
+                if not (lo_cell < c < hi_cell):
+                    continue
+                score, angle = _score(sk.pts, sk.seg, segs_in, verts, vh, clearance, exy, eh, axis, c)
+                if score >= 1.0:
+                    return axis, c, angle
+                if best is None or score > best[0]:
+                    best = (score, axis, c, angle)
+    if best is None or best[0] <= 0.0:
+        raise MeshingError(
+            f"cannot place a cut in the cell ({cell[0]:.6g}, {cell[1]:.6g}) - ({cell[2]:.6g}, {cell[3]:.6g}): "
+            "every candidate passes through a boundary vertex; use fewer parts"
+        )
+    return best[1], best[2], best[3]
+
+
+def decompose_domain(dom, field, parts: int, samples_per_part: int = 4096) -> Decomposition:
+    """Cut ``dom`` into ``parts`` parts for the size field ``field`` (module docstring).
+
+    Parameters
+    ----------
+    dom : Domain
+        Without region seeds (checked by the caller).
+    field : SizeField
+    parts : int
+        At least 1.
+    samples_per_part : int
+        Cost samples per part (at least 65,536 in all, at most 4,194,304).
+
+    Returns
+    -------
+    Decomposition
+
+    Raises
+    ------
+    MeshingError
+        No cut position avoids the boundary vertices of a cell.
+    """
+    disc = dom.discretize(field)
+    curves = dom.curves
+    sk = _Skeleton(disc, dom)
+    loops = np.flatnonzero(sk.kind == KIND_LOOP)
+    dom_segments = (sk.pts[sk.seg[loops, 0]], sk.pts[sk.seg[loops, 1]])
+    bx0, by0, bx1, by1 = dom.bbox
+    pad = 0.01 * max(bx1 - bx0, by1 - by0)
+    root = (bx0 - pad, by0 - pad, bx1 + pad, by1 + pad)
+    n_samples = int(np.clip(parts * samples_per_part, 65_536, 4_194_304))
+    samples, weights = _sample_grid(dom_segments, dom.bbox, field, n_samples)
+    n_interior = len(dom.points)
+    interior = np.arange(len(disc.points) - n_interior, len(disc.points), dtype=np.int64)
+
+    cells = np.zeros((parts, 4))
+    cost = np.zeros(parts)
+    seg_part = np.full(len(sk.seg), -1, dtype=np.int64)
+    interior_part = np.zeros(n_interior, dtype=np.int32)
+    cuts, tree, ends = [], [], []  # tree rows: (axis, c, node_lo_child, node_hi_child); leaves are -1 - part
+    stack = [(root, parts, 0, np.arange(len(samples)), np.arange(len(sk.seg)), np.arange(n_interior), -1, 0)]
+    while stack:
+        cell, k, first, smp, segs_in, ints_in, parent, side = stack.pop()
+        if k == 1:
+            cells[first] = cell
+            cost[first] = weights[smp].sum()
+            seg_part[segs_in] = first
+            interior_part[ints_in] = first
+            node = -1 - first
+        else:
+            verts = np.unique(np.concatenate([sk.seg[segs_in].ravel(), interior[ints_in]]))
+            vh = field(sk.pts[verts]) if len(verts) else np.zeros(0)
+            exy = np.array(ends, dtype=np.float64).reshape(-1, 2)
+            # Ends of cuts in cells already done that lie on this cell's edges, inside the domain.
+            on = (exy[:, 0] >= cell[0]) & (exy[:, 0] <= cell[2]) & (exy[:, 1] >= cell[1]) & (exy[:, 1] <= cell[3])
+            exy = exy[on]
+            if len(exy):
+                exy = exy[classify_points(np.ascontiguousarray(exy), *dom_segments) == INSIDE]
+            eh = field(exy) if len(exy) else np.zeros(0)
+            kl = k // 2
+            axis, c, angle = _choose_cut(sk, cell, samples[smp], weights[smp], segs_in, verts, vh, exy, eh, kl / k)
+            a, b = sk.pts[sk.seg[segs_in, 0], axis], sk.pts[sk.seg[segs_in, 1], axis]
+            crossing = segs_in[(a - c) * (b - c) < 0.0]
+            _, new_s = sk.split(curves, crossing, axis, c)
+            segs_in = np.concatenate([segs_in, new_s])
+            seg_part = np.append(seg_part, np.full(len(new_s), -1))
+            mid = 0.5 * (sk.pts[sk.seg[segs_in, 0], axis] + sk.pts[sk.seg[segs_in, 1], axis])
+            lo_cell = list(cell)
+            hi_cell = list(cell)
+            lo_cell[axis + 2] = c
+            hi_cell[axis] = c
+            node = len(tree)
+            tree.append([axis, c, 0, 0])
+            cuts.append((axis, c, cell[1 - axis], cell[3 - axis], angle))
+            for end in (cell[1 - axis], cell[3 - axis]):
+                xy = [0.0, 0.0]
+                xy[axis], xy[1 - axis] = c, end
+                ends.append(xy)
+            below = samples[smp, axis] < c
+            ib = sk.pts[interior[ints_in], axis] < c
+            stack.append((tuple(hi_cell), k - kl, first + kl, smp[~below], segs_in[mid > c], ints_in[~ib], node, 1))
+            stack.append((tuple(lo_cell), kl, first, smp[below], segs_in[mid < c], ints_in[ib], node, 0))
+        if parent >= 0:
+            tree[parent][2 + side] = node
+    tree = np.array(tree, dtype=np.float64).reshape(-1, 4)
+    cuts = np.array(cuts, dtype=np.float64).reshape(-1, 5)
+    if len(sk.seg) and (seg_part < 0).any():
+        s = int(np.flatnonzero(seg_part < 0)[0])
+        raise MeshingError(f"skeleton segment {s} fell in no part (a cut along it)")
+    return _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, interior_part, dom_segments)
+
+
+def _piece_size(field, pa, pb, end_size) -> SizeField:
+    """Spacing along the cut piece ``pa -> pb``: :data:`INTERFACE_SPACING` ``h``, graded down
+    (by :data:`INTERFACE_GROWTH` per unit length) to the shorter boundary chord at an end
+    that crosses the boundary.  Refinement splits an interface whose end segment is much
+    longer than the boundary chord beside it (the corner's triangle is bad), so matching them
+    keeps parts from requesting splits in the common case."""
+    ends = [(p, end_size(p)) for p in (pa, pb)]
+    ends = [(p, s) for p, s in ends if np.isfinite(s)]
+
+    def h(xy):
+        out = INTERFACE_SPACING * field(xy)
+        for p, s in ends:
+            out = np.minimum(out, s + INTERFACE_GROWTH * np.hypot(xy[:, 0] - p[0], xy[:, 1] - p[1]))
+        return out
+
+    return SizeField(h, name="interface spacing")
+
+
+def _leaf(tree: np.ndarray, xy: np.ndarray, on_cut: int, side: int) -> int:
+    """Part holding point ``xy``; at node ``on_cut`` (whose line holds ``xy``) go to ``side``."""
+    if len(tree) == 0:
+        return 0
+    node = 0
+    while node >= 0:
+        axis, c, lo, hi = tree[node]
+        if node == on_cut:
+            up = side == 1
+        else:
+            up = xy[int(axis)] > c
+        node = int(hi if up else lo)
+    return -1 - node
+
+
+def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, interior_part, dom_segments):
+    """Break the cuts at crossings and junctions and discretise their inside pieces (step 5)."""
+    n_b = len(sk.seg)
+    key = {}
+    pts = [sk.pts]
+    n_pts = len(sk.pts)
+    for pid in np.unique(sk.seg.ravel()).tolist():
+        key[(float(sk.pts[pid, 0]), float(sk.pts[pid, 1]))] = pid
+
+    def point_id(p) -> int:
+        nonlocal n_pts
+        k = (float(p[0]), float(p[1]))
+        if k not in key:
+            key[k] = n_pts
+            pts.append(np.array([p], dtype=np.float64))
+            n_pts += 1
+        return key[k]
+
+    # Spacing at a crossing: the shorter boundary chord there (see _piece_size).
+    length = np.hypot(*(sk.pts[sk.seg[:, 1]] - sk.pts[sk.seg[:, 0]]).T)
+    chord = np.full(len(sk.pts), np.inf)
+    np.minimum.at(chord, sk.seg[:, 0], length)
+    np.minimum.at(chord, sk.seg[:, 1], length)
+
+    def end_size(p) -> float:
+        pid = key.get((float(p[0]), float(p[1])))
+        return float(chord[pid]) if pid is not None and pid < len(chord) else np.inf
+
+    iseg, ileft, iright = [], [], []
+    for ci, (axis, c, lo, hi, _) in enumerate(cuts):
+        axis = int(axis)
+        on = np.zeros(2)
+        on[axis] = c
+        breaks = [lo, hi]
+        # Crossings: skeleton points on this line within the cut's range.
+        hits = np.flatnonzero((sk.pts[:, axis] == c) & (sk.pts[:, 1 - axis] > lo) & (sk.pts[:, 1 - axis] < hi))
+        breaks += sk.pts[hits, 1 - axis].tolist()
+        # Junctions: perpendicular cuts ending on this one.
+        for axis2, c2, lo2, hi2, _ in cuts:
+            if int(axis2) != axis and lo < c2 < hi and (lo2 == c or hi2 == c):
+                breaks.append(c2)
+        breaks = np.unique(np.array(breaks))
+        for u, v in itertools.pairwise(breaks):
+            pa, pb = on.copy(), on.copy()
+            pa[1 - axis], pb[1 - axis] = u, v
+            mid = 0.5 * (pa + pb)
+            if classify_points(mid[None], *dom_segments)[0] != INSIDE:
+                continue
+            t = place_params([Line(pa, pb)], _piece_size(field, pa, pb, end_size), np.ones(1, dtype=np.int64))[0]
+            xy = Line(pa, pb).evaluate(t)
+            xy[:, axis] = c
+            xy[0], xy[-1] = pa, pb
+            ids = [point_id(p) for p in xy]
+            lower = _leaf(tree, mid, ci, 0)
+            upper = _leaf(tree, mid, ci, 1)
+            # Oriented with the upper part on the left: down a vertical cut, along a horizontal one.
+            for i0, i1 in itertools.pairwise(ids):
+                iseg.append((i1, i0) if axis == 0 else (i0, i1))
+                ileft.append(upper)
+                iright.append(lower)
+    points = np.concatenate(pts) if len(pts) > 1 else sk.pts
+    m_i = len(iseg)
+    segments = np.concatenate([sk.seg, np.array(iseg, dtype=np.int64).reshape(-1, 2)])
+    kind = np.concatenate([sk.kind, np.full(m_i, KIND_INTERFACE, dtype=np.int8)])
+    markers = np.concatenate([sk.markers, np.zeros(m_i, dtype=np.int32)])
+    pmark = np.zeros(len(points), dtype=np.int32)
+    np.maximum.at(pmark, sk.seg[:, 0], sk.markers)
+    np.maximum.at(pmark, sk.seg[:, 1], sk.markers)
+    area_h = cost * KAPPA * _EQUILATERAL
+    return Decomposition(
+        points=np.ascontiguousarray(points),
+        point_markers=pmark,
+        segments=segments,
+        kind=kind,
+        left=np.concatenate([seg_part, ileft]).astype(np.int32),
+        right=np.concatenate([np.full(n_b, -1), iright]).astype(np.int32),
+        markers=markers,
+        curve=np.concatenate([sk.curve, np.full(m_i, -1, dtype=np.int32)]),
+        params=np.concatenate([sk.params, np.tile([0.0, 1.0], (m_i, 1))]),
+        interior=interior,
+        interior_part=interior_part,
+        cells=cells,
+        predicted=area_h,
+        cuts=cuts,
+    )
+
+
+def part_pslg(dec: Decomposition, i: int, n_curves: int) -> PartPSLG:
+    """The planar straight-line graph of part ``i``: its segments oriented with it on the left.
+
+    Parameters
+    ----------
+    dec : Decomposition
+    i : int
+    n_curves : int
+        ``len(Domain.curves)``: interface segments get curve id ``n_curves`` (a straight dummy).
+
+    Returns
+    -------
+    PartPSLG
+
+    Raises
+    ------
+    InputError
+        ``i`` outside ``[0, parts)``.
+    """
+    if not (0 <= i < dec.n_parts):
+        raise InputError(f"part {i} outside [0, {dec.n_parts})")
+    own = np.flatnonzero(dec.left == i)
+    theirs = np.flatnonzero(dec.right == i)
+    sid = np.concatenate([own, theirs])
+    seg = np.concatenate([dec.segments[own], dec.segments[theirs][:, ::-1]])
+    ints = dec.interior[dec.interior_part == i]
+    gids, local = np.unique(np.concatenate([seg.ravel(), ints]), return_inverse=True)
+    kind = dec.kind[sid]
+    iface = kind == KIND_INTERFACE
+    return PartPSLG(
+        index=int(i),
+        gids=gids.astype(np.int64),
+        points=np.ascontiguousarray(dec.points[gids]),
+        segments=local[: 2 * len(sid)].reshape(-1, 2).astype(np.int32),
+        sides=np.where(kind == KIND_CONSTRAINT, 0, 1).astype(np.int8),
+        markers=dec.markers[sid],
+        curve=np.where(iface, n_curves, dec.curve[sid]).astype(np.int32),
+        params=np.where(iface[:, None], np.array([0.0, 1.0]), dec.params[sid]),
+        skeleton_segment=sid.astype(np.int64),
+        interface=iface,
+    )

@@ -1,0 +1,261 @@
+"""meshwright.distributed (issue 15) on local Dask clusters of 1 and 2 worker processes.
+
+Oracles share no code with the package: exact rational areas and orientations
+(fractions.Fraction), edge counts by plain dictionaries, markers by the coordinates of the
+rectangle's sides, meshio reading the XDMF file, and file bytes compared across runs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections import Counter
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("dask")
+pytest.importorskip("distributed")
+pytest.importorskip("h5py")
+
+from meshwright.core.errors import GeometryError, InputError, MeshingError, SizeError
+from meshwright.distributed import (
+    decompose,
+    local_cluster,
+    simulate_scaling,
+    triangulate,
+    warm,
+)
+from meshwright.geometry import Domain
+from meshwright.geometry.curves import Arc
+from meshwright.geometry.shapes import polygon
+from meshwright.sizing.boundary import gradation
+
+RECT = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]]
+SIDE_MARKERS = [1, 2, 3, 4]  # bottom, right, top, left
+
+
+def _rect():
+    return polygon(RECT, markers=[SIDE_MARKERS])
+
+
+def _disk_with_hole():
+    return Domain(Arc((0.0, 0.0), 1.0, 0.0, 2 * math.pi), [Arc((0.4, 0.1), 0.15, 0.0, 2 * math.pi)])
+
+
+# Fine at the hole, coarse far away (0.015 + 0.06 |x - (0.4, 0.1)|): the size varies strongly
+# across the cuts.  A library field, so that worker processes can unpickle it.
+_graded = gradation([[0.4, 0.1]], 0.015, growth=1.06)
+
+
+@pytest.fixture(scope="module")
+def clients():
+    out = {}
+    try:
+        for n in (1, 2):
+            c = local_cluster(n, memory_limit="2GiB")
+            warm(c)
+            out[n] = c
+        yield out
+    finally:
+        for c in out.values():
+            c.close()
+
+
+def _digest(files) -> dict:
+    return {Path(f).name: hashlib.sha256(Path(f).read_bytes()).hexdigest() for f in files}
+
+
+def _check_mesh(mesh, holes: int):
+    """Topology and geometry checks with exact arithmetic; returns the exact area."""
+    pts, tris = mesh.points, mesh.cells["triangle"]
+    assert len(np.unique(pts, axis=0)) == len(pts), "duplicate nodes"
+    edges = Counter()
+    area = Fraction(0)
+    for a, b, c in tris.tolist():
+        (ax, ay), (bx, by), (cx, cy) = (tuple(map(Fraction, pts[i])) for i in (a, b, c))
+        cross = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+        assert cross > 0, f"triangle {a, b, c} not counter-clockwise"
+        area += cross / 2
+        for u, v in ((a, b), (b, c), (c, a)):
+            edges[(min(u, v), max(u, v))] += 1
+    assert max(edges.values()) == 2, "an edge in more than two triangles"
+    boundary = {e for e, n in edges.items() if n == 1}
+    lines = {(min(u, v), max(u, v)) for u, v in mesh.cells["line"].tolist()}
+    assert boundary == lines, "boundary edges differ from the line cells"
+    used = np.unique(tris)
+    assert len(used) == len(pts)
+    assert len(pts) - len(edges) + len(tris) == 1 - holes, "Euler characteristic"
+    return area
+
+
+def _min_angle_deg(pts, tris) -> float:
+    p = pts[tris]
+    out = 180.0
+    for k in range(3):
+        u = p[:, (k + 1) % 3] - p[:, k]
+        v = p[:, (k + 2) % 3] - p[:, k]
+        cos = (u * v).sum(1) / (np.hypot(*u.T) * np.hypot(*v.T))
+        out = min(out, float(np.degrees(np.arccos(np.clip(cos, -1, 1))).min()))
+    return out
+
+
+def test_rectangle_on_two_workers_is_a_valid_mesh(clients, tmp_path):
+    dm = triangulate(_rect(), 0.08, client=clients[2], parts=4, out=tmp_path / "r.xdmf")
+    mesh = dm.to_mesh()
+    assert mesh.n_points == dm.n_points and len(mesh.cells["triangle"]) == dm.n_cells
+    assert _check_mesh(mesh, holes=0) == 2
+    assert _min_angle_deg(mesh.points, mesh.cells["triangle"]) >= 30.0 - 1e-9
+    # Markers as the sides they lie on (the serial mesher's segment markers).
+    mid = mesh.points[mesh.cells["line"]].mean(axis=1)
+    side = np.select([mid[:, 1] == 0, mid[:, 0] == 2, mid[:, 1] == 1, mid[:, 0] == 0], SIDE_MARKERS, -1)
+    assert (side > 0).all(), "a line cell off the boundary"
+    assert (mesh.cell_data["marker"]["line"] == side).all()
+    # Boundary-node markers follow their lines, interior nodes have none.
+    on = np.zeros(len(mesh.points), dtype=bool)
+    on[mesh.cells["line"].ravel()] = True
+    assert (mesh.point_data["marker"][~on] == 0).all() and (mesh.point_data["marker"][on] > 0).all()
+    s = dm.stats
+    assert s["parts"] == 4 and s["workers"] == 2 and len(s["triangles"]) == 4
+    assert sum(s["triangles"]) == dm.n_cells
+
+
+def test_meshio_reads_the_xdmf_back(clients, tmp_path):
+    meshio = pytest.importorskip("meshio")
+    dm = triangulate(_rect(), 0.1, client=clients[2], parts=3, out=tmp_path / "m.xdmf")
+    m = meshio.read(dm.path)
+    ours = dm.to_mesh()
+    assert np.array_equal(m.points[:, :2], ours.points)
+    assert np.array_equal(m.cells_dict["triangle"], ours.cells["triangle"])
+    assert np.array_equal(m.point_data["marker"], ours.point_data["marker"])
+
+
+def test_bytes_identical_across_worker_counts_and_reruns(clients, tmp_path):
+    digests = []
+    for n, run in ((1, "a"), (2, "b"), (2, "c")):
+        d = tmp_path / run
+        d.mkdir()
+        dm = triangulate(_rect(), 0.07, client=clients[n], parts=5, seed=3, out=d / "mesh.xdmf")
+        digests.append(_digest(dm.files))
+    assert all(dg == digests[0] for dg in digests[1:])
+    assert len(digests[0]) == 2 + 5
+
+
+def _bands():
+    # Fine (0.005) along x = 0.97 and x = 1.03, growing by 2 per unit length: the size varies
+    # fast along any cut near the middle, which refinement then needs split.
+    y = np.linspace(0.0, 1.0, 101)
+    src = np.concatenate([np.column_stack([np.full_like(y, x), y]) for x in (0.97, 1.03)])
+    return gradation(src, 0.005, growth=3.0, hmax=0.1)
+
+
+def test_graded_size_across_a_cut_forces_exchange_rounds(clients, tmp_path):
+    dm = triangulate(_rect(), _bands(), client=clients[2], parts=2, out=tmp_path / "g.xdmf")
+    assert dm.stats["rounds"] >= 1 and dm.stats["split_points"] > 0
+    mesh = dm.to_mesh()
+    assert _check_mesh(mesh, holes=0) == 2
+    assert _min_angle_deg(mesh.points, mesh.cells["triangle"]) >= 30.0 - 1e-9
+    # The same run allowed fewer rounds fails with a clear error.
+    with pytest.raises(MeshingError, match="max_rounds"):
+        triangulate(_rect(), _bands(), client=clients[2], parts=2, max_rounds=0, out=tmp_path / "h.xdmf")
+    # Replaying the measured part times: more virtual workers never take longer.
+    times = [simulate_scaling(dm.stats, p) for p in (1, 2, 4)]
+    assert times[0] >= times[1] >= times[2] > 0
+
+
+def test_curved_domain_with_a_hole(clients, tmp_path):
+    dm = triangulate(_disk_with_hole(), _graded, client=clients[2], parts=4, out=tmp_path / "d.xdmf")
+    mesh = dm.to_mesh()
+    area = _check_mesh(mesh, holes=1)
+    # Chords of circles: the polygon's area approaches pi (1 - 0.15^2) from below.
+    assert 0.99 * math.pi * (1 - 0.0225) < float(area) <= math.pi * (1 - 0.0225)
+    assert _min_angle_deg(mesh.points, mesh.cells["triangle"]) >= 30.0 - 1e-9
+    # Every boundary node lies on its circle.
+    b = np.unique(mesh.cells["line"])
+    r_out = np.hypot(*mesh.points[b].T)
+    r_in = np.hypot(mesh.points[b, 0] - 0.4, mesh.points[b, 1] - 0.1)
+    assert np.all(np.isclose(r_out, 1.0, atol=1e-12) | np.isclose(r_in, 0.15, atol=1e-12))
+
+
+def test_to_mesh_refuses_more_cells_than_allowed(clients, tmp_path):
+    dm = triangulate(_rect(), 0.2, client=clients[1], parts=2, out=tmp_path / "s.xdmf")
+    with pytest.raises(MeshingError, match="max_cells = 10"):
+        dm.to_mesh(max_cells=10)
+    with pytest.raises(InputError, match="max_cells"):
+        dm.to_mesh(max_cells=0)
+
+
+def test_part_above_the_memory_limit_is_refused_before_meshing(clients, tmp_path):
+    # About 3e7 triangles in one part: far above 60 % of a 2 GiB worker.
+    with pytest.raises(MeshingError, match=r"part 0 would need about .* memory limit"):
+        triangulate(_rect(), 0.0005, client=clients[1], parts=1, out=tmp_path / "big.xdmf")
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        ({"parts": 0}, InputError, "parts"),
+        ({"parts": "many"}, InputError, "parts"),
+        ({"parts": 2.5}, InputError, "parts"),
+        ({"client": 42}, InputError, "client"),
+        ({"method": "front"}, InputError, "delaunay"),
+        ({"method": "nope"}, InputError, "unknown method"),
+        ({"max_rounds": -1}, InputError, "max_rounds"),
+        ({"seed": -1}, InputError, "seed"),
+        ({"seed": np.random.default_rng(0)}, InputError, "Generator"),
+        ({"format": "vtu"}, InputError, "format"),
+        ({"out": "mesh.vtu"}, InputError, ".xdmf"),
+        ({"out": "/no/such/dir/mesh.xdmf"}, InputError, "does not exist"),
+        ({"min_angle": 40}, InputError, "min_angle"),
+        ({"progress": "yes"}, InputError, "progress"),
+        ({"max_points": 1}, InputError, "max_points"),
+    ],
+)
+def test_door_checks_before_any_work(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        triangulate(_rect(), 0.1, **kwargs)
+
+
+def test_door_refuses_region_seeds_missing_size_and_bad_domains():
+    with pytest.raises(InputError, match="region"):
+        triangulate(polygon(RECT, regions=[(0.5, 0.5, 7, None)]), 0.1)
+    with pytest.raises(SizeError, match="size"):
+        triangulate(_rect(), "boundary")
+    with pytest.raises(SizeError):
+        triangulate(_rect(), -1.0)
+    with pytest.raises(GeometryError):
+        triangulate([[0, 0], [1, 1], [1, 0], [0, 1]], 0.1)
+    with pytest.raises(InputError, match="parts"):
+        decompose(_rect(), 0.1, 0)
+
+
+def test_decomposition_balances_and_keeps_cut_angles():
+    dec = decompose(_disk_with_hole(), _graded, 8)
+    assert dec.n_parts == 8
+    assert dec.imbalance <= 1.10
+    assert dec.min_cut_angle >= 60.0
+    # Interface segments have a part on each side; loop segments one part.
+    iface = dec.kind == 2
+    assert (dec.left[iface] >= 0).all() and (dec.right[iface] >= 0).all()
+    assert (dec.left[iface] != dec.right[iface]).all()
+    assert (dec.right[~iface] == -1).all() and (dec.left[~iface] >= 0).all()
+    assert len(np.unique(dec.points, axis=0)) == len(dec.points)
+
+
+@pytest.mark.parametrize(
+    "extra, match",
+    [
+        (["--workers", "0", "-o", "x.xdmf"], "--workers must be >= 1"),
+        (["--workers", "1", "-o", "x.vtu"], "-o OUT.xdmf"),
+        (["--workers", "1", "--scheduler", "tcp://127.0.0.1:1", "-o", "x.xdmf"], "mutually exclusive"),
+        (["--workers", "1", "--smooth", "2", "-o", "x.xdmf"], "--smooth"),
+    ],
+)
+def test_cli_refuses_distributed_mistakes_in_one_line(extra, match, capsys):
+    from meshwright.cli import main
+
+    assert main(["mesh", "circle", "--size", "0.1", *extra]) == 2
+    err = capsys.readouterr().err
+    assert match in err and "Traceback" not in err and err.count("\n") == 1
