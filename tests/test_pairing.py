@@ -483,3 +483,28 @@ def test_interior_segment_and_point_are_kept():
     on_seg = np.all(np.abs(xy[lines][:, :, 1] - 0.5) < 1e-12, axis=1)
     assert on_seg.sum() >= 10
     assert all(_strictly_convex(xy, q) for q in mesh.cells["quad"])
+
+
+def test_sliding_smoother_keeps_quads_convex_on_the_curve_and_the_minimum():
+    """The enhancement's smoother (quad.smoothing.smooth_sliding) on an unsmoothed paired
+    disk: connectivity kept, every quad still strictly convex (exact cross products),
+    sliding nodes still on the circle, the fixed ones where they were, the smallest scaled
+    Jacobian not lower, and something moved."""
+    from meshwright.quad.smoothing import smooth_sliding
+
+    fill, _ = pair_domain(circle(), as_size_field(0.1), smooth=0)
+    xy, quads, lines = fill.points, fill.quads, fill.lines
+    fixed = np.zeros(len(xy), dtype=bool)
+    fixed[lines[0, 0]] = True
+    def onto_circle(nodes, p):
+        return p / np.hypot(*p.T)[:, None]
+
+    moved = smooth_sliding(xy, quads, np.zeros((0, 3), np.int32), lines, fixed, onto_circle, 5)
+    assert all(_strictly_convex(moved, q) for q in quads)
+    on = np.unique(lines)
+    np.testing.assert_allclose(np.hypot(*moved[on].T), 1.0, atol=1e-12)
+    assert np.array_equal(moved[fixed], xy[fixed])
+    assert _min_scaled_jacobian(moved, quads) >= _min_scaled_jacobian(xy, quads)
+    inner = np.setdiff1d(np.arange(len(xy)), on)
+    assert np.abs(moved[inner] - xy[inner]).max() > 1e-3
+    assert np.abs(moved[on] - xy[on]).max() > 1e-4

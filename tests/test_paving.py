@@ -161,16 +161,17 @@ def test_holes_grow_rows_with_wedges_and_meeting_fronts_are_joined():
     assert rep.voids == 0 and rep.filled == 0 and not rep.split
 
 
-def test_naca_angles_as_measured():
-    """Issue 12 asks [45, 150] degrees on the NACA 0012 far field too; measured here:
-    about [43, 137], 99.8 % of the quads inside [45, 150] (the few below 45 degrees lie
-    where the pairing fill of the void between the airfoil's rows and the far field's
-    meets the rows).  This pins what is reached."""
-    mesh = quadrangulate("naca0012", method="paving")
+@pytest.mark.parametrize("name", ["naca0012", "three-element"])
+def test_airfoil_angles_reach_the_issue_target(name):
+    """Issue 12's [45, 150] degrees on the airfoils at their own size (neither has a
+    boundary corner sharper than 90 degrees, so no quad is exempt).  Before the void fill
+    took the spacing of the stopped rows, the three-element airfoil had quads down to 24
+    degrees: the void's front, at the field's larger size, fanned thin triangles onto the
+    rows' short edges."""
+    mesh = quadrangulate(name, method="paving")
     _check_all_quad(mesh)
     a = _angles(mesh.points, mesh.cells["quad"])
-    assert a.min() > 40.0 and a.max() < 145.0
-    assert np.mean((a.min(axis=1) >= 45.0) & (a.max(axis=1) <= 150.0)) >= 0.995
+    assert a.min() >= 45.0 and a.max() <= 150.0
 
 
 def test_loops_are_made_even_and_an_odd_fixed_loop_is_named():

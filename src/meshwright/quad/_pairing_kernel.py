@@ -49,7 +49,7 @@ def corner_ok(xy, p, c, n):
     return orient2d(xy[p, 0], xy[p, 1], xy[c, 0], xy[c, 1], xy[n, 0], xy[n, 1]) > 0.0
 
 
-@njit(cache=True)
+@njit(inline="always")
 def quad_sj(xy, a, b, c, d):
     """Scaled Jacobian of quad (a, b, c, d): the smallest corner sine, <= 0 when not convex."""
     v = (a, b, c, d)
@@ -70,7 +70,7 @@ def quad_sj(xy, a, b, c, d):
     return worst
 
 
-@njit(cache=True)
+@njit(inline="always")
 def corner_flat(xy, p, c, n):
     """Whether corner c (previous p, next n) of a counter-clockwise polygon is wider than
     150 degrees (sine below :data:`FLAT` on the obtuse side, or reflex)."""
@@ -87,7 +87,7 @@ def corner_flat(xy, p, c, n):
     return sine < 0.0 or (cosine < 0.0 and sine < FLAT)
 
 
-@njit(cache=True)
+@njit(inline="always")
 def quad_ok(xy, a, b, c, d):
     """Whether quad (a, b, c, d) has four distinct nodes and strictly convex corners (exact)."""
     if a == b or a == c or a == d or b == c or b == d or c == d:
@@ -95,7 +95,7 @@ def quad_ok(xy, a, b, c, d):
     return corner_ok(xy, d, a, b) and corner_ok(xy, a, b, c) and corner_ok(xy, b, c, d) and corner_ok(xy, c, d, a)
 
 
-@njit(cache=True)
+@njit(inline="always")
 def pair_quad(tri, nbr, t, k):
     """Quad (a, b, d, c) formed by triangle t and its neighbour across the side opposite vertex k.
 
@@ -114,8 +114,8 @@ def pair_quad(tri, nbr, t, k):
     return a, b, d, c
 
 
-@njit(cache=True)
-def pair_score(xy, tri, nbr, t, k, qmin):
+@njit(inline="always")
+def _pair_score(xy, tri, nbr, t, k, qmin):
     """Scaled Jacobian of the pair (t, side k), or -1 when not allowed: below ``qmin``, not
     strictly convex (allowed with the score 0 when ``qmin < 0``: the chapter's quads with
     a corner of 180 degrees or more, left to enhancement and smoothing), or with a corner
@@ -148,6 +148,12 @@ def pair_score(xy, tri, nbr, t, k, qmin):
 
 
 @njit(cache=True)
+def pair_score(xy, tri, nbr, t, k, qmin):
+    """:func:`_pair_score` for callers outside the kernels (one compiled copy)."""
+    return _pair_score(xy, tri, nbr, t, k, qmin)
+
+
+@njit(cache=True)
 def greedy_pairs(xy, tri, nbr, mate, qmin):
     """Pair triangles in the order the front made them (Zhu's first and second triangle).
 
@@ -167,13 +173,13 @@ def greedy_pairs(xy, tri, nbr, mate, qmin):
             s = nbr[3 * t + k]
             if s < 0 or mate[s] >= 0:
                 continue
-            q = pair_score(xy, tri, nbr, t, k, qmin)
+            q = _pair_score(xy, tri, nbr, t, k, qmin)
             if q < 0.0:
                 continue
             free = 0
             for j in range(3):
                 u = nbr[3 * s + j]
-                if u >= 0 and u != t and mate[u] < 0 and pair_score(xy, tri, nbr, s, j, qmin) >= 0.0:
+                if u >= 0 and u != t and mate[u] < 0 and _pair_score(xy, tri, nbr, s, j, qmin) >= 0.0:
                     free += 1
             if free == 0 and not forced:
                 forced = True
@@ -187,9 +193,9 @@ def greedy_pairs(xy, tri, nbr, mate, qmin):
     return made
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _allowed(xy, tri, nbr, v, k, qmin):
-    return nbr[3 * v + k] >= 0 and pair_score(xy, tri, nbr, v, k, qmin) >= 0.0
+    return nbr[3 * v + k] >= 0 and _pair_score(xy, tri, nbr, v, k, qmin) >= 0.0
 
 
 @njit(cache=True)
@@ -343,7 +349,7 @@ def _local_min(xy, quad, alive, off, idx, v, skip, sub_from, sub_to):
     return worst
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _live_count(alive, off, idx, v):
     count = 0
     for s in range(off[v], off[v + 1]):
@@ -352,7 +358,7 @@ def _live_count(alive, off, idx, v):
     return count
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _star_free(off, idx, lock, v):
     for s in range(off[v], off[v + 1]):
         if lock[idx[s]] != 0:
@@ -360,13 +366,13 @@ def _star_free(off, idx, lock, v):
     return True
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _lock_star(off, idx, lock, v):
     for s in range(off[v], off[v + 1]):
         lock[idx[s]] = 1
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _position(quad, q, v):
     for k in range(4):
         if quad[q, k] == v:
@@ -454,7 +460,7 @@ def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept)
     return done
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _flat_boundary_corner(xy, bnd, a, b, c, d):
     """Whether quad (a, b, c, d) has a corner between two boundary nodes, itself on the
     boundary, wider than 150 degrees (a boundary node left in one quad)."""

@@ -19,7 +19,9 @@ those pieces (and the paving boundaries' geometry: :func:`boundary_loops`,
   ``n_outer + n_hole + 2 k + 2`` nodes: even), after which :func:`close_loop` can close it;
 * :func:`closest_facing`: the pair of paving nodes the paver joins next;
 * :func:`fill_voids`: the region left between stopped paving boundaries, meshed by
-  advancing-front triangles paired into quads (18.5.1, :mod:`meshwright.quad.pairing`);
+  advancing-front triangles paired into quads (18.5.1, :mod:`meshwright.quad.pairing`),
+  the front's spacing never above that of the void's own boundary nodes (chapter 18.3's
+  background), so it grows from a stopped row's short edges instead of fanning onto them;
 * :func:`polish`: the cleanup's max-min pattern search on the worst quads' free nodes
   (kernel :func:`meshwright.quad._paving_kernel.polish_nodes`).
 
@@ -41,6 +43,8 @@ from meshwright.quad import _paving_kernel as pk
 from meshwright.quad.enhancement import enhance, unpair_nonconvex
 from meshwright.quad.pairing import pair_triangles
 from meshwright.quad.smoothing import smooth_cells
+from meshwright.sizing.background import BackgroundGrid
+from meshwright.sizing.field import as_size_field
 
 __all__ = [
     "area_kept",
@@ -404,7 +408,12 @@ def fill_voids(xy, voids, field, seed):
     seg, sides = seg[keep], np.where(slit[keep], 0, 1)
     ct = cdt_build(xy[nodes], seg, seed=seed)
     ct.classify(segment_sides=sides)
-    pts, tris = advancing_front(ct, field)
+    # Rows keep their boundary's spacing while the field may grow away from the walls:
+    # a front at the field's size would fan thin triangles onto a stopped row's short
+    # edges, which no pairing takes.  The spacing of the void's own boundary nodes
+    # (chapter 18.3's background), where smaller, lets the front grow from it instead.
+    bg = BackgroundGrid.from_boundary(ct.points, ct.segments()[0], ct.triangles(False))
+    pts, tris = advancing_front(ct, as_size_field(lambda p: np.minimum(field(p), bg(p))))
     # Back to global ids: the triangulation's own vertices, then the front's new nodes.
     n_ct = ct.n_points
     glob = np.empty(n_ct, dtype=np.int64)

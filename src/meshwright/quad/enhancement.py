@@ -4,8 +4,10 @@ Source: J. Z. Zhu, O. C. Zienkiewicz, E. Hinton and J. Wu, "A new approach to th
 development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32,
 1991: node elimination, element elimination and diagonal swapping (the kernels in
 :mod:`meshwright.quad._pairing_kernel`), followed by the chapter's Laplacian smoothing
-(18.2, :func:`meshwright.tri.smoothing.smooth`) run over the four corner triangles of
-every quad, so that a move is accepted only if every quad stays strictly convex.
+(18.2) with boundary nodes sliding on their curves
+(:func:`meshwright.quad.smoothing.smooth_sliding`): a move is accepted only if the
+smallest corner sine around the node does not fall and every quad strictly convex before
+it stays so (exact ``orient2d``).
 
 Invariants: every quad an operation or a move produces is strictly convex by exact
 ``orient2d``; boundary nodes (and segment and interior-point nodes) are never removed, and
@@ -26,7 +28,7 @@ from meshwright.core.validate_input import as_cells, as_points, check_count
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _pairing_kernel as pk
-from meshwright.tri.smoothing import smooth as smooth_points
+from meshwright.quad.smoothing import smooth_sliding
 
 __all__ = [
     "enhance", "smooth_quads", "unpair_nonconvex", "nonconvex", "min_scaled_jacobian",
@@ -151,12 +153,6 @@ def min_scaled_jacobian(xy, quads) -> float:
     return worst
 
 
-def _corner_triangles(quads: np.ndarray) -> np.ndarray:
-    """The four corner triangles of every quad: all counter-clockwise iff the quad is strictly convex."""
-    q = np.asarray(quads, dtype=np.int32)
-    return np.concatenate([q[:, [k, (k + 1) % 4, (k + 2) % 4]] for k in range(4)])
-
-
 def _fixed_nodes(xy, lines, line_curve, domain: Domain, n_interior_fixed) -> np.ndarray:
     """(n,) bool: nodes smoothing never moves: where two curves meet, polygon corners, given points."""
     n = len(xy)
@@ -229,5 +225,4 @@ def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, 
     def project(nodes, p):
         return domain.project(vcurve[nodes], p)[1]
 
-    elems = np.concatenate([_corner_triangles(quads), np.asarray(tris, dtype=np.int32).reshape(-1, 3)])
-    return smooth_points(xy, elems, lines, passes=passes, fixed=fixed, project=project)
+    return smooth_sliding(xy, quads, np.asarray(tris).reshape(-1, 3), lines, fixed, project, passes)

@@ -477,6 +477,23 @@ def pair_triangles(
     if len(blocked):
         key = np.sort(blocked.astype(np.int64), axis=1)
         bkey = np.unique(key[:, 0] * n + key[:, 1])
+    st = _pair_rounds(xy, tris, bkey, n, bounds, max_visit, walks, seed)
+    st = _centre_rounds(st, bkey, n, bounds[-1], max_visit, centres)
+    return _quads_of(st)
+
+
+class _PairState(NamedTuple):
+    """Where a pairing stands: points, triangles, neighbours, partners, chain gains."""
+
+    xy: np.ndarray
+    tris: np.ndarray
+    nbr: np.ndarray
+    mate: np.ndarray
+    chains: int
+
+
+def _pair_rounds(xy, tris, bkey, n, bounds, max_visit, walks, seed) -> _PairState:
+    """Ears opened, greedy and chain rounds per bound, then the walks (steps 1-3)."""
     nbr = _neighbours(tris, bkey, n)
     xy, tris, changed = _open_ears(xy, tris, nbr)
     if changed:
@@ -499,15 +516,29 @@ def pair_triangles(
         chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
         left = int((mate < 0).sum())
         best, stale = (left, 0) if left < best else (best, stale + 1)
+    return _PairState(xy, tris, nbr, mate, chains)
+
+
+def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairState:
+    """Up to ``centres`` rounds of centroid splits of the unpaired triangles, each followed
+    by a greedy and a chain round at ``qmin``; ``st`` itself is not modified."""
+    xy, tris, nbr, mate, chains = st
     for _ in range(centres):
         if not (mate < 0).any():
             break
+        # The split returns new arrays, so the rounds below never write into st's.
         xy, tris, mate, grown = _split_left_overs(xy, tris, mate)
         if not grown:
             break
         nbr = _neighbours(tris, bkey, n)
-        pk.greedy_pairs(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]))
-        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
+        pk.greedy_pairs(xy, tris.ravel(), nbr.ravel(), mate, float(qmin))
+        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(qmin), int(max_visit)))
+    return _PairState(xy, tris, nbr, mate, chains)
+
+
+def _quads_of(st: _PairState):
+    """:func:`pair_triangles`'s results from a pairing state."""
+    xy, tris, nbr, mate, chains = st
     first = np.flatnonzero((mate >= 0) & (mate > np.arange(len(tris))))
     # Quad (a, b, d, c): t = (a, b, c) with a opposite the shared side, d the partner's third vertex.
     k = np.argmax(nbr[first] == mate[first][:, None], axis=1)
@@ -619,11 +650,14 @@ def pair_domain(
     n_free = len(domain.points)
     fixed_pts = newid[ct.index_map[len(disc.points) - n_free :]] if n_free else np.zeros(0, dtype=np.int64)
 
-    def attempt(centres):
-        """Pair, enhance, smooth and revert: (xy, quads, left-over triangles, report fields)."""
-        quads, first, left, t3, chains, pts = pair_triangles(
-            base.points, base.cells["triangle"], lines, seed=seed, centres=centres
-        )
+    tri_in = as_cells(base.cells["triangle"], "triangles", 3, n).copy()
+    lkey = np.sort(lines.astype(np.int64), axis=1)
+    bkey = np.unique(lkey[:, 0] * n + lkey[:, 1])
+    paired = _pair_rounds(as_points(xy, "points"), tri_in, bkey, n, PAIR_BOUNDS, MAX_VISIT, MAX_WALKS, seed)
+
+    def attempt(st):
+        """Enhance, smooth and revert a pairing: (xy, quads, left-over triangles, report fields)."""
+        quads, first, left, t3, chains, pts = _quads_of(st)
         lt = t3[left]
         bnd = np.zeros(len(pts), dtype=bool)
         bnd[lines.ravel()] = True
@@ -634,13 +668,16 @@ def pair_domain(
         quads, lt = unpair_nonconvex(pts, quads, lt)
         return pts, quads, lt, (len(t3), len(first), chains, len(left), n_quads - len(quads), counts)
 
-    xy, quads, lt, stats = attempt(0)
+    xy, quads, lt, stats = attempt(paired)
     if all_quad and len(lt):
         # Left-overs (mostly boundary fans): try again with them split at their centroids,
-        # and keep that pairing if it needs no chords and stays well shaped.
-        xy2, quads2, lt2, stats2 = attempt(CENTRE_ROUNDS)
-        if not len(lt2) and len(quads2) and min_scaled_jacobian(xy2, quads2) >= CENTRE_KEEP:
-            xy, quads, lt, stats = xy2, quads2, lt2, stats2
+        # continuing from the same pairing, and keep that one if it needs no chords and
+        # stays well shaped (a centre pairing that still leaves triangles is not enhanced).
+        centred = _centre_rounds(paired, bkey, n, PAIR_BOUNDS[-1], MAX_VISIT, CENTRE_ROUNDS)
+        if not (centred.mate < 0).any():
+            xy2, quads2, lt2, stats2 = attempt(centred)
+            if not len(lt2) and len(quads2) and min_scaled_jacobian(xy2, quads2) >= CENTRE_KEEP:
+                xy, quads, lt, stats = xy2, quads2, lt2, stats2
     xy, (quads, lt, lines), remap = _compact(xy, [quads, lt, lines])
     fixed_pts = remap[fixed_pts]
     fill = QuadFill(xy, quads, lt, lines, line_marker, line_curve)

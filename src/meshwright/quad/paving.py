@@ -53,9 +53,12 @@ Steps, as the chapter numbers them
    moves an edge across another).  At the end, stopped boundaries around stopped holes
    are bridged to them by chords; a thin or small region is closed by chords and
    templates.  *Simplification*: what is left (large regions between stopped fronts) is
-   filled by the pairing method of 18.5.1 on the same size field (pairing and shape
-   enhancement of :mod:`meshwright.quad.pairing`), as unconstrained paving (Staten et al.
-   2005) fills its voids after the rows; :class:`PavingReport` counts those quads.
+   filled by the pairing method of 18.5.1 (pairing and shape enhancement of
+   :mod:`meshwright.quad.pairing`) on the size field capped by the spacing of the void's
+   own boundary nodes (rows keep their boundary's spacing while the field grows away from
+   the walls; at the field's size the front fanned thin, unpairable triangles onto the
+   stopped rows), as unconstrained paving (Staten et al. 2005) fills its voids after the
+   rows; :class:`PavingReport` counts those quads.
 8. **Cleanup.**  Triangles the pairing of a void could not pair are finished by chord
    refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split);
    then :data:`FINAL_SMOOTH` sweeps of the guarded Laplacian, and a max-min pattern

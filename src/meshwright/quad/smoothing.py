@@ -9,9 +9,16 @@ of Canann, Tristano and Staten (IMR 1998): it never inverts a cell and never low
 mesh's minimum scaled Jacobian, so a valid mesh stays valid.  Vertices on ``line`` cells
 (the boundary and interior segments) are fixed, which keeps them on their true curves.
 
+:func:`smooth_sliding` is the same guard with boundary vertices sliding along their true
+curves (the pairing's enhancement smoothing, 18.5.1): a sliding vertex's Laplacian step is
+projected onto the chord of its two boundary neighbours and put back on its curve by the
+caller's projection, and every move is also checked exactly: every cell around the vertex
+must be strictly convex (a triangle strictly counter-clockwise) after it by exact
+``orient2d``, so a vertex of a relaxed non-convex quad moves only to make it convex.
+
 Array layout: points (n, 2) float64; cells (m, 4) int64, a triangle padded with -1 in
 column 3, counter-clockwise; vertex-to-cell and vertex-to-neighbour tables in CSR form
-(``ptr`` (n + 1,), ``idx``).
+(``ptr`` (n + 1,), ``idx``), built in one linear pass (:func:`cell_tables`).
 """
 
 from __future__ import annotations
@@ -19,9 +26,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.predicates import orient2d
 from meshwright.core.validate_input import check_count
 
-__all__ = ["smooth_cells"]
+__all__ = ["smooth_cells", "smooth_sliding", "cell_tables"]
 
 
 @njit(cache=True)
@@ -76,11 +84,158 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes):
     return kept
 
 
-def _csr(n: int, rows: np.ndarray, values: np.ndarray):
-    order = np.argsort(rows, kind="stable")
-    ptr = np.zeros(n + 1, np.int64)
-    np.add.at(ptr, rows + 1, 1)
-    return np.cumsum(ptr), np.ascontiguousarray(values[order])
+@njit(cache=True)
+def _tables(cells, n):
+    """Vertex -> cells and vertex -> edge neighbours (deduplicated), both CSR, in O(cells)."""
+    m = cells.shape[0]
+    cell_ptr = np.zeros(n + 1, np.int64)
+    for c in range(m):
+        for k in range(4):
+            if cells[c, k] >= 0:
+                cell_ptr[cells[c, k] + 1] += 1
+    for v in range(n):
+        cell_ptr[v + 1] += cell_ptr[v]
+    fill = cell_ptr[:-1].copy()
+    cell_idx = np.empty(cell_ptr[n], np.int64)
+    for c in range(m):
+        for k in range(4):
+            v = cells[c, k]
+            if v >= 0:
+                cell_idx[fill[v]] = c
+                fill[v] += 1
+    # Each cell gives a vertex its two edge neighbours; a stamp drops the repeats.
+    stamp = np.full(n, -1, np.int64)
+    nbr_ptr = np.zeros(n + 1, np.int64)
+    nbr_idx = np.empty(2 * cell_ptr[n], np.int64)
+    top = 0
+    for v in range(n):
+        for s in range(cell_ptr[v], cell_ptr[v + 1]):
+            c = cell_idx[s]
+            nv = 4 if cells[c, 3] >= 0 else 3
+            for k in range(nv):
+                if cells[c, k] == v:
+                    for w in (cells[c, (k + 1) % nv], cells[c, (k + nv - 1) % nv]):
+                        if stamp[w] != v:
+                            stamp[w] = v
+                            nbr_idx[top] = w
+                            top += 1
+        nbr_ptr[v + 1] = top
+    return cell_ptr, cell_idx, nbr_ptr, nbr_idx[:top].copy()
+
+
+def cell_tables(points, quads, triangles):
+    """Padded cells and their vertex tables.
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+    quads : (m, 4) int
+    triangles : (t, 3) int
+
+    Returns
+    -------
+    cells : (m + t, 4) int64
+        Quads, then triangles padded with -1.
+    cell_ptr, cell_idx : (n + 1,) int64, (4m + 3t,) int64
+        Cells around each vertex.
+    nbr_ptr, nbr_idx : (n + 1,) int64, (k,) int64
+        Edge neighbours of each vertex, each once.
+    """
+    cells = np.full((len(quads) + len(triangles), 4), -1, np.int64)
+    cells[: len(quads)] = quads
+    cells[len(quads) :, :3] = triangles
+    return (cells, *_tables(cells, len(points)))
+
+
+@njit(cache=True)
+def _valid_cell(points, cells, c):
+    """Whether cell c is strictly convex (quad) or strictly counter-clockwise (triangle), exact."""
+    nv = 4 if cells[c, 3] >= 0 else 3
+    for k in range(nv if nv == 4 else 1):
+        a = cells[c, (k + nv - 1) % nv]
+        b = cells[c, k]
+        d = cells[c, (k + 1) % nv]
+        if orient2d(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1]) <= 0.0:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty):
+    """Move v to (tx, ty) if every cell of its star is valid there (exact) and the star's
+    smallest corner sine does not fall; a star with a non-convex quad thus moves only
+    to become valid, as the pairing's relaxed pairs need."""
+    before = _min_sine(points, cells, cell_ptr, cell_idx, v)
+    x0 = points[v, 0]
+    y0 = points[v, 1]
+    points[v, 0] = tx
+    points[v, 1] = ty
+    if _min_sine(points, cells, cell_ptr, cell_idx, v) >= before:
+        ok = True
+        for s in range(cell_ptr[v], cell_ptr[v + 1]):
+            if not _valid_cell(points, cells, cell_idx[s]):
+                ok = False
+                break
+        if ok:
+            return True
+    points[v, 0] = x0
+    points[v, 1] = y0
+    return False
+
+
+@njit(cache=True)
+def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free):
+    """One Gauss-Seidel guarded Laplacian sweep over the free vertices, exact validity kept."""
+    kept = 0
+    for v in range(points.shape[0]):
+        if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
+            continue
+        tx = 0.0
+        ty = 0.0
+        for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
+            tx += points[nbr_idx[t], 0]
+            ty += points[nbr_idx[t], 1]
+        k = nbr_ptr[v + 1] - nbr_ptr[v]
+        tx /= k
+        ty /= k
+        x0 = points[v, 0]
+        y0 = points[v, 1]
+        for step in (1.0, 0.5):
+            if _try_move(points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0)):
+                kept += 1
+                break
+    return kept
+
+
+@njit(cache=True)
+def _tangent_steps(points, nbr_ptr, nbr_idx, nodes, chord):
+    """Laplacian steps of the sliding vertices projected on their boundary chords, (k, 2)."""
+    out = np.empty((nodes.shape[0], 2))
+    for s in range(nodes.shape[0]):
+        v = nodes[s]
+        fx = 0.0
+        fy = 0.0
+        for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
+            fx += points[nbr_idx[t], 0] - points[v, 0]
+            fy += points[nbr_idx[t], 1] - points[v, 1]
+        k = max(nbr_ptr[v + 1] - nbr_ptr[v], 1)
+        d = (fx * chord[s, 0] + fy * chord[s, 1]) / k
+        out[s, 0] = d * chord[s, 0]
+        out[s, 1] = d * chord[s, 1]
+    return out
+
+
+@njit(cache=True)
+def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half):
+    """Move each sliding vertex to its projected full step, else its projected half step."""
+    kept = 0
+    for s in range(nodes.shape[0]):
+        v = nodes[s]
+        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1]) or _try_move(
+            points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1]
+        ):
+            kept += 1
+    return kept
 
 
 def smooth_cells(points, quads, triangles, fixed, passes: int) -> np.ndarray:
@@ -104,21 +259,64 @@ def smooth_cells(points, quads, triangles, fixed, passes: int) -> np.ndarray:
     """
     passes = check_count(passes, "passes")
     pts = np.array(points, dtype=np.float64, order="C")
-    cells = np.full((len(quads) + len(triangles), 4), -1, np.int64)
-    cells[: len(quads)] = quads
-    cells[len(quads) :, :3] = triangles
-    n = len(pts)
-    nv = np.where(cells[:, 3] >= 0, 4, 3)
-    owner = np.repeat(np.arange(len(cells)), 4)
-    flat = cells.ravel()
-    used = flat >= 0
-    cell_ptr, cell_idx = _csr(n, flat[used], owner[used])
-    # Edges of every cell, both directions, deduplicated.
-    nxt = np.where(np.arange(4)[None, :] + 1 < nv[:, None], np.roll(cells, -1, axis=1), cells[:, :1])
-    a, b = cells.ravel()[used], nxt.ravel()[used]
-    # One int64 key per directed edge: a 1-D unique, same order as the rows' lexicographic one.
-    e0, e1 = np.divmod(np.unique(np.concatenate([a * n + b, b * n + a])), n)
-    nbr_ptr, nbr_idx = _csr(n, e0, e1)
+    cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx = cell_tables(pts, quads, triangles)
     free = ~np.asarray(fixed, dtype=bool)
     _sweeps(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes)
+    return pts
+
+
+def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int) -> np.ndarray:
+    """Guarded Laplacian with boundary vertices sliding on their curves (module docstring).
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+        Not modified.
+    quads : (m, 4) int
+    triangles : (t, 3) int
+        Counter-clockwise cells; quads may be non-convex (they only get better).
+    lines : (k, 2) int
+        Boundary and interior-segment edges: their vertices with exactly two line
+        neighbours slide, the others stay.
+    fixed : (n,) bool
+        Vertices that never move (curve joints, polygon corners, given points).
+    project : callable
+        ``project(nodes (j,) int64, xy (j, 2)) -> (j, 2)``: the closest points on the
+        nodes' curves.
+    passes : int
+        Sweeps: all free interior vertices (Gauss-Seidel), then all sliding ones.
+
+    Returns
+    -------
+    (n, 2) float64
+        New coordinates.
+    """
+    passes = check_count(passes, "passes")
+    pts = np.array(points, dtype=np.float64, order="C")
+    n = len(pts)
+    cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx = cell_tables(pts, quads, triangles)
+    e = np.asarray(lines, dtype=np.int64).reshape(-1, 2)
+    deg = np.bincount(e.ravel(), minlength=n)
+    on_line = deg > 0
+    free = ~np.asarray(fixed, dtype=bool) & ~on_line
+    # The two line neighbours of every vertex of line degree two.
+    owner = np.concatenate([e[:, 0], e[:, 1]])
+    other = np.concatenate([e[:, 1], e[:, 0]])
+    order = np.argsort(owner, kind="stable")
+    start = np.concatenate([[0], np.cumsum(deg)[:-1]])
+    slide = np.flatnonzero((deg == 2) & ~np.asarray(fixed, dtype=bool))
+    ends = other[order][np.stack([start[slide], start[slide] + 1], axis=1)]
+    for _ in range(passes):
+        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free)
+        if not len(slide):
+            continue
+        chord = pts[ends[:, 1]] - pts[ends[:, 0]]
+        norm = np.hypot(chord[:, 0], chord[:, 1])
+        ok = norm > 0.0
+        nodes = slide[ok]
+        chord = chord[ok] / norm[ok, None]
+        step = _tangent_steps(pts, nbr_ptr, nbr_idx, nodes, np.ascontiguousarray(chord))
+        full = np.ascontiguousarray(project(nodes, pts[nodes] + step), dtype=np.float64)
+        half = np.ascontiguousarray(project(nodes, pts[nodes] + 0.5 * step), dtype=np.float64)
+        _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half)
     return pts
