@@ -322,7 +322,7 @@ def _choose_cut(sk, cell, samples, weights, segs_in, verts, vh, exy, eh, frac):
     return best[1], best[2], best[3]
 
 
-def decompose_domain(dom, field, parts: int, samples_per_part: int = 4096) -> Decomposition:
+def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> Decomposition:
     """Cut ``dom`` into ``parts`` parts for the size field ``field`` (module docstring).
 
     Parameters
@@ -333,7 +333,7 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 4096) -> De
     parts : int
         At least 1.
     samples_per_part : int
-        Cost samples per part (at least 65,536 in all, at most 4,194,304).
+        Cost samples per part (at least 16,384 in all, at most 1,048,576).
 
     Returns
     -------
@@ -352,7 +352,7 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 4096) -> De
     bx0, by0, bx1, by1 = dom.bbox
     pad = 0.01 * max(bx1 - bx0, by1 - by0)
     root = (bx0 - pad, by0 - pad, bx1 + pad, by1 + pad)
-    n_samples = int(np.clip(parts * samples_per_part, 65_536, 4_194_304))
+    n_samples = int(np.clip(parts * samples_per_part, 16_384, 1_048_576))
     samples, weights = _sample_grid(dom_segments, dom.bbox, field, n_samples)
     n_interior = len(dom.points)
     interior = np.arange(len(disc.points) - n_interior, len(disc.points), dtype=np.int64)
@@ -475,11 +475,9 @@ def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, int
         pid = key.get((float(p[0]), float(p[1])))
         return float(chord[pid]) if pid is not None and pid < len(chord) else np.inf
 
-    iseg, ileft, iright = [], [], []
+    pieces = []  # (cut, axis, c, u, v): the cuts broken at crossings and junctions
     for ci, (axis, c, lo, hi, _) in enumerate(cuts):
         axis = int(axis)
-        on = np.zeros(2)
-        on[axis] = c
         breaks = [lo, hi]
         # Crossings: skeleton points on this line within the cut's range.
         hits = np.flatnonzero((sk.pts[:, axis] == c) & (sk.pts[:, 1 - axis] > lo) & (sk.pts[:, 1 - axis] < hi))
@@ -489,24 +487,28 @@ def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, int
             if int(axis2) != axis and lo < c2 < hi and (lo2 == c or hi2 == c):
                 breaks.append(c2)
         breaks = np.unique(np.array(breaks))
-        for u, v in itertools.pairwise(breaks):
-            pa, pb = on.copy(), on.copy()
-            pa[1 - axis], pb[1 - axis] = u, v
-            mid = 0.5 * (pa + pb)
-            if classify_points(mid[None], *dom_segments)[0] != INSIDE:
-                continue
-            t = place_params([Line(pa, pb)], _piece_size(field, pa, pb, end_size), np.ones(1, dtype=np.int64))[0]
-            xy = Line(pa, pb).evaluate(t)
-            xy[:, axis] = c
-            xy[0], xy[-1] = pa, pb
-            ids = [point_id(p) for p in xy]
-            lower = _leaf(tree, mid, ci, 0)
-            upper = _leaf(tree, mid, ci, 1)
-            # Oriented with the upper part on the left: down a vertical cut, along a horizontal one.
-            for i0, i1 in itertools.pairwise(ids):
-                iseg.append((i1, i0) if axis == 0 else (i0, i1))
-                ileft.append(upper)
-                iright.append(lower)
+        pieces += [(ci, axis, c, u, v) for u, v in itertools.pairwise(breaks.tolist())]
+    mids = np.array([[c, 0.5 * (u + v)] if axis == 0 else [0.5 * (u + v), c] for _, axis, c, u, v in pieces])
+    inside = classify_points(np.ascontiguousarray(mids.reshape(-1, 2)), *dom_segments) == INSIDE
+    iseg, ileft, iright = [], [], []
+    for (ci, axis, c, u, v), mid, keep in zip(pieces, mids, inside):
+        if not keep:
+            continue
+        pa, pb = np.zeros(2), np.zeros(2)
+        pa[axis] = pb[axis] = c
+        pa[1 - axis], pb[1 - axis] = u, v
+        t = place_params([Line(pa, pb)], _piece_size(field, pa, pb, end_size), np.ones(1, dtype=np.int64))[0]
+        xy = Line(pa, pb).evaluate(t)
+        xy[:, axis] = c
+        xy[0], xy[-1] = pa, pb
+        ids = [point_id(p) for p in xy]
+        lower = _leaf(tree, mid, ci, 0)
+        upper = _leaf(tree, mid, ci, 1)
+        # Oriented with the upper part on the left: down a vertical cut, along a horizontal one.
+        for i0, i1 in itertools.pairwise(ids):
+            iseg.append((i1, i0) if axis == 0 else (i0, i1))
+            ileft.append(upper)
+            iright.append(lower)
     points = np.concatenate(pts) if len(pts) > 1 else sk.pts
     m_i = len(iseg)
     segments = np.concatenate([sk.seg, np.array(iseg, dtype=np.int64).reshape(-1, 2)])
