@@ -112,8 +112,11 @@ def worker_memory_limit(client) -> int:
 
 
 def _warm_once() -> float:
-    """Compile (or load from the cache) the kernels a part uses by meshing a small square."""
+    """Compile (or load from the cache) the kernels a part uses by meshing a small square, and
+    import h5py (the writing tasks' first import would otherwise count as their time)."""
     import time
+
+    import h5py  # noqa: F401
 
     from meshwright.geometry.shapes import polygon
     from meshwright.tri.mesher import triangulate
