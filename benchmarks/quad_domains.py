@@ -4,6 +4,7 @@ Usage::
 
     python benchmarks/quad_domains.py                     # pairing and quadtree
     python benchmarks/quad_domains.py --methods paving    # any QUAD_METHODS entries
+    python benchmarks/quad_domains.py --only circle ring.poly
 
 Runs :func:`meshwright.quadrangulate` (all-quad, the default) on the domains the test suite
 meshes: every built-in domain at its own size and at half of it, the ``.poly`` files of
@@ -59,7 +60,8 @@ def domains():
             [(0, 0), (0.5, 0), (1, 0), (1, 1), (0.5, 1), (0, 1)], segments=[[(0.5, 0), (0.5, 1)]]), 0.1),
         ("hole with island h=0.01", polygon(
             square, holes=[[(0.2, 0.2), (0.8, 0.2), (0.8, 0.8), (0.2, 0.8)],
-                           [(0.4, 0.4), (0.6, 0.4), (0.6, 0.6), (0.4, 0.6)]]), 0.01),
+                           [(0.4, 0.4), (0.6, 0.4), (0.6, 0.6), (0.4, 0.6)]],
+            regions=[(0.5, 0.5, 7, None)]), 0.01),
     ]
     return out
 
@@ -67,6 +69,7 @@ def domains():
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--methods", nargs="+", default=["pairing", "quadtree"])
+    ap.add_argument("--only", nargs="+", help="case labels to run (default: all)")
     args = ap.parse_args(argv)
     from meshwright.core.errors import InputError
     from meshwright.core.quality import quad_quality
@@ -76,12 +79,15 @@ def main(argv=None) -> int:
         quadrangulate("circle", 0.25, method=m)
     rows, below = [], 0
     for label, dom, size in domains():
+        if args.only and label not in args.only:
+            continue
         for m in args.methods:
             t = time.perf_counter()
             try:
                 mesh = quadrangulate(dom, size, method=m)
             except InputError as e:
-                rows.append((label, m, f"refused: {e}"[:70]))
+                rows.append((label, m, f"refused: {e}"[:90]))
+                print(f"| {label} | {m} | {rows[-1][2]} |", flush=True)
                 continue
             dt = time.perf_counter() - t
             q = quad_quality(mesh.points, mesh.cells["quad"])
