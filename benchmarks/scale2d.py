@@ -17,7 +17,9 @@ triangles) and a graded disk with two holes (a point-source size around one hole
   its measured part times are list-scheduled on ``P`` virtual workers and the client phases
   added.  Validation: the ``P = 2`` problem run on *one* worker, simulated on 2, against the
   real 2-worker run (the model is trusted when within 10 %).
-* Per row: imbalance (largest part's triangles over the mean), exchange rounds, triangles over
+* Per row: the time's phases as the model sees them on ``P`` workers (client decomposition,
+  the parts' compute list-scheduled, and the rest: scheduling, client rounds, writing),
+  imbalance (largest part's triangles over the mean), exchange rounds, triangles over
   the serial ``meshwright.triangulate`` count of the same problem (simulated rows only with
   ``--serial-sim``), min angle, Dask tasks recorded.
 
@@ -127,8 +129,11 @@ def main() -> None:
         warm(c1)
         warm(c2)
         print(f"n0 = {args.n0:.3g} triangles per worker, 4 parts per worker, best of {args.repeat}")
-        print("| domain | P | run | T (s) | E(P) | imbalance | rounds | triangles | over serial | min angle | tasks | load |")
-        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+        print(
+            "| domain | P | run | T (s) | E(P) | decompose / parts / rest (s) | imbalance | rounds | triangles "
+            "| over serial | min angle | tasks | load |"
+        )
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         for name in args.domains:
             make = DOMAINS[name]
             dom1, s1 = make(1, args.n0)
@@ -160,11 +165,22 @@ def main() -> None:
         c2.close()
 
 
+def phases(stats: dict, workers: int) -> str:
+    """``decompose / parts (LPT on workers) / the rest`` of a run's time as simulated on ``workers``."""
+    from meshwright.distributed import simulate_scaling
+    from meshwright.distributed.simulate import lpt_makespan
+
+    dec = stats["seconds"]["decompose"]
+    parts = sum(lpt_makespan([t for _, t in r], workers) for r in stats["part_seconds"])
+    return f"{dec:.2f} / {parts:.2f} / {simulate_scaling(stats, workers) - dec - parts:.2f}"
+
+
 def row(name, P, kind, T, E, dm, serial, ntasks, l0) -> None:
     s = dm.stats
     print(
-        f"| {name} | {P} | {kind} | {T:.2f} | {E:.3f} | {s['imbalance']:.3f} | {s['rounds']} | {dm.n_cells} | "
-        f"{'-' if serial is None else f'{dm.n_cells / serial:.4f}'} | {s['min_angle']:.2f} | {ntasks} | {l0} |",
+        f"| {name} | {P} | {kind} | {T:.2f} | {E:.3f} | {phases(s, P)} | {s['imbalance']:.3f} | {s['rounds']} | "
+        f"{dm.n_cells} | {'-' if serial is None else f'{dm.n_cells / serial:.4f}'} | {s['min_angle']:.2f} | "
+        f"{ntasks} | {l0} |",
         flush=True,
     )
 
