@@ -42,14 +42,16 @@ underflows or overflows.
 
 Return convention: every stage returns ``(value, proven)``; ``value`` has the exact sign
 of the determinant when ``proven`` is true and is meaningless otherwise.  All functions
-are ``@njit(inline="always")`` over scalars, for inlining into the predicates.
+are plain ``@njit`` over scalars: no arrays, so no reference counts to save, and LLVM
+inlines them where it pays; Numba's IR inlining (``inline="always"``) of these forty-odd
+call sites tripled the predicates' compile time.
 """
 
 from __future__ import annotations
 
 import numba as nb
 
-from meshwright.core.expansion import EPSILON, fma, two_diff, two_sum
+from meshwright.core.expansion import EPSILON, fma
 
 __all__ = ["orient2d_eft", "incircle_eft", "incircle_dd", "DD_ERRBOUND"]
 
@@ -57,17 +59,35 @@ __all__ = ["orient2d_eft", "incircle_eft", "incircle_dd", "DD_ERRBOUND"]
 DD_ERRBOUND = 64.0 * EPSILON * EPSILON
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
+def _two_diff(a, b):
+    """``(x, y)``: ``x = fl(a - b)``, ``x + y = a - b`` exactly (Knuth; a plain call, see below)."""
+    x = a - b
+    bv = a - x
+    av = x + bv
+    return x, (a - av) + (bv - b)
+
+
+@nb.njit(cache=True)
+def _two_sum(a, b):
+    """``(x, y)``: ``x = fl(a + b)``, ``x + y = a + b`` exactly (Knuth; a plain call, see below)."""
+    x = a + b
+    bv = x - a
+    av = x - bv
+    return x, (a - av) + (b - bv)
+
+
+@nb.njit(cache=True)
 def orient2d_eft(ax, ay, bx, by, cx, cy):
     """Stage E of ``orient2d``: ``(det, proven)``, ``det`` of ``(a-c)x (b-c)y - (a-c)y (b-c)x``.
 
     Proven when the four differences and both products are exact; the final subtraction of
     two exact values is then correctly signed (zero iff they are equal).
     """
-    acx, e1 = two_diff(ax, cx)
-    bcy, e2 = two_diff(by, cy)
-    acy, e3 = two_diff(ay, cy)
-    bcx, e4 = two_diff(bx, cx)
+    acx, e1 = _two_diff(ax, cx)
+    bcy, e2 = _two_diff(by, cy)
+    acy, e3 = _two_diff(ay, cy)
+    bcx, e4 = _two_diff(bx, cx)
     left = acx * bcy
     right = acy * bcx
     e5 = fma(acx, bcy, -left)
@@ -76,26 +96,26 @@ def orient2d_eft(ax, ay, bx, by, cx, cy):
     return left - right, proven
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _exact_product(a, b):
     """``(a * b, |error|)``: the rounded product and the magnitude of its rounding error."""
     p = a * b
     return p, abs(fma(a, b, -p))
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def incircle_eft(ax, ay, bx, by, cx, cy, dx, dy):
     """Stage E of ``incircle``: ``(det, proven)`` for the lifted determinant relative to d.
 
     ``det = alift (bdx cdy - cdx bdy) + blift (cdx ady - adx cdy) + clift (adx bdy - bdx ady)``
     with ``plift = pdx**2 + pdy**2``, the sign convention of :func:`incircle`.
     """
-    adx, e1 = two_diff(ax, dx)
-    bdx, e2 = two_diff(bx, dx)
-    cdx, e3 = two_diff(cx, dx)
-    ady, e4 = two_diff(ay, dy)
-    bdy, e5 = two_diff(by, dy)
-    cdy, e6 = two_diff(cy, dy)
+    adx, e1 = _two_diff(ax, dx)
+    bdx, e2 = _two_diff(bx, dx)
+    cdx, e3 = _two_diff(cx, dx)
+    ady, e4 = _two_diff(ay, dy)
+    bdy, e5 = _two_diff(by, dy)
+    cdy, e6 = _two_diff(cy, dy)
     if (abs(e1) + abs(e2) + abs(e3) + abs(e4) + abs(e5) + abs(e6)) != 0.0:
         return 0.0, False
     bdxcdy, f1 = _exact_product(bdx, cdy)
@@ -104,22 +124,22 @@ def incircle_eft(ax, ay, bx, by, cx, cy, dx, dy):
     adxcdy, f4 = _exact_product(adx, cdy)
     adxbdy, f5 = _exact_product(adx, bdy)
     bdxady, f6 = _exact_product(bdx, ady)
-    bc, g1 = two_diff(bdxcdy, cdxbdy)
-    ca, g2 = two_diff(cdxady, adxcdy)
-    ab, g3 = two_diff(adxbdy, bdxady)
+    bc, g1 = _two_diff(bdxcdy, cdxbdy)
+    ca, g2 = _two_diff(cdxady, adxcdy)
+    ab, g3 = _two_diff(adxbdy, bdxady)
     adx2, h1 = _exact_product(adx, adx)
     ady2, h2 = _exact_product(ady, ady)
     bdx2, h3 = _exact_product(bdx, bdx)
     bdy2, h4 = _exact_product(bdy, bdy)
     cdx2, h5 = _exact_product(cdx, cdx)
     cdy2, h6 = _exact_product(cdy, cdy)
-    alift, k1 = two_sum(adx2, ady2)
-    blift, k2 = two_sum(bdx2, bdy2)
-    clift, k3 = two_sum(cdx2, cdy2)
+    alift, k1 = _two_sum(adx2, ady2)
+    blift, k2 = _two_sum(bdx2, bdy2)
+    clift, k3 = _two_sum(cdx2, cdy2)
     ta, m1 = _exact_product(alift, bc)
     tb, m2 = _exact_product(blift, ca)
     tc, m3 = _exact_product(clift, ab)
-    s, m4 = two_sum(ta, tb)
+    s, m4 = _two_sum(ta, tb)
     err = (
         (f1 + f2 + f3 + f4 + f5 + f6)
         + (abs(g1) + abs(g2) + abs(g3))
@@ -130,25 +150,25 @@ def incircle_eft(ax, ay, bx, by, cx, cy, dx, dy):
     return s + tc, err == 0.0
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _fast_two_sum(a, b):
     """``(s, t)`` with ``s + t == a + b`` exactly, for ``|a| >= |b|`` or ``a == 0``."""
     s = a + b
     return s, b - (s - a)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _dw_add(xh, xl, yh, yl):
     """AccurateDWPlusDW (Joldes, Muller & Popescu 2017, Algorithm 6): relative error <= 3u**2/(1-4u)."""
-    sh, sl = two_sum(xh, yh)
-    th, tl = two_sum(xl, yl)
+    sh, sl = _two_sum(xh, yh)
+    th, tl = _two_sum(xl, yl)
     c = sl + th
     vh, vl = _fast_two_sum(sh, c)
     w = tl + vl
     return _fast_two_sum(vh, w)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _dw_mul(xh, xl, yh, yl):
     """DWTimesDW3 (Joldes, Muller & Popescu 2017, Algorithm 12, FMA): relative error <= 5u**2."""
     ch = xh * yh
@@ -160,7 +180,7 @@ def _dw_mul(xh, xl, yh, yl):
     return _fast_two_sum(ch, cl3)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _dw_minor(ph, pl, qh, ql, rh, rl, sh, sl):
     """Double-word ``p q - r s``."""
     uh, ul = _dw_mul(ph, pl, qh, ql)
@@ -168,7 +188,7 @@ def _dw_minor(ph, pl, qh, ql, rh, rl, sh, sl):
     return _dw_add(uh, ul, -vh, -vl)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _dw_lift(xh, xl, yh, yl):
     """Double-word ``x**2 + y**2``."""
     uh, ul = _dw_mul(xh, xl, xh, xl)
@@ -176,19 +196,19 @@ def _dw_lift(xh, xl, yh, yl):
     return _dw_add(uh, ul, vh, vl)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def incircle_dd(ax, ay, bx, by, cx, cy, dx, dy):
     """Stage D of ``incircle``: ``(det, proven)`` from a double-word evaluation.
 
     The same determinant as :func:`incircle_eft`, evaluated from the exact differences in
     double-word arithmetic; proven when ``|det| > DD_ERRBOUND * permanent`` (module docstring).
     """
-    adx, adxl = two_diff(ax, dx)
-    bdx, bdxl = two_diff(bx, dx)
-    cdx, cdxl = two_diff(cx, dx)
-    ady, adyl = two_diff(ay, dy)
-    bdy, bdyl = two_diff(by, dy)
-    cdy, cdyl = two_diff(cy, dy)
+    adx, adxl = _two_diff(ax, dx)
+    bdx, bdxl = _two_diff(bx, dx)
+    cdx, cdxl = _two_diff(cx, dx)
+    ady, adyl = _two_diff(ay, dy)
+    bdy, bdyl = _two_diff(by, dy)
+    cdy, cdyl = _two_diff(cy, dy)
     bch, bcl = _dw_minor(bdx, bdxl, cdy, cdyl, cdx, cdxl, bdy, bdyl)
     cah, cal = _dw_minor(cdx, cdxl, ady, adyl, adx, adxl, cdy, cdyl)
     abh, abl = _dw_minor(adx, adxl, bdy, bdyl, bdx, bdxl, ady, adyl)

@@ -72,7 +72,7 @@ _F32_TINY = 1e-36  # below this, float32 rounding is not relative any more
 _F32_HUGE = 1e37  # float32 range ends at 3.4e38: lo is capped here, larger hi becomes +inf
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def conflict(pts, tri, circ, rank, t, v, px, py):
     """Whether triangle t's circumdisk contains the new point v: distance filter, exact fallback.
 
