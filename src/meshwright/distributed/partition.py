@@ -22,7 +22,8 @@ Algorithm
    no boundary vertex (nor interior point, nor end of an earlier cut) lies closer than the
    first of :data:`VERTEX_CLEARANCES` (times ``h``) to the line; in each window the preferred
    clearance is tried before the accepted one.  The admissible candidate nearest the balance wins, on the longer axis first;
-   without one the best-scoring candidate of both axes is taken and its angle reported.
+   without one the best-scoring candidate of both axes is taken and its angle reported.  The
+   sides of a cut that ended off balance get the part counts nearest their costs.
    Cut/cut junctions are right angles by construction.
 4. Crossings split boundary chords: on straight curves at the exact line coordinate, on curved
    ones at the curve parameter found by bisection, so every skeleton point lies on its true
@@ -383,6 +384,12 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
             eh = field(exy) if len(exy) else np.zeros(0)
             kl = k // 2
             axis, c, angle = _choose_cut(sk, cell, samples[smp], weights[smp], segs_in, verts, vh, exy, eh, kl / k)
+            below = samples[smp, axis] < c
+            # A cut pushed off balance by the angle and clearance rules: hand its sides the
+            # part counts nearest their costs (the leaves then balance again).
+            share = float(weights[smp][below].sum() / weights[smp].sum())
+            if abs(share - kl / k) > BALANCE_WINDOWS[0]:
+                kl = int(np.clip(round(share * k), 1, k - 1))
             a, b = sk.pts[sk.seg[segs_in, 0], axis], sk.pts[sk.seg[segs_in, 1], axis]
             crossing = segs_in[(a - c) * (b - c) < 0.0]
             _, new_s = sk.split(curves, crossing, axis, c)
@@ -400,7 +407,6 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
                 xy = [0.0, 0.0]
                 xy[axis], xy[1 - axis] = c, end
                 ends.append(xy)
-            below = samples[smp, axis] < c
             ib = sk.pts[interior[ints_in], axis] < c
             stack.append((tuple(hi_cell), k - kl, first + kl, smp[~below], segs_in[mid > c], ints_in[~ib], node, 1))
             stack.append((tuple(lo_cell), kl, first, smp[below], segs_in[mid < c], ints_in[ib], node, 0))
