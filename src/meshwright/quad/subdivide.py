@@ -58,8 +58,12 @@ def curve_midpoints(domain: Domain, curves: np.ndarray, a: np.ndarray, b: np.nda
     (k, 2) float64
     """
     curves = np.asarray(curves, dtype=np.int64)
-    ta = domain.project(curves, a)[0]
-    tb = domain.project(curves, b)[0]
+    k = len(curves)
+    # Segments share their ends: each (curve, point) is projected once.
+    key = np.column_stack([np.concatenate([curves, curves]).astype(np.float64), np.vstack([a, b])])
+    uniq, inv = np.unique(key, axis=0, return_inverse=True)
+    t = domain.project(uniq[:, 0].astype(np.int64), uniq[:, 1:])[0][inv.ravel()]
+    ta, tb = t[:k].copy(), t[k:].copy()
     for c in np.unique(curves):
         cur = domain.curves[c]
         ends = cur.evaluate(np.array([cur.t0, cur.t1]))
