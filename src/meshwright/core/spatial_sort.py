@@ -114,7 +114,7 @@ def _hilbert_keys_3d(points, bits):
     return keys
 
 
-@njit(inline="always")
+@njit(cache=True)
 def _hilbert_step(state, rx, ry):
     """One level of the 2-D curve: ``(quadrant index, next state)`` for the raw cell bits.
 
