@@ -410,7 +410,9 @@ def _gap_mesh(dom: Domain, gap_dom: Domain, hfield, marker_gap: int, job):
     segment whose curve lies more than ``SAGITTA`` times its length from its midpoint
     (a coarse chord on a tight curve, e.g. a flap's nose) gets a source of 0.3 times its
     length at its curve point in the size field and the gap is triangulated again, at
-    most ``SAGITTA_ROUNDS`` times.  A kink inside one curve (a cusp without a curve
+    most ``SAGITTA_ROUNDS`` times; the same rounds first run on the gap's boundary
+    discretisation alone (:func:`_sagitta_sources`), so the triangulation is usually
+    needed once (the three-element airfoil took six before).  A kink inside one curve (a cusp without a curve
     break) keeps its ratio however fine the chords; after the last round the gap is
     used as it is, and the exact orientation check of :func:`quadrangulate` on the
     finished cells is what guards validity there.
@@ -430,6 +432,8 @@ def _gap_mesh(dom: Domain, gap_dom: Domain, hfield, marker_gap: int, job):
         boundary = gap.cell_data["marker"]["line"] != marker_gap
         return gap, boundary, _line_curves(dom, gap.points, gap.cells["line"][boundary])
 
+    if job.all_quad:
+        hfield = _sagitta_sources(dom, gap_dom, hfield)
     for _ in range(SAGITTA_ROUNDS):
         gap, boundary, curves = attempt(hfield)
         if not job.all_quad:
@@ -443,6 +447,34 @@ def _gap_mesh(dom: Domain, gap_dom: Domain, hfield, marker_gap: int, job):
             return gap, boundary, curves
         hfield = gradation(on[bad], 0.3 * length[bad], SAGITTA_GROWTH, base=hfield)
     return attempt(hfield)
+
+
+def _sagitta_sources(dom: Domain, gap_dom: Domain, hfield):
+    """The sagitta rounds of :func:`_gap_mesh` on the gap's boundary discretisation alone.
+
+    Each round of :func:`_gap_mesh` triangulates the whole gap; the chords it refines are
+    those of the discretisation (the refinement only halves some), so the sources are
+    found here first, on ``gap_dom.discretize`` (no triangulation), at most
+    ``SAGITTA_ROUNDS`` times; the loop of :func:`_gap_mesh` then checks the
+    triangulation's chords as before and usually passes at once.  Chords on curves of
+    ``gap_dom`` that are not ``dom``'s (the core's outline) are not checked.
+    """
+    own = {id(c): i for i, c in enumerate(dom.curves)}
+    curve_map = np.array([own.get(id(c), -1) for c in gap_dom.curves], dtype=np.int64)
+    for _ in range(SAGITTA_ROUNDS):
+        disc = gap_dom.discretize(hfield)
+        cur = curve_map[disc.segment_curve]
+        seg = disc.segments[cur >= 0]
+        if not len(seg):
+            return hfield
+        a, b = disc.points[seg[:, 0]], disc.points[seg[:, 1]]
+        length = np.hypot(*(b - a).T)
+        on = curve_midpoints(dom, cur[cur >= 0], a, b)
+        bad = np.hypot(*(on - 0.5 * (a + b)).T) > SAGITTA * length
+        if not bad.any():
+            return hfield
+        hfield = gradation(on[bad], 0.3 * length[bad], SAGITTA_GROWTH, base=hfield)
+    return hfield
 
 
 @njit(cache=True)
