@@ -111,6 +111,8 @@ def main(argv=None) -> int:
         if i < args.first:
             continue
         why = check(surf, kw)
+        if (i + 1 - args.first) % 25 == 0:
+            print(f"{i + 1 - args.first} cases, {failed + bool(why)} failed ({time.perf_counter() - start:.0f} s)", flush=True)
         if why:
             failed += 1
             print(f"case {i} (kind {kind}, {kw}): {why[:300]}", flush=True)

@@ -25,7 +25,7 @@ import numpy as np
 from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.flat import TET_FACES
 from meshwright.core.mesh import Mesh
-from meshwright.core.predicates import orient3d
+from meshwright.core.predicates import orient2d, orient3d
 from meshwright.core.validate_input import check_count, check_flag, check_positive, check_seed
 from meshwright.tet.exterior import classify
 from meshwright.tet.recovery import _longest, bisect_marked, dominant_axes, insert_new, raise_cap, recover, unique_edges
@@ -280,7 +280,7 @@ def _run_delaunay(job: _Job) -> Mesh:
     fp = job.points[job.faces]
     floor = FLOOR * np.linalg.norm(fp - fp[:, [1, 2, 0]], axis=2).min(axis=1)
     axis = dominant_axes(job.points, job.faces)
-    faces, parent, where = recover(tz, job.faces, np.arange(job.faces.shape[0], dtype=np.int32), guard, job.max_points, axis)
+    faces, parent, where = recover(tz, job.faces, np.arange(job.faces.shape[0], dtype=np.int32), guard, job.max_points, job.faces, axis)
     refine = job.radius_edge is not None or job.field is not None or np.isfinite(job.max_volume) or (job.regions[:, 4] > 0).any()
     bar = None
     if job.progress and refine:
@@ -292,11 +292,9 @@ def _run_delaunay(job: _Job) -> Mesh:
         rounds += 1
         if rounds > REFINE_ROUNDS:
             raise MeshingError(f"Delaunay refinement did not finish in {REFINE_ROUNDS} rounds ({tz.points.shape[0]} vertices)")
-        faces, where, flat = _unflatten(job, tz, faces, parent, where)
+        faces, where, flat, (barrier, face_of, solid, vmax) = _unflatten(job, tz, faces, parent, where, axis)
         tets = tz.tetrahedra
         nbr = tz.neighbors
-        barrier, face_of = _barrier(tets.shape[0], nbr, where)
-        solid, _, vmax = classify(tz, barrier, job.holes, job.regions)
         pts = tz.points
         cc, r2, lmin, vol = circumspheres(pts, tets)
         bad, reach = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), EXEMPT / FLOOR * float(floor.min()), guard)
@@ -332,14 +330,14 @@ def _run_delaunay(job: _Job) -> Mesh:
             bar.update(added)
         if added == 0:
             break
-        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, axis)
+        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis)
     if bar is not None:
         bar.close()
-    faces, where, _ = _unflatten(job, tz, faces, parent, where)
+    faces, where, _, _ = _unflatten(job, tz, faces, parent, where, axis)
     return _to_mesh(job, tz, faces, parent, where)
 
 
-def _unflatten(job: _Job, tz, faces, parent, where):
+def _unflatten(job: _Job, tz, faces, parent, where, axis):
     """Move flat solid tets lying on an input face out of the solid by flipping its subfaces.
 
     Steiner points on a general plane are off it by round-off, so four nearly cocircular
@@ -353,15 +351,16 @@ def _unflatten(job: _Job, tz, faces, parent, where):
     the flip would cross their common input edge: such a tet's first subface is returned to be
     split instead, which breaks the cocircular tie.
 
-    Returns the subfaces (m, 3) int32, their positions ``where`` (m,) int64 and the subfaces
-    (s,) int64 to split.
+    Returns the subfaces (m, 3) int32, their positions ``where`` (m,) int64, the subfaces
+    (s,) int64 to split, and the barrier flags, ``face_of``, solid flags and volume bounds of
+    the result (:func:`_barrier`, :func:`classify`).
     """
-    for _ in range(UNFLATTEN_PASSES):
+    for sweep in range(UNFLATTEN_PASSES + 1):
         split = np.zeros(0, dtype=np.int64)
         tets = tz.tetrahedra
         nbr = tz.neighbors
         barrier, face_of = _barrier(tets.shape[0], nbr, where)
-        solid, _, _ = classify(tz, barrier, job.holes, job.regions)
+        solid, _, vmax = classify(tz, barrier, job.holes, job.regions)
         cand = np.flatnonzero(solid & (barrier.sum(axis=1) == 2))
         if cand.size == 0:
             break
@@ -372,11 +371,13 @@ def _unflatten(job: _Job, tz, faces, parent, where):
         outside = ~np.where(across >= 0, solid[np.maximum(across, 0)], False).any(axis=1)
         pick = (parent[f1] == parent[f2]) & outside
         split = np.array([f1[i] for i in np.flatnonzero(outside & ~pick) if _coplanar(job, parent[f1[i]], parent[f2[i]])], dtype=np.int64)
-        if not pick.any():
+        if not pick.any() or sweep == UNFLATTEN_PASSES:
             break
         faces = faces.copy()
         where = where.copy()
         used = np.zeros(faces.shape[0], dtype=bool)
+        flipped = 0
+        rim = None
         for i in np.flatnonzero(pick):
             a, b = int(f1[i]), int(f2[i])
             if used[a] or used[b]:
@@ -386,11 +387,50 @@ def _unflatten(job: _Job, tz, faces, parent, where):
             out = tets[t, TET_FACES[slots[i, 0]]]
             # the subface runs as the tet's outward face (a rotation of it) or against it
             same = any(np.array_equal(np.roll(out, r), faces[a]) for r in range(3))
-            for f, k in ((a, slots[i, 2]), (b, slots[i, 3])):
-                tri = tets[t, TET_FACES[k]]
-                faces[f] = tri[::-1] if same else tri
+            new = [tets[t, TET_FACES[k]][::-1] if same else tets[t, TET_FACES[k]] for k in slots[i, 2:4]]
+            # three of the four nearly collinear: a new face would be degenerate in its plane
+            ax = axis[parent[a]]
+            sign = np.sign(_orient_proj(tz.points, ax, faces[a]))
+            if sign == 0 or any(np.sign(_orient_proj(tz.points, ax, tri)) != sign for tri in new):
+                continue
+            if rim is None:
+                rim = _rim(faces, parent)
+            shared = set(faces[a].tolist()) & set(faces[b].tolist())
+            if _on_rim_between(rim, int(parent[a]), job.faces[parent[a]].tolist(), shared, set(tets[t].tolist()) - shared):
+                continue
+            for f, k, tri in ((a, slots[i, 2], new[0]), (b, slots[i, 3], new[1])):
+                faces[f] = tri
                 where[f] = 4 * t + k
-    return faces, where, split
+            flipped += 1
+        if flipped == 0:
+            break
+    return faces, where, split, (barrier, face_of, solid, vmax)
+
+
+def _rim(faces, parent) -> set:
+    """Subface edges on their input face's boundary, as sorted vertex pairs with the parent."""
+    a = faces[:, [1, 2, 0]].ravel()
+    b = faces[:, [2, 0, 1]].ravel()
+    key = np.stack([np.minimum(a, b), np.maximum(a, b), np.repeat(parent, 3)], axis=1)
+    uniq, count = np.unique(key, axis=0, return_counts=True)
+    return {tuple(r) for r in uniq[count == 1].tolist()}
+
+
+def _on_rim_between(rim: set, par: int, corners, old: set, new: set) -> bool:
+    """Whether a vertex of the old shared edge lies on input face ``par``'s boundary between
+    the new diagonal's ends (a Steiner point on an input edge: a new face would be degenerate)."""
+    b, d = sorted(int(x) for x in new)
+    for v in (int(x) for x in old):
+        if v not in corners and (min(v, b), max(v, b), par) in rim and (min(v, d), max(v, d), par) in rim:
+            return True
+    return False
+
+
+def _orient_proj(pts, ax: int, tri) -> float:
+    """Exact orient2d of triangle ``tri`` projected along coordinate axis ``ax``."""
+    i, j = (ax + 1) % 3, (ax + 2) % 3
+    a, b, c = pts[tri[0]], pts[tri[1]], pts[tri[2]]
+    return orient2d(a[i], a[j], b[i], b[j], c[i], c[j])
 
 
 def _coplanar(job: _Job, f: int, g: int) -> bool:
@@ -456,9 +496,12 @@ def _to_mesh(job: _Job, tz, faces, parent, where) -> Mesh:
         {"tetra": newid[kept_tets].astype(np.int32), "triangle": newid[tri].astype(np.int32)},
         cell_data={"marker": {"tetra": region[solid].astype(np.int32), "triangle": job.markers[parent[keep]].astype(np.int32)}},
     )
-    mesh.validate()
     if job.slivers == "remove":
+        # remove_slivers validates the mesh at its door and its result before returning
+        # (a third validation here cost 5 % of the level-4 sphere)
         mesh = _remove_slivers(mesh, job.min_dihedral)
+    else:
+        mesh.validate()
     if job.smooth:
         from meshwright.tet.smoothing import smooth_tets
 

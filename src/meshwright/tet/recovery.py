@@ -170,26 +170,42 @@ def find_edges(tets, nbr, vt, edges):
 
 
 @njit(inline="always")
-def _normal(pts, a, b, c):
-    ux = pts[b, 0] - pts[a, 0]
-    uy = pts[b, 1] - pts[a, 1]
-    uz = pts[b, 2] - pts[a, 2]
-    vx = pts[c, 0] - pts[a, 0]
-    vy = pts[c, 1] - pts[a, 1]
-    vz = pts[c, 2] - pts[a, 2]
-    return uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+def _orient_in(pts, ax, a, b, c):
+    """orient2d of a, b, c projected along coordinate axis ``ax`` (exact)."""
+    i = (ax + 1) % 3
+    j = (ax + 2) % 3
+    return orient2d(pts[a, i], pts[a, j], pts[b, i], pts[b, j], pts[c, i], pts[c, j])
 
 
 @njit(inline="always")
-def _same_side(pts, a, b, c, d, e, f):
-    """Whether triangles a b c and d e f (nearly coplanar) have normals pointing the same way."""
-    x0, y0, z0 = _normal(pts, a, b, c)
-    x1, y1, z1 = _normal(pts, d, e, f)
-    return x0 * x1 + y0 * y1 + z0 * z1 > 0.0
+def _boundary_edge(parent, first, second, e):
+    """Whether subface edge e lies on its input face's boundary (one face of that parent)."""
+    return second[e] < 0 or parent[first[e] // 3] != parent[second[e] // 3]
+
+
+@njit(inline="always")
+def _folds_onto_edge(faces, parent, in_faces, face_edges, first, second, f, k, g, j):
+    """Whether flipping edge p q of f = (r, p, q) (r at k) and g = (s, q, p) (s at j) to r s
+    would make a degenerate face: p or q a Steiner point on an input edge with r and s.
+
+    Such a point lies on the segment r s only within round-off, so no orientation test
+    can refuse the flip; it is told by the topology: both of its edges in the quad lie on
+    the input face's boundary and it is not a corner of the input face.
+    """
+    pf = parent[f]
+    for side in range(2):
+        v = faces[f, (k + 1 + side) % 3]  # p, then q
+        e1 = face_edges[f, (k + 2 - side) % 3]  # r p, then q r
+        e2 = face_edges[g, (j + 1 + side) % 3]  # p s, then s q
+        if v == in_faces[pf, 0] or v == in_faces[pf, 1] or v == in_faces[pf, 2]:
+            continue
+        if _boundary_edge(parent, first, second, e1) and _boundary_edge(parent, first, second, e2):
+            return True
+    return False
 
 
 @njit(cache=True)
-def flip_to_match(pts, tets, nbr, vt, faces, parent, face_edges, n_edges, missing):
+def flip_to_match(pts, tets, nbr, vt, faces, parent, in_faces, axis, face_edges, n_edges, missing):
     r"""Flip pairs of subfaces of one input face to the diagonal the tetrahedralization has.
 
     A missing subface f and its neighbour g across an edge p q interior to their input face
@@ -216,6 +232,12 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, face_edges, n_edges, missin
     faces : (m, 3) int32
         Modified in place.
     parent : (m,) int32
+    in_faces : (p, 3) int32
+        The input faces (their corners may join a flipped edge).
+    axis : (p,) int64
+        :func:`dominant_axes` of the input faces: convexity of r p s q is decided by exact
+        ``orient2d`` on the face's projection (a float test let a vertex lying on the new
+        diagonal by round-off through, and its degenerate face was split at that vertex).
     face_edges : (m, 3) int64
         Edge ids as :func:`unique_edges` gives (stale after a flip: one flip per face).
     n_edges : int
@@ -257,8 +279,12 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, face_edges, n_edges, missin
             p = faces[f, (k + 1) % 3]
             q = faces[f, (k + 2) % 3]
             s = faces[g, j]
-            if not (_same_side(pts, r, p, q, r, p, s) and _same_side(pts, r, p, q, r, s, q)):
-                continue  # r p s q not convex: the flipped pair would fold
+            ax = axis[parent[f]]
+            o = _orient_in(pts, ax, r, p, q)
+            if o == 0.0 or o * _orient_in(pts, ax, r, p, s) <= 0.0 or o * _orient_in(pts, ax, r, s, q) <= 0.0:
+                continue  # r p s q not strictly convex: the flipped pair would fold or degenerate
+            if _folds_onto_edge(faces, parent, in_faces, face_edges, first, second, f, k, g, j):
+                continue
             gen += 1
             if _star_search(tets, nbr, vt, stamp, queue, gen, r, s, -1) < 0:
                 continue
@@ -277,16 +303,8 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, face_edges, n_edges, missin
     return flips
 
 
-@njit(inline="always")
-def _orient_in(pts, ax, a, b, c):
-    """orient2d of a, b, c projected along coordinate axis ``ax`` (exact)."""
-    i = (ax + 1) % 3
-    j = (ax + 2) % 3
-    return orient2d(pts[a, i], pts[a, j], pts[b, i], pts[b, j], pts[c, i], pts[c, j])
-
-
 @njit(cache=True)
-def lawson_pass(pts, faces, parent, axis, face_edges, n_edges):
+def lawson_pass(pts, faces, parent, in_faces, axis, face_edges, n_edges):
     r"""One pass of Lawson's edge flips toward the 2-D Delaunay triangulation of each input face.
 
     The subfaces of an input face are flipped, pair by pair (each face at most once per
@@ -303,6 +321,8 @@ def lawson_pass(pts, faces, parent, axis, face_edges, n_edges):
     faces : (m, 3) int32
         Modified in place.
     parent : (m,) int32
+    in_faces : (p, 3) int32
+        The input faces.
     axis : (p,) int64
         Dominant normal axis of each input face.
     face_edges : (m, 3) int64
@@ -351,6 +371,8 @@ def lawson_pass(pts, faces, parent, axis, face_edges, n_edges):
                 continue
             if sg * incircle(pts[r, i], pts[r, j], pts[p, i], pts[p, j], pts[q, i], pts[q, j], pts[s, i], pts[s, j]) <= 0.0:
                 continue
+            if _folds_onto_edge(faces, parent, in_faces, face_edges, first, second, f, k, g, h % 3):
+                continue
             faces[f, 0], faces[f, 1], faces[f, 2] = r, p, s
             faces[g, 0], faces[g, 1], faces[g, 2] = r, s, q
             touched[f] = True
@@ -360,7 +382,7 @@ def lawson_pass(pts, faces, parent, axis, face_edges, n_edges):
     return flips
 
 
-def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, axis: np.ndarray) -> int:
+def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, in_faces: np.ndarray, axis: np.ndarray) -> int:
     """:func:`lawson_pass` until no flip is left (at most :data:`LAWSON_PASSES`); total flips.
 
     ``faces`` is modified in place.  The cap only bounds the work: Lawson's flips terminate,
@@ -369,7 +391,7 @@ def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, axis: np.ndar
     total = 0
     for _ in range(LAWSON_PASSES):
         _, face_edges = unique_edges(faces)
-        n = lawson_pass(pts, faces, parent, axis, face_edges, int(face_edges.max()) + 1)
+        n = lawson_pass(pts, faces, parent, in_faces, axis, face_edges, int(face_edges.max()) + 1)
         total += n
         if n == 0:
             break
@@ -520,7 +542,7 @@ def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex):
     return faces2, parent2, int(sel.size)
 
 
-def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, axis: np.ndarray, rounds: int = RECOVERY_ROUNDS):
+def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, rounds: int = RECOVERY_ROUNDS):
     """Split missing subfaces until every one is a face of the tetrahedralization ``tz``.
 
     Parameters
@@ -533,6 +555,8 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         Shortest edge that may be split.
     max_points : int
         Cap on the vertices of ``tz``.
+    in_faces : (p, 3) int32
+        The input faces.
     axis : (p,) int64
         :func:`dominant_axes` of the input faces.
     rounds : int
@@ -542,7 +566,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
     faces, parent, where : the recovered subfaces and :func:`find_faces` of each.
     """
     faces = np.array(faces, dtype=np.int32)  # flips change it in place
-    lawson(tz.points, faces, parent, axis)
+    lawson(tz.points, faces, parent, in_faces, axis)
     splits = 0
     for _ in range(8 * rounds):
         tets = tz.tetrahedra
@@ -553,7 +577,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         if not missing.any():
             return faces, parent, where
         edges, face_edges = unique_edges(faces)
-        if flip_to_match(tz.points, tets, nbr, vt, faces, parent, face_edges, edges.shape[0], missing):
+        if flip_to_match(tz.points, tets, nbr, vt, faces, parent, in_faces, axis, face_edges, edges.shape[0], missing):
             continue
         splits += 1
         if splits > rounds:
@@ -575,7 +599,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         if tz.points.shape[0] + int(mark.sum()) > max_points:
             raise_cap(max_points, "boundary recovery")
         faces, parent, _ = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p))
-        lawson(tz.points, faces, parent, axis)
+        lawson(tz.points, faces, parent, in_faces, axis)
     f = int(np.flatnonzero(missing)[0])
     raise MeshingError(
         f"boundary recovery did not converge in {rounds} rounds: subface {fmt_point(tz.points[faces[f, 0]])}, "
