@@ -219,7 +219,7 @@ def incircle_dd(ax, ay, bx, by, cx, cy, dx, dy):
     tbh, tbl = _dw_mul(blh, bll, cah, cal)
     tch, tcl = _dw_mul(clh, cll, abh, abl)
     sh, sl = _dw_add(tah, tal, tbh, tbl)
-    deth, detl = _dw_add(sh, sl, tch, tcl)
+    deth, _ = _dw_add(sh, sl, tch, tcl)
     permanent = (
         (abs(bdx * cdy) + abs(cdx * bdy)) * (adx * adx + ady * ady)
         + (abs(cdx * ady) + abs(adx * cdy)) * (bdx * bdx + bdy * bdy)

@@ -70,6 +70,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from meshwright.core.exact_stages2d import incircle_dd, incircle_eft, orient2d_eft
 from meshwright.core.expansion import (
     EPSILON,
     MAX_EXPANSION_LENGTH,
@@ -78,7 +79,6 @@ from meshwright.core.expansion import (
     expansion_sum,
     mul_small,
 )
-from meshwright.core.exact_stages2d import incircle_dd, incircle_eft, orient2d_eft
 
 __all__ = [
     "orient2d",
