@@ -11,7 +11,8 @@ All methods run on the same points in one process; times are the best of ``--rep
 after a JIT warm-up, as wall time and as CPU time of this process (on a shared machine the
 CPU-time ratio is the steadier one: every method here is single-threaded).  Ratios are to
 Triangle (``triangle.triangulate(..., "Q")``, Shewchuk's divide-and-conquer).  Peak memory
-per point is measured in a child process per (case, method).  JIT compile time (cold and cached) is reported separately.
+per point is measured in a child process per (case, method).  JIT compile time (cold and
+cached) is reported separately.
 """
 
 from __future__ import annotations
