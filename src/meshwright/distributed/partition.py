@@ -216,35 +216,38 @@ def _crossing(curves, pts, seg, curve, params, s: int, axis: int, c: float):
     return p, t
 
 
-def _score(pts, seg, segs_in, verts, vh, clearance, exy, eh, axis: int, c: float) -> tuple[float, float]:
-    """``(score, smallest angle)`` of the cut ``xy[axis] == c``: score >= 1 is admissible.
+def _scores(pts, seg, segs_in, verts, vh, clearance, exy, eh, axis: int, cs: np.ndarray):
+    """``(scores, smallest angles)`` (each (k,)) of the cuts ``xy[axis] == cs[j]``: a score
+    >= 1 is admissible.
 
-    ``verts`` (k,) are the skeleton points the cut must keep clear of (boundary vertices,
-    interior points), ``vh`` (k,) the size there: the ends of the chords it crosses by
-    ``clearance * vh``, any other by :data:`TANGENT_CLEARANCE` ``* vh``, so that a cut never
-    runs along a curve it does not cross (a thin sliver of domain between them).  ``exy`` (e, 2) are the ends of earlier
-    cuts on the cell's edges, which the cut either meets exactly (a cross junction) or passes
-    at :data:`JUNCTION_CLEARANCE` ``h`` (``eh`` (e,)) at least, so that no interface piece
-    between two junctions is short."""
-    a, b = pts[seg[segs_in, 0], axis], pts[seg[segs_in, 1], axis]
-    crossed = np.unique(seg[segs_in[(a - c) * (b - c) < 0.0]].ravel())
+    ``verts`` (v,) sorted are the skeleton points the cut must keep clear of (the ends of the
+    cell's segments, interior points), ``vh`` (v,) the size there: the ends of the chords a
+    cut crosses by ``clearance * vh``, any other by :data:`TANGENT_CLEARANCE` ``* vh``, so that
+    a cut never runs along a curve it does not cross (a thin sliver of domain between them).
+    ``exy`` (e, 2) are the ends of earlier cuts on the cell's edges, which a cut either meets
+    exactly (a cross junction) or passes at :data:`JUNCTION_CLEARANCE` ``h`` (``eh`` (e,)) at
+    least, so that no interface piece between two junctions is short.  All candidates are
+    scored at once (arrays of k by the cell's segments and vertices)."""
+    k = len(cs)
+    ends = seg[segs_in]
+    a, b = pts[ends[:, 0], axis], pts[ends[:, 1], axis]
+    cross = (a[None, :] - cs[:, None]) * (b[None, :] - cs[:, None]) < 0.0
+    d = pts[ends[:, 1]] - pts[ends[:, 0]]
+    seg_angle = np.degrees(np.arccos(np.clip(np.abs(d[:, 1 - axis]) / np.hypot(d[:, 0], d[:, 1]), 0.0, 1.0)))
+    angle = np.where(cross, seg_angle[None, :], 180.0).min(axis=1) if len(segs_in) else np.full(k, 180.0)
+    clear = np.full(k, np.inf)
     if len(verts):
-        factor = np.where(np.isin(verts, crossed), clearance, TANGENT_CLEARANCE)
-        clear = float(np.min(np.abs(pts[verts, axis] - c) / (factor * vh)))
-    else:
-        clear = np.inf
+        pos = np.searchsorted(verts, ends)
+        crossed = np.zeros((k, len(verts)), dtype=bool)
+        rows, cols = np.nonzero(cross)
+        crossed[rows, pos[cols, 0]] = True
+        crossed[rows, pos[cols, 1]] = True
+        factor = np.where(crossed, clearance, TANGENT_CLEARANCE) * vh[None, :]
+        clear = (np.abs(pts[verts, axis][None, :] - cs[:, None]) / factor).min(axis=1)
     if len(exy):
-        d = np.abs(exy[:, axis] - c)
-        clear = min(clear, float(np.min(np.where(d == 0.0, np.inf, d / (JUNCTION_CLEARANCE * eh)))))
-    angle = 180.0
-    if len(segs_in):
-        a, b = pts[seg[segs_in, 0]], pts[seg[segs_in, 1]]
-        cross = (a[:, axis] - c) * (b[:, axis] - c) < 0.0
-        if cross.any():
-            d = b[cross] - a[cross]
-            along = np.abs(d[:, 1 - axis]) / np.hypot(d[:, 0], d[:, 1])
-            angle = float(np.degrees(np.arccos(np.clip(along, 0.0, 1.0))).min())
-    return min(clear, angle / MIN_CUT_ANGLE), angle
+        de = np.abs(exy[:, axis][None, :] - cs[:, None])
+        clear = np.minimum(clear, np.where(de == 0.0, np.inf, de / (JUNCTION_CLEARANCE * eh[None, :])).min(axis=1))
+    return np.minimum(clear, angle / MIN_CUT_ANGLE), angle
 
 
 class _Skeleton:
@@ -307,14 +310,16 @@ def _choose_cut(sk, cell, samples, weights, segs_in, verts, vh, exy, eh, frac):
                 cost = np.abs(np.interp(at, coord, cum) - frac * total)
                 at = at[cost <= window * total]
                 cs = np.concatenate([at[np.argsort(cost[cost <= window * total], kind="stable")], cs])
-            for c in cs.tolist():
-                if not (lo_cell < c < hi_cell):
-                    continue
-                score, angle = _score(sk.pts, sk.seg, segs_in, verts, vh, clearance, exy, eh, axis, c)
-                if score >= 1.0:
-                    return axis, c, angle
-                if best is None or score > best[0]:
-                    best = (score, axis, c, angle)
+            cs = cs[(lo_cell < cs) & (cs < hi_cell)]
+            if not len(cs):
+                continue
+            score, angle = _scores(sk.pts, sk.seg, segs_in, verts, vh, clearance, exy, eh, axis, cs)
+            ok = np.flatnonzero(score >= 1.0)
+            if len(ok):
+                return axis, float(cs[ok[0]]), float(angle[ok[0]])
+            j = int(np.argmax(score))
+            if best is None or score[j] > best[0]:
+                best = (float(score[j]), axis, float(cs[j]), float(angle[j]))
     if best is None or best[0] <= 0.0:
         raise MeshingError(
             f"cannot place a cut in the cell ({cell[0]:.6g}, {cell[1]:.6g}) - ({cell[2]:.6g}, {cell[3]:.6g}): "
