@@ -15,7 +15,7 @@ Pipeline of :func:`delaunay`
 3. Copy the points in that order (vertex k = k-th inserted point, for memory locality) and
    insert them with the chosen algorithm's conflict test (``DELAUNAY_ALGORITHMS``).  A point
    equal to an inserted vertex is detected by the walk and not inserted.
-4. Renumber to input order (triangles relabelled, rows permuted in place).  The insertion
+4. Renumber to input order (triangles relabelled, rows copied back from the input).  The insertion
    ranks remain the keys of the symbolic perturbation (``_rank``), so later insertions see
    the same perturbed point set.
 5. Duplicates: ``"reject"`` raises :class:`DuplicatePointError`; ``"merge"`` drops them and
