@@ -24,7 +24,7 @@ from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
 from meshwright.sizing import BackgroundGrid
 from meshwright.tri import MESH_METHODS, triangulate
-from meshwright.tri.mesher import BOUNDARY_SIZE
+from meshwright.tri.mesher import BOUNDARY_SIZE, DEFAULT_GRADING
 from meshwright.tri.weatherill import DEFAULT_ALPHA
 
 NAME = "mesh"
@@ -73,6 +73,16 @@ def add_arguments(parser) -> None:
         choices=sorted(MESH_METHODS),
         default="delaunay",
         help="point placement: " + "; ".join(f"{m.name}: {m.summary}" for m in MESH_METHODS.values()),
+    )
+    grading = parser.add_mutually_exclusive_group()
+    grading.add_argument(
+        "--grading", type=float, default=DEFAULT_GRADING, metavar="G",
+        help=f"growth of the size away from a boundary finer than it, G >= 1 (default {DEFAULT_GRADING:g}; "
+        "Gmsh's Mesh.MeshSizeExtendFromBoundary)",
+    )
+    grading.add_argument(
+        "--no-grading", dest="grading", action="store_const", const=None,
+        help="follow --size exactly as given, not graded from the boundary (needs --size)",
     )
     parser.add_argument("--smooth", type=int, default=0, metavar="N", help="spring-analogy smoothing passes")
     parser.add_argument("--max-area", type=float, metavar="A", help="largest triangle area")
@@ -244,6 +254,7 @@ def run(args) -> int:
             convex_hull=args.convex_hull,
             max_points=args.max_points,
             alpha=args.alpha,
+            grading=args.grading,
             # A bar only helps a person watching a terminal; logs stay clean.  Methods that
             # report no progress would refuse progress=True.
             progress=sys.stderr.isatty() and MESH_METHODS[args.method].reports_progress,

@@ -54,15 +54,17 @@ def point_distribution(points, segments) -> np.ndarray:
 
 
 @nb.njit(cache=True)
-def _cone_min(query, src, h, slope, start, items, cell_hmin, x0, y0, w, gx, gy):
-    """``min_i h_i + slope |q - src_i|`` for each query, by ring search over grid cells."""
+def _cone_min(query, upper, src, h, slope, start, items, cell_hmin, x0, y0, w, gx, gy):
+    """``min(upper_k, min_i h_i + slope |q_k - src_i|)`` for each query ``q_k``, by ring
+    search over grid cells; the bound ``upper`` (the cap, the base field) ends the search
+    as soon as no cell can beat it, instead of at the nearest cone far from every source."""
     out = np.empty(query.shape[0])
     hglob = h.min()
     for k in range(query.shape[0]):
         qx, qy = query[k, 0], query[k, 1]
         ci = min(max(int((qx - x0) / w), 0), gx - 1)
         cj = min(max(int((qy - y0) / w), 0), gy - 1)
-        best = np.inf
+        best = upper[k]
         r = 0
         while r <= max(gx, gy):
             # Cells on ring r are at least (r - 1) w away.
@@ -116,11 +118,15 @@ class _Graded:
 
     def __call__(self, xy: np.ndarray) -> np.ndarray:
         q = np.ascontiguousarray(xy, dtype=np.float64)
+        upper = np.full(len(q), np.inf if self.hmax is None else float(self.hmax))
+        if self.base is not None:
+            upper = np.minimum(upper, self.base(q))
         if self.slope == 0.0:
-            out = np.full(len(q), self.h.min())
+            out = np.minimum(upper, self.h.min())
         else:
             out = _cone_min(
                 q,
+                upper,
                 self.src,
                 self.h,
                 self.slope,
@@ -133,10 +139,6 @@ class _Graded:
                 self.gx,
                 self.gy,
             )
-        if self.hmax is not None:
-            out = np.minimum(out, self.hmax)
-        if self.base is not None:
-            out = np.minimum(out, self.base(q))
         return out
 
 
@@ -179,15 +181,50 @@ def gradation(
 
 
 def boundary_size(
-    points, segments, growth: float = 1.2, hmax: float | None = None, scale: float = 1.0
+    points, segments, growth: float = 1.2, hmax: float | None = None, scale: float = 1.0, base=None
 ) -> SizeField:
     """Graded size field from a discretised boundary's own spacing.
 
     Sources are the boundary points with size ``scale * dP_i`` (:func:`point_distribution`);
     points on no segment are ignored.  ``scale`` plays the role of Weatherill's ``alpha``.
+    With ``base`` (a size the caller asked for) this is the grading of that size from the
+    boundary: ``h(x) = min(base(x), min_i (dP_i + (g - 1) |x - x_i|))``, so that where the
+    boundary is finer than ``base`` the size grows from the boundary spacing at most by
+    ``g - 1`` per unit length (Persson 2006) instead of jumping, and ``base`` stays the
+    upper bound (what Gmsh's ``Mesh.MeshSizeExtendFromBoundary`` does by interpolation).
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+        Boundary vertices.
+    segments : (m, 2) int
+        Boundary segments (vertex indices).
+    growth : float
+        ``g >= 1``, as for :func:`gradation`.
+    hmax : float, optional
+        Upper bound on the size.
+    scale : float
+        Factor on the spacing at the sources, positive.
+    base : size specification, optional
+        Upper bound field (number or callable, :func:`~meshwright.sizing.field.as_size_field`).
+
+    Returns
+    -------
+    SizeField
+
+    Raises
+    ------
+    InputError
+        Malformed points or segments.
+    SizeError
+        No segment, a bad ``growth``, ``hmax``, ``scale`` or ``base``.
     """
+    if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not (np.isfinite(scale) and scale > 0):
+        raise SizeError(f"scale must be positive and finite, got {scale!r}")
     dp = point_distribution(points, segments)
-    keep = np.isfinite(dp)
+    keep = np.isfinite(dp) & (dp > 0.0)
     if not keep.any():
-        raise SizeError("boundary_size needs at least one segment")
-    return gradation(np.asarray(points, dtype=np.float64)[keep], scale * dp[keep], growth, hmax)
+        raise SizeError("boundary_size needs at least one segment of positive length")
+    field = gradation(np.asarray(points, dtype=np.float64)[keep], scale * dp[keep], growth, hmax, base)
+    field.name = f"{'' if base is None else as_size_field(base).name + ' '}graded from the boundary (g={growth:g})"
+    return field

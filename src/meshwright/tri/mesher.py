@@ -30,6 +30,22 @@ boundary as the domain discretises it, Weatherill's ``dP`` from it (18.1.3), and
 ``frontal-delaunay`` and ``front`` the chapter's background, the triangulated boundary
 nodes with their point distribution function (18.3).
 
+Grading from the boundary (``grading=g``, default :data:`DEFAULT_GRADING`): where the
+discretised boundary is finer than the size (polygon vertices given closer, curves split
+for their turning, a fine wall), every method follows ``h(x) = min(size(x), min_i (dP_i +
+(g - 1) |x - x_i|))`` over the boundary points ``x_i`` with their spacing ``dP_i``
+(:func:`meshwright.sizing.boundary.boundary_size`; the Lipschitz limit ``|grad h| <= g - 1``
+of Persson 2006), so elements grow from the boundary spacing to ``size`` instead of
+jumping; ``size`` stays the upper bound.  The boundary is discretised again with the
+graded size, so that straight pieces next to finer given vertices grade as well.  This is
+Gmsh's default
+``Mesh.MeshSizeExtendFromBoundary = 1`` done as a gradation limit, and ``grading=None`` is
+its ``0``: the size exactly as given.  The chapter's background of ``size="boundary"`` is
+capped the same way (its linear interpolation of ``dP`` may grow as fast as the boundary
+spacing jumps); the default size is the local feature size graded by ``g`` (it starts from
+the boundary's features already), so it needs no cap and ``grading=None`` is refused with
+it; a stretched background grid is the user's own drawing and is used as given.
+
 What each method honours is declared in its registry entry (:class:`MeshMethod`), and
 :func:`triangulate` checks every argument against it before any work: ``min_angle`` up to
 ``max_min_angle`` (Delaunay refinement natively; Weatherill and frontal Delaunay by a final
@@ -68,23 +84,27 @@ from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.shapes import BUILTIN_DOMAINS, builtin, polygon
 from meshwright.sizing.background import BackgroundGrid
-from meshwright.sizing.boundary import gradation, point_distribution
+from meshwright.sizing.boundary import boundary_size, gradation, point_distribution
 from meshwright.sizing.field import SizeField, as_size_field
 from meshwright.sizing.lfs import DEFAULT_CAP, DEFAULT_GROWTH, lfs_field, turning_size
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
-from meshwright.tri.frontal_delaunay import frontal_delaunay
+from meshwright.tri.frontal_delaunay import frontal_delaunay, stretching
 from meshwright.tri.ruppert import conform, refine
 from meshwright.tri.smoothing import smooth as smooth_points
 from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
 
-__all__ = ["MESH_METHODS", "MeshMethod", "triangulate", "DEFAULT_MAX_POINTS", "RUPPERT_MAX_ANGLE", "BOUNDARY_SIZE"]
+__all__ = [
+    "MESH_METHODS", "MeshMethod", "triangulate", "DEFAULT_MAX_POINTS", "RUPPERT_MAX_ANGLE", "BOUNDARY_SIZE",
+    "DEFAULT_GRADING",
+]
 
 DEFAULT_MAX_POINTS = 100_000_000  # vertices; about 20 GB of kernel arrays, far beyond a 2-D mesh anyone waits for
 RUPPERT_MAX_ANGLE = 33.8  # degrees: where Delaunay refinement with off-centres still terminates in practice
 BOUNDARY_SIZE = "boundary"  # the named size: the chapter's spacing from the boundary alone
 TURN_PER_ELEMENT = math.pi / 16  # radians a curve turns along one element of the default size
 _AREA_SOURCES = 2_000_000  # most sources the default size spreads over area-bounded regions
+DEFAULT_GRADING = DEFAULT_GROWTH  # g of the grading from the boundary: |grad h| <= g - 1, as the default size's
 
 
 class _Job(NamedTuple):
@@ -98,6 +118,7 @@ class _Job(NamedTuple):
     progress: bool
     max_points: int
     alpha: float
+    grading: float | None
 
 
 class MeshMethod(NamedTuple):
@@ -183,7 +204,7 @@ def _place_weatherill(job: _Job) -> None:
             ct,
             dp,
             job.alpha,
-            size=job.field,
+            size=job.field if job.field is not None else _boundary_cap(job),
             max_points=job.max_points,
             callback=None if bar is None else (lambda p, acc, n: bar.update(1)),
         )
@@ -193,17 +214,31 @@ def _place_weatherill(job: _Job) -> None:
     _finish(job)
 
 
+def _boundary_cap(job: _Job, base=None) -> SizeField | None:
+    """``base`` graded from the boundary (:func:`_graded`), or the grading alone for a
+    method without a size; None when ``grading=None`` leaves it as it is."""
+    if job.grading is None:
+        return base
+    return boundary_size(job.disc.points, job.disc.segments, job.grading, base=base)
+
+
 def _background(job: _Job):
     """The size field, or chapter 18.3's background: the triangulated boundary nodes with
-    their point distribution function, interpolated linearly."""
+    their point distribution function, interpolated linearly, graded from the boundary."""
     if job.field is not None:
         return job.field
     ct = job.ct
-    return BackgroundGrid.from_boundary(ct.points, ct.index_map[job.disc.segments], ct.triangles(False))
+    bg = BackgroundGrid.from_boundary(ct.points, ct.index_map[job.disc.segments], ct.triangles(False))
+    return _boundary_cap(job, bg)
 
 
 def _place_frontal(job: _Job) -> None:
-    frontal_delaunay(job.ct, _background(job), max_points=job.max_points)
+    field = _background(job)
+    if stretching(field) is not None and (job.min_angle > 0.0 or job.max_area is not None
+                                          or (job.disc.regions[:, 3] > 0).any()):
+        raise InputError("frontal-delaunay under a stretched background grid honours no min_angle or area bound "
+                         "(a Delaunay refinement pass in the plane would undo the stretching)")
+    frontal_delaunay(job.ct, field, max_points=job.max_points)
     _finish(job)
 
 
@@ -404,14 +439,17 @@ def _smooth_mesh(mesh: Mesh, ct: ConstrainedTriangulation, domain: Domain, disc:
 
 
 def _domain_and_field(
-    domain, size, convex_hull: bool, max_area: float | None = None, grades_itself: bool = False, check=None
+    domain, size, convex_hull: bool, max_area: float | None = None, grades_itself: bool = False, check=None,
+    growth: float | None = DEFAULT_GROWTH,
 ) -> tuple[Domain, SizeField | None]:
     """The domain argument as a :class:`Domain` and the size field to mesh it with: ``size``
-    when given; for None the domain's own, else :func:`_default_size` (``max_area`` and
-    ``grades_itself`` passed on); for ``"boundary"`` the domain's own or None (the
-    boundary's spacing alone).  ``check(domain)``, if given, runs on the domain before any
-    default size is built.  Raises as :func:`_as_domain`,
-    :func:`~meshwright.sizing.field.as_size_field`, :func:`_check_open` and ``check``.
+    when given; for None the domain's own, else :func:`_default_size` (``max_area``,
+    ``grades_itself`` and ``growth`` passed on); for ``"boundary"`` the domain's own or None
+    (the boundary's spacing alone).  ``check(domain)``, if given, runs on the domain before
+    any default size is built.  Raises as :func:`_as_domain`,
+    :func:`~meshwright.sizing.field.as_size_field`, :func:`_check_open` and ``check``, and
+    :class:`InputError` for ``growth=None`` (no grading) with the default size, which is
+    graded by construction.
     """
     if isinstance(size, str):
         if size != BOUNDARY_SIZE:
@@ -426,18 +464,25 @@ def _domain_and_field(
     if field is None:
         field = dom.size
     if field is None and size is None:
-        field = _default_size(dom, max_area, grades_itself)
+        if growth is None:
+            raise InputError(
+                "grading=None meshes a given size exactly as given, but no size was given: the default size "
+                f"(the local feature size) is graded by construction; give a size, or a grading factor >= 1 "
+                f"(default {DEFAULT_GRADING:g})"
+            )
+        field = _default_size(dom, max_area, grades_itself, growth)
     return dom, field
 
 
-def _default_size(dom: Domain, max_area: float | None, grades_itself: bool) -> SizeField | None:
+def _default_size(dom: Domain, max_area: float | None, grades_itself: bool, growth: float = DEFAULT_GROWTH
+                  ) -> SizeField | None:
     """The size used when neither the caller nor the domain gives one (issue 14): the local
     feature size of the domain's own discretisation (polygon vertices as given,
     :func:`~meshwright.sizing.lfs.lfs_field`), with curved pieces sized by their turning
     (:data:`TURN_PER_ELEMENT` radians per element along their fine polylines) and area
-    bounds graded in (:func:`_area_sources`).  For a method that ``grades_itself`` only
-    the curves' turning, graded as the rest (None for a polygon): its refinement sees the
-    polygon, not the curves it stands for."""
+    bounds graded in (:func:`_area_sources`), all graded by ``growth``.  For a method that
+    ``grades_itself`` only the curves' turning, graded as the rest (None for a polygon): its
+    refinement sees the polygon, not the curves it stands for."""
     xy, h = [], []
     for c in dom.curves:
         if not isinstance(c, (Line, Polyline)):
@@ -451,7 +496,7 @@ def _default_size(dom: Domain, max_area: float | None, grades_itself: bool) -> S
         xy, h = np.concatenate(xy), np.concatenate(h)
         x0, y0, x1, y1 = dom.bbox
         hmax = DEFAULT_CAP * max(x1 - x0, y1 - y0)
-        return gradation(xy, np.minimum(h, hmax), DEFAULT_GROWTH, hmax)
+        return gradation(xy, np.minimum(h, hmax), growth, hmax)
     disc = dom.discretize(None)
     area = _area_sources(dom, disc, max_area)
     if area is not None:
@@ -461,7 +506,35 @@ def _default_size(dom: Domain, max_area: float | None, grades_itself: bool) -> S
     if xy:
         xy, h = np.concatenate(xy), np.concatenate(h)
         extra = (xy[np.isfinite(h)], h[np.isfinite(h)])
-    return lfs_field(disc.points, disc.segments, extra=extra)
+    return lfs_field(disc.points, disc.segments, growth=growth, extra=extra)
+
+
+def _grading(grading) -> float | None:
+    """``grading`` checked: None, or a finite growth factor >= 1."""
+    if grading is None:
+        return None
+    if isinstance(grading, bool) or not isinstance(grading, numbers.Real) or not math.isfinite(grading):
+        raise InputError(f"grading must be None or a finite growth factor >= 1, got {grading!r}")
+    if grading < 1.0:
+        raise InputError(
+            f"grading must be a growth factor >= 1 (the size grows by at most grading - 1 per unit length "
+            f"away from the boundary), got {grading!r}"
+        )
+    return float(grading)
+
+
+def _is_stretched(field) -> bool:
+    """Whether ``field`` is a 2-D background grid with stretching somewhere."""
+    return isinstance(field, BackgroundGrid) and field.dim == 2 and bool(np.any(field.stretch != 1.0))
+
+
+def _graded(field: SizeField | None, disc: Discretization, grading: float | None, given: bool) -> SizeField | None:
+    """The size the methods follow: a ``given`` size (the caller's or the domain's) graded
+    from the boundary's spacing (module docstring), unless ``grading`` is None, there is
+    no size, or it is a stretched background grid (used as drawn)."""
+    if not given or field is None or grading is None or _is_stretched(field) or not len(disc.segments):
+        return field
+    return boundary_size(disc.points, disc.segments, grading, base=field)
 
 
 def _area_sources(dom: Domain, disc: Discretization, max_area: float | None):
@@ -533,6 +606,7 @@ def triangulate(
     max_points: int | None = None,
     alpha: float | None = None,
     convex_hull: bool = False,
+    grading: float | None = DEFAULT_GRADING,
 ) -> Mesh:
     """Boundary-conforming quality triangle mesh of a 2-D domain.
 
@@ -597,6 +671,15 @@ def triangulate(
         lone segment on its outer box), whose outer loop is that hull; its segments,
         holes and points are kept.  For a domain with a given outer loop it is accepted
         only when that loop is convex (its own hull).
+    grading : float or None
+        Growth factor ``g >= 1`` of the size away from the boundary (default
+        :data:`DEFAULT_GRADING` = 1.2): where the boundary is finer than ``size``, the
+        size grows from the boundary spacing by at most ``g - 1`` per unit length up to
+        ``size`` (module docstring), as Gmsh's ``Mesh.MeshSizeExtendFromBoundary``; it
+        also caps the chapter's background of ``size="boundary"``, and without a size it
+        is the default size's growth.  None: a given size is followed exactly as given
+        (Gmsh's ``MeshSizeExtendFromBoundary = 0``); refused without a size.  A stretched
+        background grid is followed as drawn.
 
     Returns
     -------
@@ -615,7 +698,7 @@ def triangulate(
         without ``convex_hull=True``.
     InputError
         Not a domain (its type named), unknown method, a parameter of the wrong type or
-        range, or one the method cannot honour (named).
+        range, or one the method cannot honour (named); ``grading=None`` without a size.
     SizeError
         ``size`` or ``max_area`` zero, negative, NaN or infinite, a string other than
         ``"boundary"``, or needing more than ``max_points`` points (the estimate and the
@@ -644,11 +727,17 @@ def triangulate(
     if convex_hull and not m.convex_hull:
         raise InputError(f"method {method!r} cannot mesh the convex hull; call it with convex_hull=False")
     seed = check_seed(seed)
-    dom, field = _domain_and_field(domain, size, convex_hull, max_area, m.grades_itself)
+    grading = _grading(grading)
+    dom, field = _domain_and_field(domain, size, convex_hull, max_area, m.grades_itself, growth=grading)
     _check_work(dom, field, max_area, cap)
     disc = dom.discretize(field)
+    graded = _graded(field, disc, grading, not (size is None and dom.size is None))
+    if graded is not field:
+        # The boundary too: straight pieces next to finer given vertices (a slit's mouth, a
+        # hole near the outer wall) are split at the graded size, not at the size.
+        field, disc = graded, dom.discretize(graded)
     ct = _classified_cdt(dom, disc, seed)
-    fill = m.place(_Job(ct, disc, field, angle, max_area, bool(progress), cap, alpha))
+    fill = m.place(_Job(ct, disc, field, angle, max_area, bool(progress), cap, alpha, grading))
     if fill is not None and conforming:
         # A Delaunay mesh was asked for: the method's points, connected by the kernel.
         ct.insert_points(fill[0][ct.n_points :])
