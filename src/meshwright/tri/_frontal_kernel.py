@@ -10,13 +10,29 @@ again):
     hkey   (hcap,) float64   min-heap (:mod:`meshwright.core.heap`) of -ratio (largest
     htri   (hcap, 4) int32   circumradius / ideal first); payload: slot and vertex triple
                              of each entry (stale when the slot changed)
-    stamp  (cap,) int64      visit marks of the spacing search (never reset: a counter)
-    fmeta  (F_LEN,) int64    heap size, stamp counter, points added
-    par    (P_LEN,) float64  ACCEPT, SPACING, max points, constant size (0: background)
+    stamp  (cap,) int64      visit marks of the disc searches (never reset: a counter)
+    fmeta  (FM_LEN,) int64   heap size, stamp counter, points added, free rows, live
+                             scaffold vertices, scaffold removed / kept, scan cursor
+    par    (P_LEN,) float64  ACCEPT, SPACING, max points, constant size (0: background),
+                             scaffold clearance, scaffold spacing, heap lift of the
+                             triangles with a scaffold vertex
+    vflag  (rows,) int8      1 at a live scaffold vertex
+    free   (rows,) int32     stack of dead rows (removed scaffold vertices), reused first
+    scr    (SCRATCH,) int32  scratch of :func:`meshwright.tri._scaffold.remove_vertex`
+
+The scaffold: before the front starts, :func:`seed_scaffold` inserts coarse interior points
+(spacing about ``par[P_SCAF]`` h, in Hilbert order), so that the unmeshed interior is made of
+triangles of a few h instead of long triangles spanning it, whose circumcircles made every
+frontal insertion's cavity as long as the front.  A triangle with a scaffold vertex is
+never accepted; a scaffold vertex within ``par[P_CLEAR]`` h of a proposed point, or a
+vertex of a triangle that has no room for a point, is removed
+(:func:`meshwright.tri._scaffold.remove_vertex`) and the hole's triangles join the front
+like an insertion's.  An empty heap therefore means that no scaffold vertex is left (a
+safety scan removes any that are; one whose removal is refused stays as an ordinary
+vertex and is counted).
 
 The constrained triangulation is passed as its two bundles, ``s`` (``TriState``) and ``c``
-(``CdtState``) of :class:`~meshwright.tri.cdt.ConstrainedTriangulation`; insertion goes
-through :func:`meshwright.tri._encroach.insert_points`, one point at a time.  ``bg`` is the
+(``CdtState``) of :class:`~meshwright.tri.cdt.ConstrainedTriangulation`.  ``bg`` is the
 background grid's kernel tuple (:meth:`meshwright.sizing.BackgroundGrid.kernel_args`) plus
 the walk's hint, passed as one tuple argument.
 """
@@ -33,13 +49,26 @@ from meshwright.core.geom2d import circumcircle, corners, segment_dist2
 from meshwright.core.heap import heap_pop, heap_push
 from meshwright.sizing.background import interpolate_walk
 from meshwright.tri import _encroach as enc
-from meshwright.tri._kernel2d import M_LAST, M_NTRI, M_NV, walk
+from meshwright.tri._kernel2d import (
+    BROKEN,
+    DUP_BASE,
+    M_LAST,
+    M_NTRI,
+    M_NV,
+    NEED_SPACE,
+    insert_vertex,
+    on_constraint,
+    walk,
+)
+from meshwright.tri._scaffold import KMAX, move_row, move_slot, remove_vertex
 
 F_DONE, F_ROOM, F_BROKEN, F_POINTS = range(4)
-FM_HN, FM_STAMP, FM_ADDED, FM_LEN = range(4)
-P_ACCEPT, P_SPACING, P_MAX_POINTS, P_CONST, P_LEN = range(5)
-HEAP_ROOM = 256  # free heap entries needed before an insertion (one star pushes far fewer)
+FM_HN, FM_STAMP, FM_ADDED, FM_NFREE, FM_NSCAF, FM_REMOVED, FM_KEPT, FM_CURSOR, FM_LEN = range(9)
+P_ACCEPT, P_SPACING, P_MAX_POINTS, P_CONST, P_CLEAR, P_SCAF, P_LIFT, P_LEN = range(8)
+HEAP_ROOM = 4 * KMAX + 64  # free heap entries needed before a step (a removal pushes up to 4 KMAX)
 _SQRT3 = np.sqrt(3.0)
+_NEAR_NONE = -1
+_NEAR_CROWDED = -2
 
 
 class FrontalState(NamedTuple):
@@ -52,6 +81,9 @@ class FrontalState(NamedTuple):
     stamp: np.ndarray
     fmeta: np.ndarray
     par: np.ndarray
+    vflag: np.ndarray
+    free: np.ndarray
+    scr: np.ndarray
 
 
 @njit(inline="always")
@@ -69,6 +101,15 @@ def _radius(pts, tri, t):
     """Circumradius of triangle slot t."""
     ax, ay, bx, by, cx, cy = corners(pts, tri, t)
     return circumcircle(ax, ay, bx, by, cx, cy)[2]
+
+
+@njit(inline="always")
+def _scaffold_of(t, tri, vflag):
+    """A scaffold vertex of triangle t, or -1."""
+    for k in range(3):
+        if vflag[tri[3 * t + k]] != 0:
+            return tri[3 * t + k]
+    return -1
 
 
 @njit(inline="always")
@@ -109,14 +150,20 @@ def _size(par, bg, x, y):
 
 
 @njit(inline="always")
-def classify(t, pts, tri, acc, ratio, par, bg):
-    """Store slot t's ``R sqrt(3) / h`` in ``ratio[t]``; accept t if it is within ACCEPT."""
+def classify(t, pts, tri, acc, ratio, par, bg, vflag):
+    """Store slot t's ``R sqrt(3) / h`` in ``ratio[t]``; accept t if it is within ACCEPT and
+    has no scaffold vertex."""
     r = _radius(pts, tri, t)
     gx = (pts[tri[3 * t], 0] + pts[tri[3 * t + 1], 0] + pts[tri[3 * t + 2], 0]) / 3.0
     gy = (pts[tri[3 * t], 1] + pts[tri[3 * t + 1], 1] + pts[tri[3 * t + 2], 1]) / 3.0
     h = _size(par, bg, gx, gy)
     ratio[t] = r * _SQRT3 / h
-    if ratio[t] <= par[P_ACCEPT]:
+    if _scaffold_of(t, tri, vflag) >= 0:
+        # Waits before every scaffold-free triangle, as the triangles spanning the open
+        # interior do without a scaffold (without the lift: mean radius ratio 0.9887
+        # against 0.9968 on the disk at h = 0.01).
+        ratio[t] += par[P_LIFT]
+    elif ratio[t] <= par[P_ACCEPT]:
         for k in range(3):
             acc[3 * t + k] = tri[3 * t + k]
 
@@ -133,21 +180,25 @@ def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta):
 def start(s, c, f, bg):
     """Accept the right-sized inside triangles and push the others that touch the front."""
     pts, tri, nbr, treg = s.pts, s.tri, s.nbr, c.treg
-    acc, ratio, hkey, htri, fmeta, par = f.acc, f.ratio, f.hkey, f.htri, f.fmeta, f.par
+    acc, ratio, hkey, htri, fmeta, par, vflag = f.acc, f.ratio, f.hkey, f.htri, f.fmeta, f.par, f.vflag
     ntri = s.meta[M_NTRI]
     for t in range(ntri):
         if _inside(t, tri, treg):
-            classify(t, pts, tri, acc, ratio, par, bg)
+            classify(t, pts, tri, acc, ratio, par, bg, vflag)
     for t in range(ntri):
         _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
 
 
 @njit(inline="always")
-def _too_close(px, py, r, host, pts, tri, nbr, treg, stamp, fmeta, stack):
-    """Whether a vertex lies within r of p: search the triangles the disc reaches from host."""
+def _near(px, py, rclear, rspace, host, pts, tri, nbr, treg, vflag, stamp, fmeta, stack):
+    """Search the triangles the disc of radius ``max(rclear, rspace)`` about p reaches from
+    host: a scaffold vertex within rclear, ``_NEAR_CROWDED`` when another vertex lies within
+    rspace, else ``_NEAR_NONE``."""
     fmeta[FM_STAMP] += 1
     mark = fmeta[FM_STAMP]
-    r2 = r * r
+    rc2 = rclear * rclear
+    rs2 = rspace * rspace
+    r2 = max(rc2, rs2)
     top = 1
     stack[0] = host
     stamp[host] = mark
@@ -156,8 +207,12 @@ def _too_close(px, py, r, host, pts, tri, nbr, treg, stamp, fmeta, stack):
         t = stack[top]
         for m in range(3):
             v = tri[3 * t + m]
-            if (pts[v, 0] - px) ** 2 + (pts[v, 1] - py) ** 2 < r2:
-                return True
+            d2 = (pts[v, 0] - px) ** 2 + (pts[v, 1] - py) ** 2
+            if vflag[v] != 0:
+                if d2 < rc2:
+                    return v
+            elif d2 < rs2:
+                return _NEAR_CROWDED
         for e in range(3):
             n = nbr[3 * t + e]
             if not _inside(n, tri, treg) or stamp[n] == mark:
@@ -166,33 +221,180 @@ def _too_close(px, py, r, host, pts, tri, nbr, treg, stamp, fmeta, stack):
             b = tri[3 * t + (e + 2) % 3]
             if segment_dist2(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) < r2:
                 if top >= stack.shape[0]:
-                    return True  # a disc this crowded is too close anyway
+                    return _NEAR_CROWDED  # a disc this crowded is too close anyway
                 stamp[n] = mark
                 stack[top] = n
                 top += 1
-    return False
+    return _NEAR_NONE
+
+
+@njit(inline="always")
+def _insert_at(px, py, host, pts, tri, treg, meta, free, fmeta, vflag, rows, s, c):
+    """Insert p (inside, strictly off every constrained edge) into a dead row if one is
+    free, else a new row.  Returns the vertex, or ``NEED_SPACE`` / ``BROKEN`` / a duplicate
+    code of :func:`meshwright.tri._kernel2d.insert_vertex` (nothing changed then)."""
+    nfree = fmeta[FM_NFREE]
+    row = free[nfree - 1] if nfree > 0 else meta[M_NV]
+    if row >= rows:
+        return NEED_SPACE
+    pts[row, 0] = px
+    pts[row, 1] = py
+    f0 = treg[host]
+    meta[M_LAST] = host
+    tn = insert_vertex(row, host, s)
+    if tn < 0:
+        return tn
+    if nfree > 0:
+        fmeta[FM_NFREE] = nfree - 1
+    else:
+        meta[M_NV] = row + 1
+    c.vseg[row] = -1
+    c.vacute[row] = 0
+    c.vpar[row] = np.nan
+    vflag[row] = 0
+    enc.set_flags(row, tn, -1, -1, -1, -1, f0, s, c)
+    return row
+
+
+@njit(cache=True)
+def seed_scaffold(xy, i0, s, c, f, bg):
+    """Insert the scaffold candidates ``xy[i0:]`` (k, 2) that fall inside the domain and
+    keep ``par[P_SCAF] / 2`` h from every vertex.
+
+    Returns
+    -------
+    (int, int)
+        ``(i, F_DONE)`` with i = len(xy), or ``(i, F_ROOM)`` / ``(i, F_BROKEN)`` at point i.
+    """
+    pts, tri, nbr, meta, treg = s.pts, s.tri, s.nbr, s.meta, c.treg
+    stamp, fmeta, par, vflag, free = f.stamp, f.fmeta, f.par, f.vflag, f.free
+    stack = np.empty(4096, dtype=np.int32)
+    rows, slots = enc.room_of(s, c)
+    for i in range(i0, xy.shape[0]):
+        ntri = meta[M_NTRI]
+        if ntri + 2 > slots or stamp.shape[0] < ntri + 2 or meta[M_NV] + 1 > min(rows, vflag.shape[0]):
+            return i, F_ROOM
+        px = xy[i, 0]
+        py = xy[i, 1]
+        host, _ = walk(s, meta[M_LAST] if meta[M_LAST] < ntri else 0, px, py, False)
+        if not _inside(host, tri, treg) or on_constraint(host, px, py, s) >= 0:
+            continue
+        r = 0.5 * par[P_SCAF] * _size(par, bg, px, py)
+        if _near(px, py, r, r, host, pts, tri, nbr, treg, vflag, stamp, fmeta, stack) != _NEAR_NONE:
+            continue
+        v = _insert_at(px, py, host, pts, tri, treg, meta, free, fmeta, vflag, rows, s, c)
+        if v == NEED_SPACE:
+            return i, F_ROOM
+        if v == BROKEN:
+            return i, F_BROKEN
+        if v >= 0:
+            vflag[v] = 1
+            fmeta[FM_NSCAF] += 1
+    return xy.shape[0], F_DONE
+
+
+@njit(inline="always")
+def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag):
+    """Classify the new star of vertex v, then queue it and its outer neighbours on the front."""
+    s0 = vtri[v]
+    sl = s0
+    for _ in range(1024):
+        k = 0
+        while tri[3 * sl + k] != v:
+            k += 1
+        if _inside(sl, tri, treg):
+            classify(sl, pts, tri, acc, ratio, par, bg, vflag)
+        sl = nbr[3 * sl + (k + 1) % 3]
+        if sl == s0 or sl < 0:
+            break
+    sl = s0
+    for _ in range(1024):
+        k = 0
+        while tri[3 * sl + k] != v:
+            k += 1
+        _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+        _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+        sl = nbr[3 * sl + (k + 1) % 3]
+        if sl == s0 or sl < 0:
+            break
+
+
+@njit(inline="always")
+def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, free, scr, s, c):
+    """Remove scaffold vertex v, refill the freed slots from the end, queue the new front.
+
+    A refused removal leaves v as an ordinary vertex (counted in ``FM_KEPT``).
+    """
+    vflag[v] = 0
+    fmeta[FM_NSCAF] -= 1
+    k = remove_vertex(v, s, c, scr)
+    if k < 0:
+        fmeta[FM_KEPT] += 1
+        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag)
+        return
+    fmeta[FM_REMOVED] += 1
+    free[fmeta[FM_NFREE]] = v
+    fmeta[FM_NFREE] += 1
+    st = scr[KMAX : 2 * KMAX]
+    fa = st[k - 2]
+    fb = st[k - 1]
+    for fs in (max(fa, fb), min(fa, fb)):
+        last = meta[M_NTRI] - 1
+        if fs != last:
+            move_slot(last, fs, tri, nbr, cons, treg, vtri, meta)
+            for j in range(3):
+                acc[3 * fs + j] = acc[3 * last + j]
+            ratio[fs] = ratio[last]
+            for q in range(k - 2):
+                if st[q] == last:
+                    st[q] = fs
+            _push_if_front(fs, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+        meta[M_NTRI] = last
+    for q in range(k - 2):
+        classify(st[q], pts, tri, acc, ratio, par, bg, vflag)
+    for q in range(k - 2):
+        t = st[q]
+        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+        for j in range(3):
+            _push_if_front(nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
 
 
 @njit(cache=True)
 def run(s, c, f, bg):
-    """Insert Rebay points, worst front triangle first, until the heap is empty.
+    """Insert Rebay points, worst front triangle first, until the heap is empty and no
+    scaffold vertex is left.
 
     The bundles' fields are read once here and handed to the per-step helpers as arrays:
     a field read inside a loop costs a reference-count pair per iteration.
     """
-    q = np.empty((1, 2))
-    out = np.empty(1, dtype=np.int32)
     stack = np.empty(4096, dtype=np.int32)
-    pts, tri, nbr, meta, treg, vtri = s.pts, s.tri, s.nbr, s.meta, c.treg, c.vtri
+    pts, tri, nbr, cons, meta, treg, vtri = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg, c.vtri
     acc, ratio, hkey, htri, stamp, fmeta, par = f.acc, f.ratio, f.hkey, f.htri, f.stamp, f.fmeta, f.par
-    while fmeta[FM_HN] > 0:
+    vflag, free, scr = f.vflag, f.free, f.scr
+    rows, slots = enc.room_of(s, c)
+    rows = min(rows, vflag.shape[0], free.shape[0])
+    while True:
         ntri = meta[M_NTRI]
         if (
             fmeta[FM_HN] + HEAP_ROOM > hkey.shape[0] or acc.shape[0] < 3 * (ntri + 2)
-            or stamp.shape[0] < ntri + 2 or ratio.shape[0] < ntri + 2
+            or stamp.shape[0] < ntri + 2 or ratio.shape[0] < ntri + 2 or ntri + 2 > slots
         ):
             return F_ROOM
-        if meta[M_NV] >= par[P_MAX_POINTS]:
+        if fmeta[FM_HN] == 0:
+            if fmeta[FM_NSCAF] == 0:
+                return F_DONE
+            # Safety scan: a scaffold vertex the front never reached.
+            v = fmeta[FM_CURSOR]
+            while v < meta[M_NV] and vflag[v] == 0:
+                v += 1
+            fmeta[FM_CURSOR] = v
+            if v >= meta[M_NV]:
+                fmeta[FM_NSCAF] = 0
+                continue
+            _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, free,
+                  scr, s, c)
+            continue
+        if meta[M_NV] - fmeta[FM_NFREE] - fmeta[FM_NSCAF] >= par[P_MAX_POINTS]:
             return F_POINTS
         t, a0, b0, c0 = htri[0, 0], htri[0, 1], htri[0, 2], htri[0, 3]
         heap_pop(hkey, htri, fmeta[FM_HN])
@@ -220,47 +422,61 @@ def run(s, c, f, bg):
         px = 0.5 * (pts[a, 0] + pts[b, 0]) + d * nx
         py = 0.5 * (pts[a, 1] + pts[b, 1]) + d * ny
         host, _ = walk(s, t, px, py, False)
-        if not _inside(host, tri, treg) or _too_close(px, py, par[P_SPACING] * h, host, pts, tri, nbr, treg, stamp,
-                                                      fmeta, stack):
-            # No room for a point: the triangle stays as it is and joins the accepted ones.
+        near = _NEAR_CROWDED
+        if _inside(host, tri, treg) and on_constraint(host, px, py, s) < 0:
+            near = _near(px, py, par[P_CLEAR] * h, par[P_SPACING] * h, host, pts, tri, nbr, treg, vflag, stamp,
+                         fmeta, stack)
+        if near >= 0:
+            # A scaffold vertex in the way: remove it and try t again (if it survived).
+            _push(hkey, htri, fmeta, -ratio[t], t, tri)
+            _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, free,
+                  scr, s, c)
+            continue
+        if near == _NEAR_CROWDED:
+            # No room for a point: the triangle stays as it is and joins the accepted ones,
+            # unless it hangs on a scaffold vertex, which goes instead.
+            sv = _scaffold_of(t, tri, vflag)
+            if sv >= 0:
+                _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, free,
+                      scr, s, c)
+                continue
             for k in range(3):
                 acc[3 * t + k] = tri[3 * t + k]
             for k in range(3):
                 _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
             continue
-        q[0, 0] = px
-        q[0, 1] = py
-        meta[M_LAST] = host
-        _, code = enc.insert_points(q, 0, out, s, c)
-        if code == enc.R_ROOM:
+        v = _insert_at(px, py, host, pts, tri, treg, meta, free, fmeta, vflag, rows, s, c)
+        if v == NEED_SPACE:
             _push(hkey, htri, fmeta, -ratio[t], t, tri)
             return F_ROOM
-        if code != enc.R_DONE:
+        if v == BROKEN:
             return F_BROKEN
-        v = out[0]
-        if v < meta[M_NV] - 1:
+        if v <= DUP_BASE:
             continue  # the point was already a vertex
         fmeta[FM_ADDED] += 1
-        # The star of v: rotate across the edge v -> next around v.
-        s0 = vtri[v]
-        sl = s0
-        for _ in range(1024):
-            k = 0
-            while tri[3 * sl + k] != v:
-                k += 1
-            if _inside(sl, tri, treg):
-                classify(sl, pts, tri, acc, ratio, par, bg)
-            sl = nbr[3 * sl + (k + 1) % 3]
-            if sl == s0 or sl < 0:
-                break
-        sl = s0
-        for _ in range(1024):
-            k = 0
-            while tri[3 * sl + k] != v:
-                k += 1
-            _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
-            _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
-            sl = nbr[3 * sl + (k + 1) % 3]
-            if sl == s0 or sl < 0:
-                break
-    return F_DONE
+        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag)
+
+
+@njit(cache=True)
+def close_rows(s, c, f):
+    """Renumber the last live vertices into the dead rows left by removed scaffold vertices,
+    so that rows ``[0, meta[M_NV])`` are all live.  Returns False if a star did not close."""
+    meta, vtri = s.meta, c.vtri
+    free, fmeta = f.free, f.fmeta
+    for _ in range(free.shape[0] + 1):
+        if fmeta[FM_NFREE] == 0:
+            return True
+        last = meta[M_NV] - 1
+        if vtri[last] < 0:
+            for j in range(fmeta[FM_NFREE]):
+                if free[j] == last:
+                    free[j] = free[fmeta[FM_NFREE] - 1]
+                    break
+            fmeta[FM_NFREE] -= 1
+            meta[M_NV] = last
+            continue
+        fmeta[FM_NFREE] -= 1
+        if not move_row(last, free[fmeta[FM_NFREE]], s, c):
+            return False
+        meta[M_NV] = last
+    return fmeta[FM_NFREE] == 0

@@ -89,7 +89,7 @@ from meshwright.sizing.field import SizeField, as_size_field
 from meshwright.sizing.lfs import DEFAULT_CAP, DEFAULT_GROWTH, lfs_field, turning_size
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
-from meshwright.tri.frontal_delaunay import frontal_delaunay
+from meshwright.tri.frontal_delaunay import frontal_delaunay, stretching
 from meshwright.tri.ruppert import conform, refine
 from meshwright.tri.smoothing import smooth as smooth_points
 from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
@@ -233,7 +233,12 @@ def _background(job: _Job):
 
 
 def _place_frontal(job: _Job) -> None:
-    frontal_delaunay(job.ct, _background(job), max_points=job.max_points)
+    field = _background(job)
+    if stretching(field) is not None and (job.min_angle > 0.0 or job.max_area is not None
+                                          or (job.disc.regions[:, 3] > 0).any()):
+        raise InputError("frontal-delaunay under a stretched background grid honours no min_angle or area bound "
+                         "(a Delaunay refinement pass in the plane would undo the stretching)")
+    frontal_delaunay(job.ct, field, max_points=job.max_points)
     _finish(job)
 
 
