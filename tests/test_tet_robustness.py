@@ -107,7 +107,7 @@ def test_lawson_flips_subfaces_to_the_planar_delaunay_triangulation():
                 spoiled += 1
             break
     assert spoiled > 3
-    lawson(pts, faces, parent, np.array([[0, 1, 2]], dtype=np.int32), axis)
+    lawson(pts, faces, parent, np.array([[0, 1, 2]], dtype=np.int32), np.full((len(pts), 2), -1, dtype=np.int32), axis)
     # every interior edge is locally Delaunay, every face still counter-clockwise
     for f in range(faces.shape[0]):
         assert _orient_exact(*xy[faces[f]]) > 0

@@ -28,7 +28,7 @@ from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d, orient3d
 from meshwright.core.validate_input import check_count, check_flag, check_positive, check_seed
 from meshwright.tet.exterior import classify
-from meshwright.tet.recovery import _longest, bisect_marked, dominant_axes, insert_new, raise_cap, recover, unique_edges
+from meshwright.tet.recovery import SplitOrigins, _longest, bisect_marked, dominant_axes, insert_new, raise_cap, recover, unique_edges
 from meshwright.tet.refine3d import SIZE_FACTOR, circumspheres, select_points
 from meshwright.tet.tetrahedralization import Tetrahedralization
 
@@ -280,7 +280,8 @@ def _run_delaunay(job: _Job) -> Mesh:
     fp = job.points[job.faces]
     floor = FLOOR * np.linalg.norm(fp - fp[:, [1, 2, 0]], axis=2).min(axis=1)
     axis = dominant_axes(job.points, job.faces)
-    faces, parent, where = recover(tz, job.faces, np.arange(job.faces.shape[0], dtype=np.int32), guard, job.max_points, job.faces, axis)
+    origins = SplitOrigins(job.points.shape[0])
+    faces, parent, where = recover(tz, job.faces, np.arange(job.faces.shape[0], dtype=np.int32), guard, job.max_points, job.faces, axis, origins)
     refine = job.radius_edge is not None or job.field is not None or np.isfinite(job.max_volume) or (job.regions[:, 4] > 0).any()
     bar = None
     if job.progress and refine:
@@ -292,7 +293,7 @@ def _run_delaunay(job: _Job) -> Mesh:
         rounds += 1
         if rounds > REFINE_ROUNDS:
             raise MeshingError(f"Delaunay refinement did not finish in {REFINE_ROUNDS} rounds ({tz.points.shape[0]} vertices)")
-        faces, where, flat, (barrier, face_of, solid, vmax) = _unflatten(job, tz, faces, parent, where, axis)
+        faces, where, flat, (barrier, face_of, solid, vmax) = _unflatten(job, tz, faces, parent, where, axis, origins)
         tets = tz.tetrahedra
         nbr = tz.neighbors
         pts = tz.points
@@ -319,7 +320,7 @@ def _run_delaunay(job: _Job) -> Mesh:
             if mark.any():
                 if tz.points.shape[0] + int(mark.sum()) > job.max_points:
                     raise_cap(job.max_points, "Delaunay refinement")
-                faces, parent, added = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p))
+                faces, parent, added = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
         if new_interior.shape[0] and added == 0:
             if tz.points.shape[0] + new_interior.shape[0] > job.max_points:
                 raise_cap(job.max_points, "Delaunay refinement")
@@ -330,14 +331,14 @@ def _run_delaunay(job: _Job) -> Mesh:
             bar.update(added)
         if added == 0:
             break
-        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis)
+        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins)
     if bar is not None:
         bar.close()
-    faces, where, _, _ = _unflatten(job, tz, faces, parent, where, axis)
+    faces, where, _, _ = _unflatten(job, tz, faces, parent, where, axis, origins)
     return _to_mesh(job, tz, faces, parent, where)
 
 
-def _unflatten(job: _Job, tz, faces, parent, where, axis):
+def _unflatten(job: _Job, tz, faces, parent, where, axis, origins):
     """Move flat solid tets lying on an input face out of the solid by flipping its subfaces.
 
     Steiner points on a general plane are off it by round-off, so four nearly cocircular
@@ -396,8 +397,12 @@ def _unflatten(job: _Job, tz, faces, parent, where, axis):
             if rim is None:
                 rim = _rim(faces, parent)
             shared = set(faces[a].tolist()) & set(faces[b].tolist())
-            if _on_rim_between(rim, int(parent[a]), job.faces[parent[a]].tolist(), shared, set(tets[t].tolist()) - shared):
+            other = set(tets[t].tolist()) - shared
+            if _on_rim_between(rim, int(parent[a]), job.faces[parent[a]].tolist(), shared, other):
                 continue
+            ends = origins.view(tz.points.shape[0])
+            if any(set(ends[v].tolist()) == other for v in shared):
+                continue  # a midpoint of the new diagonal
             for f, k, tri in ((a, slots[i, 2], new[0]), (b, slots[i, 3], new[1])):
                 faces[f] = tri
                 where[f] = 4 * t + k

@@ -63,7 +63,7 @@ from numba import njit
 from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.core.predicates import incircle, orient2d
 
-__all__ = ["vertex_tets", "find_faces", "find_edges", "flip_to_match", "unique_edges", "bisect_marked", "recover", "insert_new", "raise_cap", "lawson", "lawson_pass", "dominant_axes", "RECOVERY_ROUNDS"]
+__all__ = ["vertex_tets", "find_faces", "find_edges", "flip_to_match", "unique_edges", "bisect_marked", "recover", "insert_new", "raise_cap", "lawson", "lawson_pass", "dominant_axes", "SplitOrigins", "RECOVERY_ROUNDS"]
 
 RECOVERY_ROUNDS = 64  # bisection rounds; each at least halves the longest missing edge
 LAWSON_PASSES = 64  # bound on the work of one lawson() call (flips terminate anyway)
@@ -184,17 +184,22 @@ def _boundary_edge(parent, first, second, e):
 
 
 @njit(inline="always")
-def _folds_onto_edge(faces, parent, in_faces, face_edges, first, second, f, k, g, j):
+def _folds_onto_edge(faces, parent, in_faces, ends, face_edges, first, second, f, k, g, j):
     """Whether flipping edge p q of f = (r, p, q) (r at k) and g = (s, q, p) (s at j) to r s
-    would make a degenerate face: p or q a Steiner point on an input edge with r and s.
+    would make a degenerate face: p or q a Steiner point on the segment r s.
 
-    Such a point lies on the segment r s only within round-off, so no orientation test
-    can refuse the flip; it is told by the topology: both of its edges in the quad lie on
-    the input face's boundary and it is not a corner of the input face.
+    Such a point lies on r s only within round-off, so no orientation test can refuse the
+    flip; it is told by the topology: p was created splitting r s (``ends``), or p is on an
+    input edge with r and s (both its edges in the quad on the input face's boundary, and
+    p no corner of the input face).
     """
     pf = parent[f]
+    r = faces[f, k]
+    s = faces[g, j]
     for side in range(2):
         v = faces[f, (k + 1 + side) % 3]  # p, then q
+        if (ends[v, 0] == r and ends[v, 1] == s) or (ends[v, 0] == s and ends[v, 1] == r):
+            return True
         e1 = face_edges[f, (k + 2 - side) % 3]  # r p, then q r
         e2 = face_edges[g, (j + 1 + side) % 3]  # p s, then s q
         if v == in_faces[pf, 0] or v == in_faces[pf, 1] or v == in_faces[pf, 2]:
@@ -205,7 +210,7 @@ def _folds_onto_edge(faces, parent, in_faces, face_edges, first, second, f, k, g
 
 
 @njit(cache=True)
-def flip_to_match(pts, tets, nbr, vt, faces, parent, in_faces, axis, face_edges, n_edges, missing):
+def flip_to_match(pts, tets, nbr, vt, faces, parent, in_faces, ends, axis, face_edges, n_edges, missing):
     r"""Flip pairs of subfaces of one input face to the diagonal the tetrahedralization has.
 
     A missing subface f and its neighbour g across an edge p q interior to their input face
@@ -234,6 +239,8 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, in_faces, axis, face_edges,
     parent : (m,) int32
     in_faces : (p, 3) int32
         The input faces (their corners may join a flipped edge).
+    ends : (nv, 2) int32
+        The edge each Steiner vertex was created on (:class:`SplitOrigins`), -1 else.
     axis : (p,) int64
         :func:`dominant_axes` of the input faces: convexity of r p s q is decided by exact
         ``orient2d`` on the face's projection (a float test let a vertex lying on the new
@@ -283,7 +290,7 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, in_faces, axis, face_edges,
             o = _orient_in(pts, ax, r, p, q)
             if o == 0.0 or o * _orient_in(pts, ax, r, p, s) <= 0.0 or o * _orient_in(pts, ax, r, s, q) <= 0.0:
                 continue  # r p s q not strictly convex: the flipped pair would fold or degenerate
-            if _folds_onto_edge(faces, parent, in_faces, face_edges, first, second, f, k, g, j):
+            if _folds_onto_edge(faces, parent, in_faces, ends, face_edges, first, second, f, k, g, j):
                 continue
             gen += 1
             if _star_search(tets, nbr, vt, stamp, queue, gen, r, s, -1) < 0:
@@ -304,7 +311,7 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, in_faces, axis, face_edges,
 
 
 @njit(cache=True)
-def lawson_pass(pts, faces, parent, in_faces, axis, face_edges, n_edges):
+def lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, n_edges):
     r"""One pass of Lawson's edge flips toward the 2-D Delaunay triangulation of each input face.
 
     The subfaces of an input face are flipped, pair by pair (each face at most once per
@@ -323,6 +330,8 @@ def lawson_pass(pts, faces, parent, in_faces, axis, face_edges, n_edges):
     parent : (m,) int32
     in_faces : (p, 3) int32
         The input faces.
+    ends : (nv, 2) int32
+        :class:`SplitOrigins` of the vertices.
     axis : (p,) int64
         Dominant normal axis of each input face.
     face_edges : (m, 3) int64
@@ -371,7 +380,7 @@ def lawson_pass(pts, faces, parent, in_faces, axis, face_edges, n_edges):
                 continue
             if sg * incircle(pts[r, i], pts[r, j], pts[p, i], pts[p, j], pts[q, i], pts[q, j], pts[s, i], pts[s, j]) <= 0.0:
                 continue
-            if _folds_onto_edge(faces, parent, in_faces, face_edges, first, second, f, k, g, h % 3):
+            if _folds_onto_edge(faces, parent, in_faces, ends, face_edges, first, second, f, k, g, h % 3):
                 continue
             faces[f, 0], faces[f, 1], faces[f, 2] = r, p, s
             faces[g, 0], faces[g, 1], faces[g, 2] = r, s, q
@@ -382,7 +391,7 @@ def lawson_pass(pts, faces, parent, in_faces, axis, face_edges, n_edges):
     return flips
 
 
-def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, in_faces: np.ndarray, axis: np.ndarray) -> int:
+def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, in_faces: np.ndarray, ends: np.ndarray, axis: np.ndarray) -> int:
     """:func:`lawson_pass` until no flip is left (at most :data:`LAWSON_PASSES`); total flips.
 
     ``faces`` is modified in place.  The cap only bounds the work: Lawson's flips terminate,
@@ -391,7 +400,7 @@ def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, in_faces: np.
     total = 0
     for _ in range(LAWSON_PASSES):
         _, face_edges = unique_edges(faces)
-        n = lawson_pass(pts, faces, parent, in_faces, axis, face_edges, int(face_edges.max()) + 1)
+        n = lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, int(face_edges.max()) + 1)
         total += n
         if n == 0:
             break
@@ -509,7 +518,7 @@ def _bisect(pts, faces, parent, face_edges, mark, mid):
     return out[:n].copy(), par[:n].copy()
 
 
-def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex):
+def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex, origins=None):
     """Close ``mark`` (Rivara), create the midpoints and bisect the subfaces.
 
     Parameters
@@ -524,6 +533,8 @@ def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex):
         Edges to split (closed in place).
     new_vertex : callable
         ``new_vertex(points (k, 3)) -> (k,) int32`` inserts the midpoints, returns their ids.
+    origins : SplitOrigins, optional
+        Records the edge each midpoint splits.
 
     Returns
     -------
@@ -536,13 +547,15 @@ def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex):
     e = edges[sel]
     midpoints = 0.5 * (pts[e[:, 0]] + pts[e[:, 1]])
     ids = new_vertex(midpoints)
+    if origins is not None:
+        origins.record(ids, e)
     mid = np.full(edges.shape[0], -1, dtype=np.int32)
     mid[sel] = ids
     faces2, parent2 = _bisect(pts, faces, parent, face_edges, mark, mid)
     return faces2, parent2, int(sel.size)
 
 
-def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, rounds: int = RECOVERY_ROUNDS):
+def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, origins, rounds: int = RECOVERY_ROUNDS):
     """Split missing subfaces until every one is a face of the tetrahedralization ``tz``.
 
     Parameters
@@ -559,6 +572,8 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         The input faces.
     axis : (p,) int64
         :func:`dominant_axes` of the input faces.
+    origins : SplitOrigins
+        Updated with the midpoints inserted.
     rounds : int
 
     Returns
@@ -566,7 +581,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
     faces, parent, where : the recovered subfaces and :func:`find_faces` of each.
     """
     faces = np.array(faces, dtype=np.int32)  # flips change it in place
-    lawson(tz.points, faces, parent, in_faces, axis)
+    lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis)
     splits = 0
     for _ in range(8 * rounds):
         tets = tz.tetrahedra
@@ -577,7 +592,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         if not missing.any():
             return faces, parent, where
         edges, face_edges = unique_edges(faces)
-        if flip_to_match(tz.points, tets, nbr, vt, faces, parent, in_faces, axis, face_edges, edges.shape[0], missing):
+        if flip_to_match(tz.points, tets, nbr, vt, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis, face_edges, edges.shape[0], missing):
             continue
         splits += 1
         if splits > rounds:
@@ -598,13 +613,36 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
             )
         if tz.points.shape[0] + int(mark.sum()) > max_points:
             raise_cap(max_points, "boundary recovery")
-        faces, parent, _ = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p))
-        lawson(tz.points, faces, parent, in_faces, axis)
+        faces, parent, _ = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
+        lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis)
     f = int(np.flatnonzero(missing)[0])
     raise MeshingError(
         f"boundary recovery did not converge in {rounds} rounds: subface {fmt_point(tz.points[faces[f, 0]])}, "
         f"{fmt_point(tz.points[faces[f, 1]])}, {fmt_point(tz.points[faces[f, 2]])} is still missing"
     )
+
+
+class SplitOrigins:
+    """The edge (a, b) each Steiner vertex was created on, (-1, -1) for other vertices.
+
+    A growable (nv, 2) int32 table: flips consult it so as never to join the ends of a split
+    edge across its midpoint (a face that is degenerate but for round-off).
+    """
+
+    def __init__(self, nv: int):
+        self._ends = np.full((max(nv, 1), 2), -1, dtype=np.int32)
+
+    def record(self, ids: np.ndarray, edges: np.ndarray) -> None:
+        """Vertices ``ids`` (k,) were created on ``edges`` (k, 2)."""
+        self.view(int(ids.max()) + 1)[ids] = edges
+
+    def view(self, nv: int) -> np.ndarray:
+        """The table's first ``nv`` rows, (nv, 2) int32, grown by doubling when needed."""
+        if nv > self._ends.shape[0]:
+            grown = np.full((max(nv, 2 * self._ends.shape[0]), 2), -1, dtype=np.int32)
+            grown[: self._ends.shape[0]] = self._ends
+            self._ends = grown
+        return self._ends[:nv]
 
 
 def insert_new(tz, points: np.ndarray) -> np.ndarray:
