@@ -428,7 +428,13 @@ def _gap_mesh(dom: Domain, gap_dom: Domain, hfield, marker_gap: int, job):
     from meshwright.tri.mesher import triangulate
 
     def attempt(h):
-        gap = triangulate(gap_dom, h, min_angle=GAP_MIN_ANGLE, seed=job.seed, max_points=job.max_points)
+        # The gap is meshed at the tree's own field h (the domain's size, refined where chords
+        # sag): triangulate's default grading from the boundary (issue 13) would also follow
+        # the gap's short chords inward and split its triangles into quads of scaled Jacobian
+        # below 0.1 on the three-element airfoil.
+        gap = triangulate(
+            gap_dom, h, min_angle=GAP_MIN_ANGLE, seed=job.seed, max_points=job.max_points, grading=None
+        )
         boundary = gap.cell_data["marker"]["line"] != marker_gap
         return gap, boundary, _line_curves(dom, gap.points, gap.cells["line"][boundary])
 
