@@ -554,9 +554,8 @@ def _coerce_points(points) -> np.ndarray:
         raise InputError(f"points cannot be converted to float64: {exc}") from exc
     if arr.ndim != 2 or arr.shape[1] not in (2, 3):
         raise InputError(f"points must have shape (n, 2) or (n, 3), got {arr.shape}")
-    finite = np.isfinite(arr).all(axis=1)
-    if not finite.all():
-        i = int(np.flatnonzero(~finite)[0])
+    if not np.isfinite(arr).all():
+        i = int(np.flatnonzero(~np.isfinite(arr).all(axis=1))[0])
         raise InputError(f"point {i} has a non-finite coordinate {_fmt_point(arr[i])}")
     return np.ascontiguousarray(arr)
 
@@ -583,9 +582,8 @@ def _coerce_cells(cells, n_points: int, dim: int) -> dict[str, np.ndarray]:
             raise InputError(f"cells[{cell_type!r}] must hold integers, got dtype {arr.dtype}")
         if arr.ndim != 2 or arr.shape[1] != k:
             raise InputError(f"cells[{cell_type!r}] must have shape (m, {k}), got {arr.shape}")
-        bad = np.flatnonzero(((arr < 0) | (arr >= n_points)).any(axis=1))
-        if len(bad):
-            c = int(bad[0])
+        if arr.size and (arr.min() < 0 or arr.max() >= n_points):
+            c = int(np.flatnonzero(((arr < 0) | (arr >= n_points)).any(axis=1))[0])
             raise InputError(
                 f"{_fmt_cell(cell_type, c, arr[c])} references a vertex outside 0..{n_points - 1}"
             )

@@ -502,7 +502,7 @@ class ConstrainedTriangulation:
     def triangles(self, inside: bool = True) -> np.ndarray:
         """(nt, 3) int32 counter-clockwise triangles: inside the domain, or all finite ones."""
         ntri = int(self.state.meta[M_NTRI])
-        return self.state.tri[: 3 * ntri].reshape(ntri, 3)[self._mask(inside)].copy()
+        return self.state.tri[: 3 * ntri].reshape(ntri, 3)[self._mask(inside)]  # a copy: boolean index
 
     def neighbors(self, inside: bool = True) -> np.ndarray:
         """(nt, 3) int32: across the edge opposite vertex k, -1 where none is selected."""
@@ -514,8 +514,10 @@ class ConstrainedTriangulation:
     def triangle_markers(self, inside: bool = True) -> np.ndarray:
         """(nt,) int32 region marker of each triangle (0 outside every region seed)."""
         ntri = int(self.state.meta[M_NTRI])
-        reg = self.constraints.treg[:ntri][self._mask(inside)]
-        return self._rmarker[np.maximum(reg, 0)]
+        mask = self._mask(inside)
+        if len(self._rmarker) == 1:
+            return np.zeros(int(np.count_nonzero(mask)), dtype=np.int32)
+        return self._rmarker[np.maximum(self.constraints.treg[:ntri][mask], 0)]
 
     def _piece_ids(self) -> np.ndarray:
         rows = self.constraints.seg_in[: self._np]
@@ -582,7 +584,9 @@ class ConstrainedTriangulation:
                 tmarks = np.zeros(len(tris), dtype=np.int32)
         used = np.zeros(len(pts), dtype=bool)
         used[tris.ravel()] = True
-        newid = np.cumsum(used, dtype=np.int64).astype(np.int32) - 1
+        # Usually every vertex is used (refinement leaves none outside): no renumbering then.
+        every = bool(used.all())
+        newid = None if every else np.cumsum(used, dtype=np.int64).astype(np.int32) - 1
         h, u, w = self._constrained()
         tin = self.constraints.treg[h // 3] >= 0
         tin &= self.state.tri[3 * (h // 3) + 2] != GHOST
@@ -607,9 +611,15 @@ class ConstrainedTriangulation:
         if len(lines):
             np.maximum.at(pmark, lines[:, 0], marks)
             np.maximum.at(pmark, lines[:, 1], marks)
+        lines = lines.reshape(-1, 2)
+        if every:
+            return Mesh(
+                pts.copy(), {"triangle": tris, "line": lines}, point_data={"marker": pmark},
+                cell_data={"marker": {"triangle": tmarks, "line": marks}},
+            )
         return Mesh(
             pts[used],
-            {"triangle": newid[tris], "line": newid[lines].reshape(-1, 2)},
+            {"triangle": newid[tris], "line": newid[lines]},
             point_data={"marker": pmark[used]},
             cell_data={"marker": {"triangle": tmarks, "line": marks}},
         )

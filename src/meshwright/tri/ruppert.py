@@ -22,12 +22,12 @@ Algorithm (:func:`refine_loop`, one Numba loop over flat arrays)
            \ t   / | \  n  /   ------>        \ / | \ | / |   the halves a-m, m-b keep
             \   /  |  \   /                   ...           the segment's id
 
-3. Else pop the worst bad triangle (a binary heap on the smallest angle, bucketed, FIFO
-   inside a bucket; stale entries are recognised by their vertices) and compute its
-   off-centre (circumcentre when nearer).  Walk there; a subsegment hiding the point from the
-   triangle is split instead; a point in the diametral circle of a subsegment on its cavity
-   boundary is rejected and those subsegments are split instead (the triangle is requeued).
-   Otherwise insert it: the cavity never crosses a constrained edge.
+3. Else pop a bad triangle with the shortest shortest edge (queue below; stale entries are
+   recognised by their vertices) and compute its off-centre (circumcentre when nearer).
+   Walk there; a subsegment hiding the point from the triangle is split instead; a point
+   in the diametral circle of a subsegment on its cavity boundary is rejected and those
+   subsegments are split instead (the triangle is requeued).  Otherwise insert it: the
+   cavity never crosses a constrained edge.
 4. Every new triangle is examined as in 1.  Triangles whose shortest edge joins two segments
    meeting at a small input angle, at equal distance from the apex, are left alone.
 
@@ -35,17 +35,25 @@ State: the insertion kernel's ``TriState`` ``s``, the constrained layer's ``CdtS
 (:mod:`meshwright.tri._encroach`) and this method's :class:`RefineState` ``r``, each one
 kernel argument::
 
-    hk   (hcap,)    int64    bad-triangle heap keys (quality bucket << 40 | sequence)
-    hp   (hcap, 4)  int32    heap payloads (t, a, b, c): stale entries are recognised
+    qhead (QB,)     int32    bad-triangle bucket queue (:mod:`meshwright.core.bucket_queue`):
+                               newest entry of each bucket,
+    qnext (qcap,)   int32      next entry of a bucket or of the free list,
+    qval  (qcap, 4) int32      payloads (t, a, b, c): stale entries are recognised,
+    qhdr  (4,)      int64      count, free list, lowest bucket, entries handed out
     sq   (2 q,)     int32    stack of subsegments (a, b) to split
     pend (4 p,)     int32    triangles (t, a, b, c) waiting for the size field at pcen
     pcen (2 p,)     float64  their circumcentres
     st   (S_LEN,)   int64    counters, caps, requests (slots ``S_*``)
     prm  (P_LEN,)   float64  parameters, curve points, where the loop works (slots ``P_*``)
 
-Priority queue: the binary min-heap of :mod:`meshwright.core.heap` over ``hk``/``hp``.
-Sizes from a Python callable are evaluated in batches: new triangles wait in ``pend`` with
-their circumcentres, and the loop returns when nothing else is left.  Curves that are not arcs are evaluated in Python one split at a time.
+Priority queue (:mod:`meshwright.core.bucket_queue`): one bucket per half power of two of
+the squared shortest edge, shortest first (Triangle's order), newest first inside a bucket
+(Triangle: oldest first; newest first works where the loop just worked, in the cache, and
+measured as good a mesh).  A binary heap on the smallest angle before it missed the cache
+on its root-to-leaf paths with most of the mesh queued (``benchmarks/README.md``).  Sizes
+from a Python callable are evaluated in batches: new triangles wait in ``pend`` with their
+circumcentres, and the loop returns when nothing else is left.  Curves that are not arcs
+are evaluated in Python one split at a time.
 
 Termination: guaranteed by Ruppert's and Shewchuk's analyses for ``min_angle`` up to about
 20.7 degrees and practical (as in Triangle) up to about 33.8 degrees; ``max_points`` and
@@ -55,15 +63,16 @@ place where the loop was working.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
+from meshwright.core.bucket_queue import Q_N, bq_pop, bq_push, new_queue
 from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.flat import GHOST, back3, grown_rows, index3, next3, prev3
 from meshwright.core.geom2d import circumcentre, corners, off_centre
-from meshwright.core.heap import heap_pop, heap_push
 from meshwright.core.predicates import incircle_sos
 from meshwright.sizing.field import as_size_field
 from meshwright.tri._encroach import (
@@ -91,13 +100,12 @@ R_CAP_POINTS = 4
 R_CAP_STEPS = 5
 R_OFF_CURVE = 7
 # st slots
-S_HN = 1  # heap size
 S_QN = 2  # subsegment stack size
 S_PN = 3  # triangles waiting for sizes
-S_SEQ = 4  # heap insertion counter (FIFO among equal keys)
 S_STEPS = 5
 S_MAXPTS = 6
 S_MAXSTEPS = 7
+S_NIN = 8  # vertices when the run started (later ones have their piece in vseg)
 S_CREADY = 9  # prm[P_CX:P_CT] holds the curve point asked for
 S_REQ_A = 10  # curve point request: subsegment (a, b) of piece p
 S_REQ_B = 11
@@ -121,15 +129,19 @@ P_LEN = 10
 MODE_RUPPERT = 0
 MODE_CONFORM = 1
 _EQUILATERAL = np.sqrt(3.0) / 4.0  # area of the equilateral triangle of side 1
-_BUCKETS = 4096  # resolution of the quality key: worst first, FIFO inside a bucket
-_SEQ_BITS = 40
+# Queue buckets: 2 e + (m > 1/sqrt 2) + shift for the squared shortest edge m 2^e.
+_QB = 4200
+_QB_SHIFT = 2150
+_SQRT_HALF = np.sqrt(0.5)
 
 
 class RefineState(NamedTuple):
     """Queues and counters of one refinement run (layout in the module docstring)."""
 
-    hk: np.ndarray
-    hp: np.ndarray
+    qhead: np.ndarray
+    qnext: np.ndarray
+    qval: np.ndarray
+    qhdr: np.ndarray
     sq: np.ndarray
     pend: np.ndarray
     pcen: np.ndarray
@@ -151,25 +163,29 @@ def push_seg(u, w, sq, st):
 
 
 @njit(inline="always")
-def push_bad(key, t, tri, hk, hp, st):
-    """Heap triangle t (with its vertices, to recognise it later) by quality ``key``."""
-    seq = st[S_SEQ]
-    st[S_SEQ] = seq + 1
-    bucket = min(_BUCKETS - 1, int(key * (_BUCKETS / 0.75)))
-    k = (np.int64(bucket) << _SEQ_BITS) | (seq & ((np.int64(1) << _SEQ_BITS) - 1))
-    i = heap_push(hk, hp, st[S_HN], k)
-    st[S_HN] += 1
-    hp[i, 0] = t
+def push_bad(lmin, t, tri, qhead, qnext, qval, qhdr):
+    """Queue triangle t (with its vertices, to recognise it later) by its squared shortest
+    edge ``lmin``: bucket ``2 e + (m > 1/sqrt 2)`` for ``lmin = m 2^e``, ``m`` in [0.5, 1)."""
+    m, e = math.frexp(lmin)
+    b = min(_QB - 1, max(0, 2 * e + (1 if m > _SQRT_HALF else 0) + _QB_SHIFT))
+    i = bq_push(qhead, qnext, qhdr, b)
+    qval[i, 0] = t
     for j in range(3):
-        hp[i, j + 1] = tri[3 * t + j]
+        qval[i, j + 1] = tri[3 * t + j]
 
 
 # ------------------------------------------------------------------ triangle tests
 @njit(cache=True)
-def vertex_piece(u, tri, nbr, cons, vtri, vseg):
-    """A segment piece through vertex u (its own for split vertices), or -1."""
+def vertex_piece(u, nin, tri, nbr, cons, vtri, vseg):
+    """A segment piece through vertex u (its own for split vertices), or -1.
+
+    Vertices from ``nin`` on were inserted by this run, which records the piece of every
+    vertex it puts on a segment (``vseg``), so only older ones need the search of their star.
+    """
     if vseg[u] >= 0:
         return vseg[u]
+    if u >= nin:
+        return -1
     t = vtri[u]
     start = t
     while True:
@@ -183,11 +199,13 @@ def vertex_piece(u, tri, nbr, cons, vtri, vseg):
 
 
 @njit(cache=True)
-def _small_angle_apex(u, w, pts, tri, nbr, cons, vtri, vseg, seg):
+def _small_angle_apex(u, w, nin, pts, tri, nbr, cons, vtri, vseg, seg):
     """Shewchuk's rule: u and w on two segments meeting at a vertex, equally far from it."""
-    pu = vertex_piece(u, tri, nbr, cons, vtri, vseg)
-    pw = vertex_piece(w, tri, nbr, cons, vtri, vseg)
-    if pu < 0 or pw < 0 or pu == pw:
+    pu = vertex_piece(u, nin, tri, nbr, cons, vtri, vseg)
+    if pu < 0:
+        return False
+    pw = vertex_piece(w, nin, tri, nbr, cons, vtri, vseg)
+    if pw < 0 or pu == pw:
         return False
     j = -1
     for x in (seg[pu, 0], seg[pu, 1]):
@@ -200,9 +218,9 @@ def _small_angle_apex(u, w, pts, tri, nbr, cons, vtri, vseg, seg):
     return 0.999 * dw < du < 1.001 * dw
 
 
-@njit(cache=True)
+@njit(inline="always")
 def quality(t, pts, tri):
-    """``(sin^2 of the smallest angle, area, u, w)`` of triangle t, uw its shortest edge.
+    """``(sin^2 of the smallest angle, area, u, w, |uw|^2)`` of triangle t, uw its shortest edge.
 
     The smallest angle is opposite the shortest edge; its sine squared is (2 area)^2 over
     the product of the other two squared lengths.
@@ -216,13 +234,13 @@ def quality(t, pts, tri):
     l2 = (bx - ax) ** 2 + (by - ay) ** 2
     cross = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
     if l0 <= l1 and l0 <= l2:
-        return cross * cross / (l1 * l2), 0.5 * cross, b, c
+        return cross * cross / (l1 * l2), 0.5 * cross, b, c, l0
     if l1 <= l2:
-        return cross * cross / (l0 * l2), 0.5 * cross, c, a
-    return cross * cross / (l0 * l1), 0.5 * cross, a, b
+        return cross * cross / (l0 * l2), 0.5 * cross, c, a, l1
+    return cross * cross / (l0 * l1), 0.5 * cross, a, b, l2
 
 
-@njit(cache=True)
+@njit(inline="always")
 def steiner_point(t, pts, tri, off):
     """Off-centre of triangle t (Üngör 2004, with Triangle's constant ``off``), else its
     circumcentre when nearer (:func:`meshwright.core.geom2d.off_centre`)."""
@@ -231,98 +249,90 @@ def steiner_point(t, pts, tri, off):
 
 
 @njit(cache=True)
-def examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm):
-    """Queue what is wrong with finite triangle t: encroached subsegments, bad quality.
+def examine(v, tn, s, c, r):
+    """Queue what is wrong with the triangles that take part (inside; all in conforming mode)
+    around vertex v, from its triangle tn; with v < 0, with every slot (tn unused).
 
-    Ruppert mode (t inside): each constrained edge of t encroached by its apex in t is
-    pushed; t goes to the heap when its minimum angle is below the bound or its area above
-    the (regional) maximum, else to the size queue when the size field is evaluated in
-    Python.  Conforming mode: constrained edges of t that are not locally Delaunay are pushed.
-    The arrays are the fields of the three bundles (module docstring).
+    Ruppert mode: each constrained edge of a triangle encroached by its apex there is
+    pushed; the triangle goes to the queue when its minimum angle is below the bound or its
+    area above the (regional) maximum, else to the size queue when the size field is
+    evaluated in Python.  Conforming mode: constrained edges that are not locally Delaunay
+    are pushed.  The test is written once, inside this loop, not in a helper called per
+    triangle: a call handing a helper the bundles' seventeen arrays costs a reference-count
+    pair per array, which measured four times the test itself.
     """
-    b3 = 3 * t
-    a = tri[b3]
-    b = tri[b3 + 1]
-    cc = tri[b3 + 2]
-    ax, ay, bx, by, cx, cy = corners(pts, tri, t)
-    if st[S_MODE] == MODE_CONFORM:
-        for k in range(3):
-            n = nbr[b3 + k]
-            if cons[b3 + k] != 0 and tri[3 * n + 2] != GHOST:
-                d = tri[3 * n + back3(nbr, n, t)]
-                if incircle_sos(
-                    ax, ay, bx, by, cx, cy, pts[d, 0], pts[d, 1],
-                    key_of(rank, a), key_of(rank, b), key_of(rank, cc), key_of(rank, d),
-                ) > 0:
-                    push_seg(tri[b3 + next3(k)], tri[b3 + prev3(k)], sq, st)
-        return
-    for k in range(3):
-        if cons[b3 + k] != 0:
-            x = tri[b3 + k]
-            u = tri[b3 + next3(k)]
-            w = tri[b3 + prev3(k)]
-            if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[x, 0], pts[x, 1]):
-                push_seg(u, w, sq, st)
-    sin2, area, su, sw = quality(t, pts, tri)
-    bad_area = area > prm[P_AMAX] or area > rarea[treg[t]]
-    bad_angle = sin2 < prm[P_SIN2]
-    # Shewchuk's small-angle rule is for a shortest edge between two segments; a shortest edge
-    # that is a subsegment itself is split as usual (Triangle's testtriangle does the same).
-    kx = 0
-    while tri[b3 + kx] == su or tri[b3 + kx] == sw:
-        kx += 1
-    own = cons[b3 + kx] != 0
-    if bad_angle and not bad_area and not own and _small_angle_apex(
-        su, sw, pts, tri, nbr, cons, vtri, vseg, seg
-    ):
-        st[S_SKIPPED] += 1
-        bad_angle = False
-    if bad_angle or bad_area:
-        push_bad(sin2, t, tri, hk, hp, st)
-    elif st[S_SIZED] != 0:
-        i = st[S_PN]
-        st[S_PN] = i + 1
-        pend[4 * i] = t
-        pend[4 * i + 1] = a
-        pend[4 * i + 2] = b
-        pend[4 * i + 3] = cc
-        ox, oy = circumcentre(ax, ay, bx, by, cx, cy)
-        pcen[2 * i] = ox
-        pcen[2 * i + 1] = oy
-
-
-@njit(cache=True)
-def _examine_star(v, tn, s, c, r):
-    """:func:`examine` every new triangle around v that takes part (inside; all in conforming)."""
     pts, tri, nbr, cons, rank = s.pts, s.tri, s.nbr, s.cons, s.rank
     vtri, treg, vseg, seg, rarea = c.vtri, c.treg, c.vseg, c.seg, c.rarea
-    hk, hp, sq, pend, pcen, st, prm = r
+    qhead, qnext, qval, qhdr, sq, pend, pcen, st, prm = r
     conform = st[S_MODE] == MODE_CONFORM
-    t = tn
+    ntri = s.meta[M_NTRI]
+    t = tn if v >= 0 else 0
     while True:
-        i = index3(tri, t, v)
-        if tri[3 * t + 2] != GHOST and (conform or treg[t] >= 0):
-            examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
-        t = nbr[3 * t + next3(i)]
-        if t == tn:
+        if v >= 0:
+            nxt = nbr[3 * t + next3(index3(tri, t, v))]
+        elif t >= ntri:
             return
-
-
-@njit(cache=True)
-def seed_queues(s, c, r):
-    """Examine every taking-part triangle once (the start of a refinement run)."""
-    pts, tri, nbr, cons, rank = s.pts, s.tri, s.nbr, s.cons, s.rank
-    vtri, treg, vseg, seg, rarea = c.vtri, c.treg, c.vseg, c.seg, c.rarea
-    hk, hp, sq, pend, pcen, st, prm = r
-    conform = st[S_MODE] == MODE_CONFORM
-    for t in range(s.meta[M_NTRI]):
-        if tri[3 * t + 2] != GHOST and (conform or treg[t] >= 0):
-            examine(t, pts, tri, nbr, cons, rank, vtri, treg, vseg, seg, rarea, hk, hp, sq, pend, pcen, st, prm)
+        else:
+            nxt = t + 1
+        b3 = 3 * t
+        if tri[b3 + 2] != GHOST and (conform or treg[t] >= 0):
+            a = tri[b3]
+            b = tri[b3 + 1]
+            cc = tri[b3 + 2]
+            ax, ay, bx, by, cx, cy = corners(pts, tri, t)
+            if conform:
+                for k in range(3):
+                    n = nbr[b3 + k]
+                    if cons[b3 + k] != 0 and tri[3 * n + 2] != GHOST:
+                        d = tri[3 * n + back3(nbr, n, t)]
+                        if incircle_sos(
+                            ax, ay, bx, by, cx, cy, pts[d, 0], pts[d, 1],
+                            key_of(rank, a), key_of(rank, b), key_of(rank, cc), key_of(rank, d),
+                        ) > 0:
+                            push_seg(tri[b3 + next3(k)], tri[b3 + prev3(k)], sq, st)
+            else:
+                for k in range(3):
+                    if cons[b3 + k] != 0:
+                        x = tri[b3 + k]
+                        u = tri[b3 + next3(k)]
+                        w = tri[b3 + prev3(k)]
+                        if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[x, 0], pts[x, 1]):
+                            push_seg(u, w, sq, st)
+                sin2, area, su, sw, lmin = quality(t, pts, tri)
+                bad_area = area > prm[P_AMAX] or area > rarea[treg[t]]
+                bad_angle = sin2 < prm[P_SIN2]
+                # Shewchuk's small-angle rule is for a shortest edge between two segments; a
+                # shortest edge that is a subsegment itself is split as usual (Triangle's
+                # testtriangle does the same).
+                kx = 0
+                while tri[b3 + kx] == su or tri[b3 + kx] == sw:
+                    kx += 1
+                own = cons[b3 + kx] != 0
+                if bad_angle and not bad_area and not own and _small_angle_apex(
+                    su, sw, st[S_NIN], pts, tri, nbr, cons, vtri, vseg, seg
+                ):
+                    st[S_SKIPPED] += 1
+                    bad_angle = False
+                if bad_angle or bad_area:
+                    push_bad(lmin, t, tri, qhead, qnext, qval, qhdr)
+                elif st[S_SIZED] != 0:
+                    i = st[S_PN]
+                    st[S_PN] = i + 1
+                    pend[4 * i] = t
+                    pend[4 * i + 1] = a
+                    pend[4 * i + 2] = b
+                    pend[4 * i + 3] = cc
+                    ox, oy = circumcentre(ax, ay, bx, by, cx, cy)
+                    pcen[2 * i] = ox
+                    pcen[2 * i + 1] = oy
+        if v >= 0 and nxt == tn:
+            return
+        t = nxt
 
 
 @njit(cache=True)
 def apply_sizes(h, s, r):
-    """Heap the waiting triangles larger than the equilateral triangle of side h.
+    """Queue the waiting triangles larger than the equilateral triangle of side h.
 
     ``h`` (pn,) float64 is the size field at their circumcentres ``pcen``; triangles that
     changed since they were queued are dropped (their successors were examined).
@@ -332,20 +342,20 @@ def apply_sizes(h, s, r):
     for i in range(st[S_PN]):
         t = pend[4 * i]
         if tri[3 * t] == pend[4 * i + 1] and tri[3 * t + 1] == pend[4 * i + 2] and tri[3 * t + 2] == pend[4 * i + 3]:
-            sin2, area, _, _ = quality(t, s.pts, tri)
+            _, area, _, _, lmin = quality(t, s.pts, tri)
             if area > _EQUILATERAL * h[i] * h[i]:
-                push_bad(sin2, t, tri, r.hk, r.hp, st)
+                push_bad(lmin, t, tri, r.qhead, r.qnext, r.qval, r.qhdr)
     st[S_PN] = 0
 
 
 @njit(inline="always")
-def _short(rows, slots, wcap, meta, hk, sq, pend, st):
+def _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, st):
     """Whether some array lacks room for one more step (one insertion and its queue pushes);
     ``rows, slots`` from :func:`meshwright.tri._encroach.room_of`, ``wcap`` the cavity room."""
     return (
         meta[M_NV] + 1 > rows
         or meta[M_NTRI] + 2 > slots
-        or st[S_HN] + wcap + 1 > hk.shape[0]
+        or qhdr[Q_N] + wcap + 1 > qnext.shape[0]
         or 2 * (st[S_QN] + 3 * wcap + 3) > sq.shape[0]
         or 4 * (st[S_PN] + wcap + 1) > pend.shape[0]
     )
@@ -359,7 +369,7 @@ def _new_vertex(v, tn, piece, tpar, a, b, fl, fr, f0, s, c, r):
     c.vacute[v] = 0
     s.meta[M_NV] = v + 1
     set_flags(v, tn, a, b, fl, fr, f0, s, c)
-    _examine_star(v, tn, s, c, r)
+    examine(v, tn, s, c, r)
 
 
 @njit(cache=True)
@@ -386,12 +396,12 @@ def refine_loop(s, c, r):
         subsegment lies neither on it nor inside its two triangles).
     """
     pts, tri, nbr, cons, meta, treg = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg
-    hk, hp, sq, pend, _, st, prm = r
+    qhead, qnext, qval, qhdr, sq, pend, _, st, prm = r
     rows, slots = room_of(s, c)
     wcap = s.work.shape[0] // 5
     while True:
         nv = meta[M_NV]
-        if _short(rows, slots, wcap, meta, hk, sq, pend, st):
+        if _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, st):
             return R_ROOM
         if st[S_QN] > 0:
             q = st[S_QN] - 1
@@ -438,12 +448,11 @@ def refine_loop(s, c, r):
             st[S_QN] = q
             _new_vertex(nv, tn, p, tpar, a, b, fl, fr, 0, s, c, r)
             continue
-        if st[S_HN] > 0:
-            t = hp[0, 0]
-            stale = t >= meta[M_NTRI] or tri[3 * t] != hp[0, 1] or tri[3 * t + 1] != hp[0, 2]
-            stale = stale or tri[3 * t + 2] != hp[0, 3]
-            heap_pop(hk, hp, st[S_HN])
-            st[S_HN] -= 1
+        if qhdr[Q_N] > 0:
+            e = bq_pop(qhead, qnext, qhdr)
+            t = qval[e, 0]
+            stale = t >= meta[M_NTRI] or tri[3 * t] != qval[e, 1] or tri[3 * t + 1] != qval[e, 2]
+            stale = stale or tri[3 * t + 2] != qval[e, 3]
             if stale or treg[t] < 0:
                 continue
             st[S_STEPS] += 1
@@ -458,7 +467,7 @@ def refine_loop(s, c, r):
             if hb >= 0:
                 # Hidden behind, or on, a subsegment: split that one first.
                 push_seg(tri[next3(hb % 3) + hb - hb % 3], tri[prev3(hb % 3) + hb - hb % 3], sq, st)
-                push_bad(quality(t, pts, tri)[0], t, tri, hk, hp, st)
+                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
                 continue
             if tri[3 * t0 + 2] == GHOST or treg[t0] < 0:
                 st[S_SKIPPED] += 1  # unreachable without crossing a segment: cannot happen
@@ -469,7 +478,7 @@ def refine_loop(s, c, r):
             pts[nv, 1] = y
             ncav = cavity(nv, t0, s)
             if ncav == NEED_SPACE:
-                push_bad(quality(t, pts, tri)[0], t, tri, hk, hp, st)
+                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
                 return R_ROOM
             if ncav == BROKEN:
                 return R_BROKEN
@@ -490,7 +499,7 @@ def refine_loop(s, c, r):
                         push_seg(u, w, sq, st)
                         enc = True
             if enc:
-                push_bad(quality(t, pts, tri)[0], t, tri, hk, hp, st)
+                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
                 continue
             f0 = treg[t0]
             tn = fan(nv, ncav, s)
@@ -527,18 +536,19 @@ class _Run:
         st[S_SIZED] = int(sized)
         st[S_MAXPTS] = max_points
         st[S_MAXSTEPS] = max_steps
+        st[S_NIN] = ct.n_points
         prm = np.zeros(P_LEN)
         prm[P_SIN2] = sin2
         prm[P_AMAX] = amax
         prm[P_OFF] = off
         cap = 2 * int(ct.state.meta[M_NTRI]) + 1024
         self.r = RefineState(
-            np.empty(cap, dtype=np.int64), np.empty((cap, 4), dtype=np.int32), np.empty(2 * (3 * cap), dtype=np.int32),
+            *new_queue(_QB, cap, 4), np.empty(2 * (3 * cap), dtype=np.int32),
             np.empty(4 * cap, dtype=np.int32), np.empty(2 * cap), st, prm,
         )
 
     def seed(self) -> None:
-        seed_queues(self.ct.state, self.ct.constraints, self.r)
+        examine(-1, 0, self.ct.state, self.ct.constraints, self.r)
 
     def grow(self, estimate: int) -> None:
         """Double whatever :func:`refine_loop` found short (``estimate``: expected vertices)."""
@@ -546,14 +556,23 @@ class _Run:
         st = r.st
         nv = ct.n_points
         ntri = int(ct.state.meta[M_NTRI])
-        ct.reserve(max(nv + 2, min(estimate, 2 * nv + 2)), max(ntri + 4, min(2 * estimate + 8, 2 * ntri + 4)))
+        # Doubling at most: the estimate may be far too high (size ratios of 1e4).
+        rows = max(nv + 2, min(estimate, 2 * nv + 2))
+        slots = max(ntri + 4, min(2 * estimate + 8, 2 * ntri + 4))
+        ct.reserve(rows, slots)
         wcap = ct.state.work.shape[0] // 5
-        hk = grown_rows(r.hk, int(st[S_HN]) + wcap + 1)
         sq = grown_rows(r.sq, 2 * (int(st[S_QN]) + 3 * wcap + 3))
         pend = grown_rows(r.pend, 4 * (int(st[S_PN]) + wcap + 1))
-        self.r = r._replace(
-            hk=hk, hp=grown_rows(r.hp, len(hk)), sq=sq, pend=pend, pcen=grown_rows(r.pcen, len(pend) // 2)
-        )
+        self.r = r._replace(sq=sq, pend=pend, pcen=grown_rows(r.pcen, len(pend) // 2))
+        # The queue holds up to about one entry per triangle slot.
+        self._grow_queue(max(wcap + 1, slots - int(r.qhdr[Q_N])))
+
+    def _grow_queue(self, more: int) -> None:
+        """Room for ``more`` pushes on the bad-triangle queue."""
+        r = self.r
+        qnext = grown_rows(r.qnext, int(r.qhdr[Q_N]) + more)
+        if qnext is not r.qnext:
+            self.r = r._replace(qnext=qnext, qval=grown_rows(r.qval, len(qnext)))
 
     def curve_point(self) -> None:
         """Answer an ``R_CURVE`` request: the split point on a curve known only to Python."""
@@ -593,9 +612,8 @@ class _Run:
             elif code == R_SIZES:
                 pn = int(st[S_PN])
                 h = size(self.r.pcen[: 2 * pn].reshape(pn, 2))
-                # Every waiting triangle may go to the heap.
-                hk = grown_rows(self.r.hk, int(st[S_HN]) + pn + 1)
-                self.r = self.r._replace(hk=hk, hp=grown_rows(self.r.hp, len(hk)))
+                # Every waiting triangle may go to the queue.
+                self._grow_queue(pn + 1)
                 apply_sizes(h, ct.state, self.r)
             elif code == R_CURVE:
                 self.curve_point()
