@@ -26,13 +26,27 @@ from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.flat import TET_FACES
 from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d, orient3d
-from meshwright.core.validate_input import check_count, check_flag, check_positive, check_seed
+from meshwright.core.validate_input import (
+    check_count,
+    check_flag,
+    check_positive,
+    check_seed,
+)
 from meshwright.tet.exterior import classify
-from meshwright.tet.recovery import SplitOrigins, _longest, bisect_marked, dominant_axes, insert_new, raise_cap, recover, unique_edges
+from meshwright.tet.recovery import (
+    SplitOrigins,
+    _longest,
+    bisect_marked,
+    dominant_axes,
+    insert_new,
+    raise_cap,
+    recover,
+    unique_edges,
+)
 from meshwright.tet.refine3d import SIZE_FACTOR, circumspheres, select_points
 from meshwright.tet.tetrahedralization import Tetrahedralization
 
-__all__ = ["tetrahedralize", "TET_METHODS", "TetMethod", "SLIVER_MODES", "REFINE_ROUNDS"]
+__all__ = ["REFINE_ROUNDS", "SLIVER_MODES", "TET_METHODS", "TetMethod", "tetrahedralize"]
 
 SLIVER_MODES = ("remove", "keep")
 REFINE_ROUNDS = 400  # refinement rounds; the mesh roughly doubles in a few rounds

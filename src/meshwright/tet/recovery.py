@@ -63,7 +63,7 @@ from numba import njit
 from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.core.predicates import incircle, orient2d
 
-__all__ = ["vertex_tets", "find_faces", "find_edges", "flip_to_match", "unique_edges", "bisect_marked", "recover", "insert_new", "raise_cap", "lawson", "lawson_pass", "dominant_axes", "SplitOrigins", "RECOVERY_ROUNDS"]
+__all__ = ["RECOVERY_ROUNDS", "SplitOrigins", "bisect_marked", "dominant_axes", "find_edges", "find_faces", "flip_to_match", "insert_new", "lawson", "lawson_pass", "raise_cap", "recover", "unique_edges", "vertex_tets"]
 
 RECOVERY_ROUNDS = 64  # bisection rounds; each at least halves the longest missing edge
 LAWSON_PASSES = 64  # bound on the work of one lawson() call (flips terminate anyway)
