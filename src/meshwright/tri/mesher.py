@@ -34,8 +34,8 @@ Grading from the boundary (``grading=g``, default :data:`DEFAULT_GRADING`): wher
 discretised boundary is finer than the size (polygon vertices given closer, curves split
 for their turning, a fine wall), every method follows ``h(x) = min(size(x), min_i (dP_i +
 (g - 1) |x - x_i|))`` over the boundary points ``x_i`` with their spacing ``dP_i``
-(:func:`meshwright.sizing.boundary.boundary_size`; the Lipschitz limit ``|grad h| <= g - 1``
-of Persson 2006), so elements grow from the boundary spacing to ``size`` instead of
+(those whose spacing is below :data:`FINER` times the size: :func:`~meshwright.sizing.gradation`,
+the Lipschitz limit ``|grad h| <= g - 1`` of Persson 2006), so elements grow from the boundary spacing to ``size`` instead of
 jumping; ``size`` stays the upper bound.  The boundary is discretised again with the
 graded size, so that straight pieces next to finer given vertices grade as well.  This is
 Gmsh's default
@@ -105,6 +105,10 @@ BOUNDARY_SIZE = "boundary"  # the named size: the chapter's spacing from the bou
 TURN_PER_ELEMENT = math.pi / 16  # radians a curve turns along one element of the default size
 _AREA_SOURCES = 2_000_000  # most sources the default size spreads over area-bounded regions
 DEFAULT_GRADING = DEFAULT_GROWTH  # g of the grading from the boundary: |grad h| <= g - 1, as the default size's
+# A boundary point grades the size only where its spacing is below this fraction of the size:
+# rounding segment counts leaves spacings down to 2/3 of it on pieces 1.5 sizes long, which
+# must not change a boundary that already follows the size.
+FINER = 0.6
 
 
 class _Job(NamedTuple):
@@ -530,11 +534,19 @@ def _is_stretched(field) -> bool:
 
 def _graded(field: SizeField | None, disc: Discretization, grading: float | None, given: bool) -> SizeField | None:
     """The size the methods follow: a ``given`` size (the caller's or the domain's) graded
-    from the boundary's spacing (module docstring), unless ``grading`` is None, there is
-    no size, or it is a stretched background grid (used as drawn)."""
+    from the boundary points whose spacing is below :data:`FINER` times it (module
+    docstring); ``field`` itself when no point is, ``grading`` is None, there is no size,
+    or it is a stretched background grid (used as drawn)."""
     if not given or field is None or grading is None or _is_stretched(field) or not len(disc.segments):
         return field
-    return boundary_size(disc.points, disc.segments, grading, base=field)
+    dp = point_distribution(disc.points, disc.segments)
+    fine = np.isfinite(dp)
+    fine[fine] = dp[fine] < FINER * field(disc.points[fine])
+    if not fine.any():
+        return field
+    graded = gradation(disc.points[fine], dp[fine], grading, base=field)
+    graded.name = f"{field.name} graded from the boundary (g={grading:g})"
+    return graded
 
 
 def _area_sources(dom: Domain, disc: Discretization, max_area: float | None):
