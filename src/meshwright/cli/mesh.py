@@ -24,7 +24,7 @@ from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
 from meshwright.sizing import BackgroundGrid
 from meshwright.tri import MESH_METHODS, triangulate
-from meshwright.tri.mesher import BOUNDARY_SIZE, DEFAULT_GRADING
+from meshwright.tri.mesher import BOUNDARY_SIZE, DEFAULT_GRADING, GRADING_AUTO
 from meshwright.tri.weatherill import DEFAULT_ALPHA
 
 NAME = "mesh"
@@ -76,9 +76,9 @@ def add_arguments(parser) -> None:
     )
     grading = parser.add_mutually_exclusive_group()
     grading.add_argument(
-        "--grading", type=float, default=DEFAULT_GRADING, metavar="G",
-        help=f"growth of the size away from a boundary finer than it, G >= 1 (default {DEFAULT_GRADING:g}; "
-        "Gmsh's Mesh.MeshSizeExtendFromBoundary)",
+        "--grading", type=grading_value, default=GRADING_AUTO, metavar="G",
+        help=f"growth of the size away from a boundary finer than it, G >= 1 (default {DEFAULT_GRADING:g}, "
+        "none for the delaunay method, which grades by itself; Gmsh's Mesh.MeshSizeExtendFromBoundary)",
     )
     grading.add_argument(
         "--no-grading", dest="grading", action="store_const", const=None,
@@ -164,6 +164,16 @@ def stretched_background(domain, size, stretch, direction):
     if not math.isfinite(deg):
         raise InputError(f"--direction must be a finite angle in degrees, got {direction!r}")
     return BackgroundGrid.uniform(domain.bbox, size, stretch=stretch, direction=math.radians(deg))
+
+
+def grading_value(text: str):
+    """``--grading``: a growth factor, or ``auto`` (:data:`~meshwright.tri.mesher.GRADING_AUTO`)."""
+    if text == GRADING_AUTO:
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a growth factor >= 1 or {GRADING_AUTO!r}, got {text!r}") from None
 
 
 def size_value(text: str):

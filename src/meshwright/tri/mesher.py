@@ -30,7 +30,8 @@ boundary as the domain discretises it, Weatherill's ``dP`` from it (18.1.3), and
 ``frontal-delaunay`` and ``front`` the chapter's background, the triangulated boundary
 nodes with their point distribution function (18.3).
 
-Grading from the boundary (``grading=g``, default :data:`DEFAULT_GRADING`): where the
+Grading from the boundary (``grading=g``, default :data:`DEFAULT_GRADING` for every method
+but ``delaunay``, whose refinement grades by itself): where the
 discretised boundary is finer than the size (polygon vertices given closer, curves split
 for their turning, a fine wall), every method follows ``h(x) = min(size(x), min_i (dP_i +
 (g - 1) |x - x_i|))`` over the boundary points ``x_i`` with their spacing ``dP_i``
@@ -96,7 +97,7 @@ from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
 
 __all__ = [
     "MESH_METHODS", "MeshMethod", "triangulate", "DEFAULT_MAX_POINTS", "RUPPERT_MAX_ANGLE", "BOUNDARY_SIZE",
-    "DEFAULT_GRADING",
+    "DEFAULT_GRADING", "GRADING_AUTO",
 ]
 
 DEFAULT_MAX_POINTS = 100_000_000  # vertices; about 20 GB of kernel arrays, far beyond a 2-D mesh anyone waits for
@@ -109,6 +110,10 @@ DEFAULT_GRADING = DEFAULT_GROWTH  # g of the grading from the boundary: |grad h|
 # rounding segment counts leaves spacings down to 2/3 of it on pieces 1.5 sizes long, which
 # must not change a boundary that already follows the size.
 FINER = 0.6
+# grading's default: DEFAULT_GRADING for the methods that place points by a size, none for a
+# method that grades itself (Delaunay refinement follows the local feature size by its own
+# splits; a graded field only adds 1.5-3.5x the triangles there and a Python size callback).
+GRADING_AUTO = "auto"
 
 
 class _Job(NamedTuple):
@@ -513,12 +518,12 @@ def _default_size(dom: Domain, max_area: float | None, grades_itself: bool, grow
     return lfs_field(disc.points, disc.segments, growth=growth, extra=extra)
 
 
-def _grading(grading) -> float | None:
-    """``grading`` checked: None, or a finite growth factor >= 1."""
-    if grading is None:
-        return None
+def _grading(grading) -> float | str | None:
+    """``grading`` checked: None, ``"auto"``, or a finite growth factor >= 1 (as a float)."""
+    if grading is None or (isinstance(grading, str) and grading == GRADING_AUTO):
+        return grading
     if isinstance(grading, bool) or not isinstance(grading, numbers.Real) or not math.isfinite(grading):
-        raise InputError(f"grading must be None or a finite growth factor >= 1, got {grading!r}")
+        raise InputError(f"grading must be None, {GRADING_AUTO!r} or a finite growth factor >= 1, got {grading!r}")
     if grading < 1.0:
         raise InputError(
             f"grading must be a growth factor >= 1 (the size grows by at most grading - 1 per unit length "
@@ -618,7 +623,7 @@ def triangulate(
     max_points: int | None = None,
     alpha: float | None = None,
     convex_hull: bool = False,
-    grading: float | None = DEFAULT_GRADING,
+    grading: float | str | None = GRADING_AUTO,
 ) -> Mesh:
     """Boundary-conforming quality triangle mesh of a 2-D domain.
 
@@ -683,9 +688,12 @@ def triangulate(
         lone segment on its outer box), whose outer loop is that hull; its segments,
         holes and points are kept.  For a domain with a given outer loop it is accepted
         only when that loop is convex (its own hull).
-    grading : float or None
-        Growth factor ``g >= 1`` of the size away from the boundary (default
-        :data:`DEFAULT_GRADING` = 1.2): where the boundary is finer than ``size``, the
+    grading : float, None or "auto"
+        Growth factor ``g >= 1`` of the size away from the boundary.  ``"auto"`` (the
+        default): :data:`DEFAULT_GRADING` = 1.2, except for a method whose registry entry
+        ``grades_itself`` (``"delaunay"``), which follows a given size as given since its
+        refinement grades from the boundary by itself (the default size's growth stays
+        1.2).  Where the boundary is finer than ``size``, the
         size grows from the boundary spacing by at most ``g - 1`` per unit length up to
         ``size`` (module docstring), as Gmsh's ``Mesh.MeshSizeExtendFromBoundary``; it
         also caps the chapter's background of ``size="boundary"``, and without a size it
@@ -740,7 +748,10 @@ def triangulate(
         raise InputError(f"method {method!r} cannot mesh the convex hull; call it with convex_hull=False")
     seed = check_seed(seed)
     grading = _grading(grading)
-    dom, field = _domain_and_field(domain, size, convex_hull, max_area, m.grades_itself, growth=grading)
+    growth = DEFAULT_GRADING if grading == GRADING_AUTO else grading
+    if grading == GRADING_AUTO:
+        grading = None if m.grades_itself else DEFAULT_GRADING
+    dom, field = _domain_and_field(domain, size, convex_hull, max_area, m.grades_itself, growth=growth)
     _check_work(dom, field, max_area, cap)
     disc = dom.discretize(field)
     graded = _graded(field, disc, grading, not (size is None and dom.size is None))
