@@ -35,6 +35,10 @@ bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/delaunay3d.py
 	$(BIN)/python benchmarks/quality3d.py
 	$(BIN)/python benchmarks/default_size.py
+	$(BIN)/python benchmarks/grading2d.py
+	$(BIN)/python benchmarks/frontal2d.py
+	$(BIN)/python benchmarks/quad_domains.py
+	$(BIN)/python benchmarks/scale2d.py
 
 # Random domains through every 2-D method (tests/stress2d.py); failures become reproducers
 # under tests/regressions/ that `make test` replays.  STRESS_COUNT domains per run.
