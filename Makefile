@@ -40,12 +40,12 @@ bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/quad_domains.py
 	$(BIN)/python benchmarks/scale2d.py
 
-# Random domains through every 2-D method (tests/stress2d.py); failures become reproducers
+# Random domains through every 2-D method (scripts/stress2d.py); failures become reproducers
 # under tests/regressions/ that `make test` replays.  STRESS_COUNT domains per run.
 STRESS_COUNT ?= 2000
 STRESS_SEED ?= 0
 stress: $(VENV)/.stamp-test
-	$(BIN)/python tests/stress2d.py --count $(STRESS_COUNT) --seed $(STRESS_SEED)
+	$(BIN)/python scripts/stress2d.py --count $(STRESS_COUNT) --seed $(STRESS_SEED)
 
 # Numba's on-disk cache is keyed by each function's own file: after editing a kernel that
 # other modules call (e.g. tri/_kernel2d.py), drop the cache so callers are recompiled.

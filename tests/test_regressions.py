@@ -1,16 +1,18 @@
 """Replay of the stress harness's reproducers (``tests/regressions/*.json``, written by
-``tests/stress2d.py``): every fixed case must mesh and pass the harness's checks; an open
+``scripts/stress2d.py``): every fixed case must mesh and pass the harness's checks; an open
 one is a strict xfail (a fix makes it pass, which fails here until its status is flipped
 to ``"fixed"``); an open hang is not run (it would stall the suite)."""
 
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import pytest
 
-from stress2d import REGRESSIONS, check
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+from stress2d import REGRESSIONS, check  # noqa: E402  (the harness lives in scripts/)
 
 FILES = sorted(REGRESSIONS.glob("*.json")) if REGRESSIONS.is_dir() else []
 

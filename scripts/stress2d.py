@@ -26,7 +26,7 @@ reproducer that ``tests/test_regressions.py`` replays: ``"status": "open"`` unti
 
 Usage::
 
-    python tests/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--timeout 60]
+    python scripts/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--timeout 60]
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-REGRESSIONS = Path(__file__).resolve().parent / "regressions"
+REGRESSIONS = Path(__file__).resolve().parents[1] / "tests" / "regressions"
 AREA_RTOL = 1e-9
 KINDS = ("plain", "collinear", "cocircular", "tiny", "spike", "thin")
 JIT_TIMEOUT = 1800.0  # seconds a fresh worker may take to compile every method
