@@ -54,6 +54,18 @@ def _min_sine(points, cells, cell_ptr, cell_idx, v):
     return worst
 
 
+@njit(inline="always")
+def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
+    """Mean of vertex ``v``'s neighbours (the spring analogy's equilibrium)."""
+    tx = 0.0
+    ty = 0.0
+    for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
+        tx += points[nbr_idx[t], 0]
+        ty += points[nbr_idx[t], 1]
+    k = nbr_ptr[v + 1] - nbr_ptr[v]
+    return tx / k, ty / k
+
+
 @njit(cache=True)
 def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes):
     """Gauss-Seidel guarded Laplacian sweeps in place; returns the moves kept."""
@@ -62,14 +74,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes):
         for v in range(points.shape[0]):
             if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
                 continue
-            tx = 0.0
-            ty = 0.0
-            for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
-                tx += points[nbr_idx[t], 0]
-                ty += points[nbr_idx[t], 1]
-            k = nbr_ptr[v + 1] - nbr_ptr[v]
-            tx /= k
-            ty /= k
+            tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
             x0 = points[v, 0]
             y0 = points[v, 1]
             before = _min_sine(points, cells, cell_ptr, cell_idx, v)
@@ -190,14 +195,7 @@ def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free):
     for v in range(points.shape[0]):
         if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
             continue
-        tx = 0.0
-        ty = 0.0
-        for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
-            tx += points[nbr_idx[t], 0]
-            ty += points[nbr_idx[t], 1]
-        k = nbr_ptr[v + 1] - nbr_ptr[v]
-        tx /= k
-        ty /= k
+        tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
         x0 = points[v, 0]
         y0 = points[v, 1]
         for step in (1.0, 0.5):

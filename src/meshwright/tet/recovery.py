@@ -177,6 +177,22 @@ def _orient_in(pts, ax, a, b, c):
     return orient2d(pts[a, i], pts[a, j], pts[b, i], pts[b, j], pts[c, i], pts[c, j])
 
 
+@njit(cache=True)
+def _edge_faces(face_edges, n_edges):
+    """The two subfaces on each edge, as ``3 * face + k`` (k: the edge's slot in the face;
+    -1 where the edge has fewer)."""
+    first = np.full(n_edges, -1, dtype=np.int64)
+    second = np.full(n_edges, -1, dtype=np.int64)
+    for f in range(face_edges.shape[0]):
+        for k in range(3):
+            e = face_edges[f, k]
+            if first[e] < 0:
+                first[e] = 3 * f + k
+            else:
+                second[e] = 3 * f + k
+    return first, second
+
+
 @njit(inline="always")
 def _boundary_edge(parent, first, second, e):
     """Whether subface edge e lies on its input face's boundary (one face of that parent)."""
@@ -258,15 +274,7 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, in_faces, ends, axis, face_
     nt = tets.shape[0]
     stamp = np.zeros(nt, dtype=np.int32)
     queue = np.empty(nt, dtype=np.int32)
-    first = np.full(n_edges, -1, dtype=np.int64)
-    second = np.full(n_edges, -1, dtype=np.int64)
-    for f in range(faces.shape[0]):
-        for k in range(3):
-            e = face_edges[f, k]
-            if first[e] < 0:
-                first[e] = 3 * f + k
-            else:
-                second[e] = 3 * f + k
+    first, second = _edge_faces(face_edges, n_edges)
     touched = np.zeros(faces.shape[0], dtype=np.bool_)
     gen = 0
     flips = 0
@@ -343,15 +351,7 @@ def lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, n_edges):
     int
         Number of flips.
     """
-    first = np.full(n_edges, -1, dtype=np.int64)
-    second = np.full(n_edges, -1, dtype=np.int64)
-    for f in range(faces.shape[0]):
-        for k in range(3):
-            e = face_edges[f, k]
-            if first[e] < 0:
-                first[e] = 3 * f + k
-            else:
-                second[e] = 3 * f + k
+    first, second = _edge_faces(face_edges, n_edges)
     touched = np.zeros(faces.shape[0], dtype=np.bool_)
     flips = 0
     for f in range(faces.shape[0]):
