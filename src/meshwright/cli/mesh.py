@@ -218,7 +218,7 @@ def _run_distributed(args, domain, size) -> int:
         flag for flag, on in (
             ("--smooth", args.smooth), ("--max-area", args.max_area is not None), ("--conforming", args.conforming),
             ("--convex-hull", args.convex_hull), ("--alpha", args.alpha is not None), ("--plot", args.plot),
-            ("--quality", args.quality),
+            ("--quality", args.quality), ("--grading", args.grading not in (GRADING_AUTO, None)),
         ) if on
     ]
     if unsupported:
