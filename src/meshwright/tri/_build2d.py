@@ -134,7 +134,7 @@ def make_room(s, rows):
         work = np.empty(2 * work.shape[0], dtype=np.int32)
     return TriState(s.pts, tri, nbr, circ, s.rank, cons, s.meta, work, vmark)
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def insert_batch(order, start, stop, vbase, s, vmap):
     """Insert ``order[start:stop]`` one by one, each walk starting where the last one ended.
 
@@ -180,7 +180,7 @@ def insert_batch(order, start, stop, vbase, s, vmap):
     return -1, s
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def locate_points(s, xy):
     """Finite triangle containing each query point (in its closure), -1 outside the hull.
 

@@ -35,7 +35,7 @@ def _free(h, cons, pside, cross_unsided):
     return c == 0 or (cross_unsided and pside[c - 1] == 0)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def flood(stack, top, value, accept_lo, s, c, pside, cross_unsided):
     """Spread ``value`` from ``stack[:top]`` over triangles with ``treg >= accept_lo`` != value."""
     tri, nbr, cons, treg = s.tri, s.nbr, s.cons, c.treg
@@ -64,7 +64,7 @@ def _on_domain_side(t, k, p, pts, tri, seg, pside):
     return (dot > 0.0) == (pside[p] > 0)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def classify_sides(s, c, pside, ntri, stack, info):
     """Exterior removal by segment sides; returns a ``FLOOD_*`` code (culprit in ``info``).
 

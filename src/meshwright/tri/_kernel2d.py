@@ -538,7 +538,7 @@ def _fan(pts, tri, nbr, circ, cons, meta, work, vmark, v, ncav):
     return result
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t):
     """:func:`insert_vertex` over the unpacked bundle, for per-point loops.
 
@@ -556,7 +556,7 @@ def insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t):
     return _fan(pts, tri, nbr, circ, cons, meta, work, vmark, v, ncav)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def insert_vertex(v, t, s):
     """Insert vertex v (row v of ``s.pts``) by cavity re-triangulation, walking from triangle t.
 
@@ -585,7 +585,7 @@ def insert_vertex(v, t, s):
     return insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def split_edge(v, h, s):
     """Split the constrained edge of half-edge h at vertex v (on it, or on its true curve).
 

@@ -194,7 +194,7 @@ def _sloan(a, b, ne, s, vtri, elist, nlist):
                 changed = True
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def recover_segments(s, c, todo, rs, elist, nlist):
     """Recover every queued segment piece as constrained edges (no new vertices).
 
