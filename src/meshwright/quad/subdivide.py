@@ -62,7 +62,13 @@ def curve_midpoints(domain: Domain, curves: np.ndarray, a: np.ndarray, b: np.nda
     # Segments share their ends: each (curve, point) is projected once.
     key = np.column_stack([np.concatenate([curves, curves]).astype(np.float64), np.vstack([a, b])])
     uniq, inv = np.unique(key, axis=0, return_inverse=True)
-    t = domain.project(uniq[:, 0].astype(np.int64), uniq[:, 1:])[0][inv.ravel()]
+    chord = 0.5 * (a + b)
+    # One projection for the ends and the chord midpoints (used below): its cost is per
+    # curve (a vectorised golden-section search), not per point.
+    t_all, on_all = domain.project(
+        np.concatenate([uniq[:, 0].astype(np.int64), curves]), np.vstack([uniq[:, 1:], chord])
+    )
+    t = t_all[: len(uniq)][inv.ravel()]
     ta, tb = t[:k].copy(), t[k:].copy()
     for c in np.unique(curves):
         cur = domain.curves[c]
@@ -82,8 +88,7 @@ def curve_midpoints(domain: Domain, curves: np.ndarray, a: np.ndarray, b: np.nda
     by_arc = domain.split(curves, ta, tb)[1]
     # Projection is not exact near a cusp (a trailing edge): the arc midpoint and the
     # projected chord midpoint are both on the curve; the one nearer the chord is the arc's.
-    chord = 0.5 * (a + b)
-    by_projection = domain.project(curves, chord)[1]
+    by_projection = on_all[len(uniq) :]
     nearer = np.hypot(*(by_projection - chord).T) < np.hypot(*(by_arc - chord).T)
     return np.where(nearer[:, None], by_projection, by_arc)
 
