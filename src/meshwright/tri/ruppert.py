@@ -248,7 +248,7 @@ def steiner_point(t, pts, tri, off):
     return off_centre(ax, ay, bx, by, cx, cy, off)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def examine(v, tn, s, c, r):
     """Queue what is wrong with the triangles that take part (inside; all in conforming mode)
     around vertex v, from its triangle tn; with v < 0, with every slot (tn unused).
@@ -330,7 +330,7 @@ def examine(v, tn, s, c, r):
         t = nxt
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def apply_sizes(h, s, r):
     """Queue the waiting triangles larger than the equilateral triangle of side h.
 
@@ -372,7 +372,7 @@ def _new_vertex(v, tn, piece, tpar, a, b, fl, fr, f0, s, c, r):
     examine(v, tn, s, c, r)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def refine_loop(s, c, r):
     """Run Delaunay refinement (or conforming splits) until done or Python is needed.
 
@@ -510,7 +510,7 @@ def refine_loop(s, c, r):
         return R_DONE
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _split_at(v, h, s, c):
     """Split the subsegment of half-edge h at ``pts[v]`` and flag the new triangles."""
     a = s.tri[3 * (h // 3) + next3(h % 3)]
