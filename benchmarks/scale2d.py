@@ -18,8 +18,10 @@ triangles) and a graded disk with two holes (a point-source size around one hole
   added.  Validation: the ``P = 2`` problem run on *one* worker, simulated on 2, against the
   real 2-worker run (the model is trusted when within 10 %).
 * Per row: the time's phases as the model sees them on ``P`` workers (client decomposition,
-  the parts' compute list-scheduled, and the rest: scheduling, client rounds, writing),
-  imbalance (largest part's triangles over the mean), exchange rounds, triangles over
+  the parts' tasks (meshing and writing their pieces) list-scheduled, and the rest:
+  scheduling, client rounds, numbering tasks, the client's files), imbalance (largest part's
+  triangles over the mean / largest worker's when the parts are dealt largest first to ``P``
+  workers, which is what E(P) pays), exchange rounds, triangles over
   the serial ``meshwright.triangulate`` count of the same problem (simulated rows only with
   ``--serial-sim``), min angle, Dask tasks recorded.
 
@@ -130,8 +132,8 @@ def main() -> None:
         warm(c2)
         print(f"n0 = {args.n0:.3g} triangles per worker, 4 parts per worker, best of {args.repeat}")
         print(
-            "| domain | P | run | T (s) | E(P) | decompose / parts / rest (s) | imbalance | rounds | triangles "
-            "| over serial | min angle | tasks | load |"
+            "| domain | P | run | T (s) | E(P) | decompose / parts / rest (s) | imbalance part / worker | rounds "
+            "| triangles | over serial | min angle | tasks | load |"
         )
         print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         for name in args.domains:
@@ -175,10 +177,19 @@ def phases(stats: dict, workers: int) -> str:
     return f"{dec:.2f} / {parts:.2f} / {simulate_scaling(stats, workers) - dec - parts:.2f}"
 
 
+def worker_imbalance(stats: dict, workers: int) -> float:
+    """Largest worker's triangles over the mean when the parts are dealt largest first to ``workers``."""
+    from meshwright.distributed.simulate import lpt_makespan
+
+    t = stats["triangles"]
+    return lpt_makespan(t, workers) * workers / sum(t)
+
+
 def row(name, P, kind, T, E, dm, serial, ntasks, l0) -> None:
     s = dm.stats
     print(
-        f"| {name} | {P} | {kind} | {T:.2f} | {E:.3f} | {phases(s, P)} | {s['imbalance']:.3f} | {s['rounds']} | "
+        f"| {name} | {P} | {kind} | {T:.2f} | {E:.3f} | {phases(s, P)} | {s['imbalance']:.3f} / "
+        f"{worker_imbalance(s, P):.3f} | {s['rounds']} | "
         f"{dm.n_cells} | {'-' if serial is None else f'{dm.n_cells / serial:.4f}'} | {s['min_angle']:.2f} | "
         f"{ntasks} | {l0} |",
         flush=True,

@@ -1,14 +1,18 @@
-"""meshwright.distributed (issue 15) on local Dask clusters of 1 and 2 worker processes.
+"""meshwright.distributed (issue 15) on local Dask clusters of 1, 2 and 4 worker processes.
 
 Oracles share no code with the package: exact rational areas and orientations
 (fractions.Fraction), edge counts by plain dictionaries, markers by the coordinates of the
-rectangle's sides, meshio reading the XDMF file, and file bytes compared across runs.
+rectangle's sides, meshio reading the XDMF file, and file bytes compared across runs (and
+across a run that lost a worker).
 """
 
 from __future__ import annotations
 
 import hashlib
 import math
+import os
+import signal
+import sys
 from collections import Counter
 from fractions import Fraction
 from pathlib import Path
@@ -149,6 +153,59 @@ def _bands():
     y = np.linspace(0.0, 1.0, 101)
     src = np.concatenate([np.column_stack([np.full_like(y, x), y]) for x in (0.97, 1.03)])
     return gradation(src, 0.005, growth=3.0, hmax=0.1)
+
+
+def test_four_workers_give_the_same_bytes_as_one(clients, tmp_path):
+    (tmp_path / "one").mkdir()
+    (tmp_path / "four").mkdir()
+    ref = triangulate(_rect(), 0.05, client=clients[1], parts=8, seed=5, out=tmp_path / "one" / "mesh.xdmf")
+    with local_cluster(4, memory_limit="1GiB") as c4:
+        warm(c4)
+        dm = triangulate(_rect(), 0.05, client=c4, parts=8, seed=5, out=tmp_path / "four" / "mesh.xdmf")
+    assert dm.stats["workers"] == 4
+    assert _digest(dm.files) == _digest(ref.files)
+    assert _check_mesh(dm.to_mesh(), holes=0) == 2
+
+
+class _KillOnce:
+    """A constant size h that kills the worker process evaluating it, once (a marker file
+    remembers): the task Dask then runs again elsewhere must give the same bytes."""
+
+    def __init__(self, h: float, marker: str | None):
+        self.h, self.marker = h, marker
+
+    def __call__(self, xy):
+        if self.marker is not None and not os.path.exists(self.marker):
+            from distributed import get_worker
+
+            try:
+                get_worker()
+            except ValueError:
+                pass  # on the client (decomposition)
+            else:
+                open(self.marker, "w").close()
+                os.kill(os.getpid(), signal.SIGKILL)
+        return np.full(len(xy), self.h)
+
+
+def test_a_worker_killed_mid_run_changes_no_byte(clients, tmp_path):
+    import cloudpickle
+
+    # Worker processes cannot import this test module: ship _KillOnce by value.
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    try:
+        (tmp_path / "ref").mkdir()
+        (tmp_path / "killed").mkdir()
+        ref = triangulate(_rect(), _KillOnce(0.06, None), client=clients[2], parts=4, out=tmp_path / "ref" / "m.xdmf")
+        marker = tmp_path / "killed.marker"
+        dm = triangulate(
+            _rect(), _KillOnce(0.06, str(marker)), client=clients[2], parts=4, out=tmp_path / "killed" / "m.xdmf"
+        )
+    finally:
+        cloudpickle.unregister_pickle_by_value(sys.modules[__name__])
+    assert marker.exists(), "no worker was killed"
+    assert _digest(dm.files) == _digest(ref.files)
+    assert sorted(p.name for p in (tmp_path / "killed").iterdir()) == sorted(Path(f).name for f in dm.files)
 
 
 def test_graded_size_across_a_cut_forces_exchange_rounds(clients, tmp_path):

@@ -10,13 +10,15 @@ messages as the deterministic fallback (A. Chernikov and N. Chrisochoides, ACM T
    >= 60 degrees and clear of boundary vertices; the cuts' inside pieces are discretised by the
    boundary's 1-D placer and get global ids (the *skeleton*).
 2. :mod:`~meshwright.distributed.part` (workers): every part is meshed independently by the
-   serial Delaunay refinement with its interface segments as boundary; the meshes stay on the
-   workers as futures.  A part whose refinement split an interface returns a *split request*.
+   serial Delaunay refinement with its interface segments as boundary and written as its
+   HDF5 piece in the same task, which returns only a small summary.  A part whose refinement
+   split an interface writes nothing and returns a *split request*.
 3. :mod:`~meshwright.distributed.exchange` (client): requests become the same dyadic split points
    for both sides, with new skeleton ids; the parts beside them mesh again (``max_rounds``).
 4. :mod:`~meshwright.distributed.numbering`: skeleton ids first, then every part's own points by
    an exclusive prefix sum of the part counts: int64, zero duplicates, no coordinate matching.
-5. :mod:`~meshwright.distributed.writer`: each worker writes its HDF5 piece, the client writes
+5. :mod:`~meshwright.distributed.writer`: one task per worker turns the pieces' references
+   into global ids in place, the client writes
    the skeleton, HDF5 virtual datasets stitching the pieces and the XDMF file (meshio and
    ParaView read it).  The files are byte-identical for any worker count (fixed parts, seed).
 

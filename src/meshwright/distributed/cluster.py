@@ -6,7 +6,8 @@ Numba cache practice of OasisLMF/OasisPlatform#1398: compile once in one process
 other workers load the cache (several workers building one cache at once can crash,
 numba/numba#4807).
 
-Workers are single-threaded processes: the meshing kernels hold the GIL.  Memory a Numba task
+Workers are single-threaded processes (the long meshing kernels are ``nogil``, so a worker's
+event loop keeps answering the scheduler's heartbeats while a part meshes).  Memory a Numba task
 allocates is unmanaged (it cannot spill), so a part must fit in :data:`MEMORY_FRACTION` of its
 worker's ``memory_limit``; :func:`worker_memory_limit` reads the smallest limit of a cluster.
 """

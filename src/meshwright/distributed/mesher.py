@@ -9,11 +9,17 @@ N. Chrisochoides, "Parallel 2D constrained Delaunay mesh generation", ACM TOMS 3
 
 Pipeline (client work is O(boundary + parts); mesh bytes never reach the client)::
 
-    door checks --> decompose (client) --> round 0: one task per part (largest first), kept as futures
+    door checks --> decompose (client) --> round 0: one task per part (largest first): mesh,
+            write the piece with vertex references, return a small summary
         --> while split requests: exchange (client merges requests, splits the skeleton),
-            the parts beside a split mesh again (round r, at most max_rounds)
+            only the parts beside a split mesh (and write) again (round r, at most max_rounds)
         --> numbering (prefix sums of the parts' own point counts)
-        --> every part writes its HDF5 piece on its worker --> client writes skeleton, VDS, XDMF
+        --> one task per worker resolves its batch of pieces' references to global ids
+        --> client writes skeleton, VDS, XDMF
+
+Tasks: parts + workers (+ the parts of exchange rounds); the client waits on one ``gather``
+per phase.  No mesh is held in a worker's memory between tasks: the pieces on the shared
+file system are the state, so a worker lost mid-run costs Dask one task to run again.
 
 Determinism: part ``i`` is meshed with the seed ``SeedSequence([seed, i])`` gives, from a
 planar straight-line graph that depends only on the decomposition and the requests, so the
@@ -36,13 +42,14 @@ from meshwright.core.validate_input import check_count, check_flag, check_seed
 from meshwright.distributed import cluster as _cluster
 from meshwright.distributed.exchange import apply_splits
 from meshwright.distributed.numbering import part_offsets
-from meshwright.distributed.part import mesh_part, summarize
+from meshwright.distributed.part import mesh_part
 from meshwright.distributed.partition import decompose_domain, part_pslg
+from meshwright.distributed.simulate import lpt_makespan
 from meshwright.distributed.writer import (
     part_path,
     read_mesh_arrays,
+    resolve_pieces,
     write_mesh,
-    write_part,
 )
 from meshwright.tri.mesher import (
     DEFAULT_MAX_POINTS,
@@ -71,8 +78,11 @@ class DistributedMesh:
         Vertices and triangles of the whole mesh.
     stats : dict
         ``parts``, ``workers``, ``rounds``, ``seconds`` (decompose, mesh, write, total),
-        ``part_seconds`` (one list per round: ``(part, seconds)``), ``triangles`` and
+        ``part_seconds`` (one list per round: ``(part, seconds)`` of meshing and writing),
+        ``write_seconds`` (per part: resolving its references), ``triangles`` and
         ``predicted`` per part, ``imbalance`` (largest part's triangles over the mean),
+        ``worker_imbalance`` (the largest worker's triangles over the mean when the parts are
+        dealt to the workers largest first, as they are submitted: what E(P) pays),
         ``predicted_imbalance``, ``min_angle``, ``min_cut_angle``, ``split_points``,
         ``triangles_over_predicted`` (total over the serial prediction), ``bytes_written``.
     """
@@ -190,15 +200,41 @@ def _check_out(out) -> Path | None:
     return path
 
 
-def _results(futures: dict, what: str):
-    """Results of futures in part order; a part's failure is re-raised naming the part."""
-    out = {}
-    for i in sorted(futures):
-        try:
-            out[i] = futures[i].result()
-        except MeshwrightError as exc:
-            raise type(exc)(f"part {i} ({what}): {exc}") from exc
-    return out
+def _gather(c, futures: dict, what: str, progress: bool = False) -> dict:
+    """Results of futures (one ``gather``), keyed as given; a part's failure is re-raised naming it.
+
+    A worker lost three times on one task (``KilledWorker``: dask's nanny ends a worker above
+    95 % of its memory limit) becomes a :class:`MeshingError` naming the part.
+    """
+    from distributed import KilledWorker
+
+    keys = sorted(futures)
+    if progress:
+        from distributed import as_completed
+        from tqdm import tqdm
+
+        for _ in tqdm(as_completed([futures[k] for k in keys]), total=len(keys), desc=what, leave=False):
+            pass
+    try:
+        values = c.gather([futures[k] for k in keys], errors="raise")
+    except (MeshwrightError, KilledWorker) as exc:
+        failed = [k for k in keys if futures[k].status == "error"]
+        name = f"part {failed[0]}" if failed else "a part"
+        if isinstance(exc, KilledWorker):
+            raise MeshingError(
+                f"{name} ({what}): every worker that ran it died (dask gave up after its allowed failures; "
+                "out of memory?); use more parts or workers with more memory"
+            ) from None
+        raise type(exc)(f"{name} ({what}): {exc}") from exc
+    return dict(zip(keys, values))
+
+
+def _batches(weights, n: int) -> list[list[int]]:
+    """``range(len(weights))`` cut into at most ``n`` runs of consecutive indices of about equal weight."""
+    w = np.asarray(weights, dtype=np.float64) + 1.0
+    cum = np.cumsum(w)
+    k = np.minimum((cum - 0.5 * w) * n // cum[-1], n - 1).astype(np.int64)
+    return [np.flatnonzero(k == j).tolist() for j in range(n) if (k == j).any()]
 
 
 def triangulate(
@@ -320,31 +356,25 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
     curves_f = c.scatter(dom.curves, broadcast=True, hash=False)
     field_f = c.scatter(field, broadcast=True, hash=False)
     seeds = [int(np.random.SeedSequence([seed, i]).generate_state(1)[0]) for i in range(P)]
-    futs, summaries, part_seconds = {}, {}, []
+    summaries, part_seconds = {}, []
     todo = np.argsort(-dec.predicted, kind="stable")
     rounds = 0
     split_points = 0
     n_skeleton0 = len(dec.points)
     t_mesh = time.perf_counter()
     while True:
-        for i in todo.tolist():
-            futs[i] = c.submit(
+        # One task per part: mesh, write the piece, return the summary (largest parts first).
+        futs = {
+            i: c.submit(
                 mesh_part, part_pslg(dec, i, n_curves), curves_f, field_f, angle, seeds[i], cap,
-                key=f"meshwright-{token}-mesh-r{rounds}-{i}", pure=False,
+                str(part_path(out_path, i)), key=f"meshwright-{token}-part-r{rounds}-{i}", pure=False,
             )
-        small = {
-            i: c.submit(summarize, futs[i], key=f"meshwright-{token}-summary-r{rounds}-{i}", pure=False)
             for i in todo.tolist()
         }
-        if progress:
-            from distributed import as_completed
-            from tqdm import tqdm
-
-            for _ in tqdm(as_completed(list(small.values())), total=len(small), desc=f"round {rounds}", leave=False):
-                pass
-        done = _results(small, f"round {rounds}")
+        done = _gather(c, futs, f"round {rounds}", progress)
+        del futs
         summaries.update(done)
-        part_seconds.append([(i, done[i].seconds) for i in sorted(done)])
+        part_seconds.append([(i, done[i].seconds + done[i].write_seconds) for i in sorted(done)])
         requests = {}
         for i in sorted(summaries):
             for s, xy in summaries[i].requests:
@@ -358,25 +388,32 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
                 f"{dec.points[dec.segments[min(requests), 0]].tolist()}; raise max_rounds or use fewer parts"
             )
         n_before = len(dec.points)
+        # Only the parts beside a split segment mesh again; the others' pieces stay as written.
         dec, todo = apply_splits(dec, requests)
         split_points += len(dec.points) - n_before
         rounds += 1
-        for i in todo.tolist():
-            summaries.pop(i, None)
     t_mesh = time.perf_counter() - t_mesh
     t_write = time.perf_counter()
-    offsets = part_offsets(len(dec.points), [summaries[i].n_points for i in range(P)])
-    writes = {
-        i: c.submit(
-            write_part, futs[i], int(offsets[i]), str(part_path(out_path, i)),
-            key=f"meshwright-{token}-write-{i}", pure=False,
+    pieces = [summaries[i] for i in range(P)]
+    offsets = part_offsets(len(dec.points), [p.n_points for p in pieces])
+    # References become global ids: a few tasks of consecutive parts, on any worker.
+    groups = _batches([p.n_triangles for p in pieces], workers)
+    fixes = {
+        j: c.submit(
+            resolve_pieces, [(pieces[i].path, int(offsets[i])) for i in g],
+            key=f"meshwright-{token}-resolve-{j}", pure=False,
         )
-        for i in range(P)
+        for j, g in enumerate(groups)
     }
-    pieces = _results(writes, "writing")
-    pieces = [pieces[i] for i in range(P)]
-    del futs
+    fixed = _gather(c, fixes, "numbering")
+    write_seconds = [0.0] * P
+    for j, g in enumerate(groups):
+        for i, sec in zip(g, fixed[j]):
+            write_seconds[i] = sec
     files = write_mesh(out_path, dec.points, dec.point_markers, pieces) + [p.path for p in pieces]
+    # Attempts of tasks that lost their worker leave temporary files behind.
+    for tmp in out_path.parent.glob(f"{out_path.stem}_part*.h5.*.tmp"):
+        tmp.unlink(missing_ok=True)
     t_write = time.perf_counter() - t_write
     tris = np.array([summaries[i].n_triangles for i in range(P)], dtype=np.int64)
     n_points = len(dec.points) + sum(p.n_points for p in pieces)
@@ -388,10 +425,12 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
             "decompose": t_dec, "mesh": t_mesh, "write": t_write, "total": time.perf_counter() - t_start,
         },
         "part_seconds": part_seconds,
-        "write_seconds": [p.seconds for p in pieces],
+        "write_seconds": write_seconds,
+        "resolve_batches": len(groups),
         "triangles": tris.tolist(),
         "predicted": dec.predicted.tolist(),
         "imbalance": float(tris.max() / tris.mean()),
+        "worker_imbalance": float(lpt_makespan(tris, workers) * workers / tris.sum()) if tris.sum() else 1.0,
         "predicted_imbalance": dec.imbalance,
         "min_angle": float(min(summaries[i].min_angle for i in range(P))),
         "min_cut_angle": dec.min_cut_angle,

@@ -12,10 +12,17 @@ points on the interface are returned as a *split request* (A. Chernikov and N. C
 message to the neighbour), which :mod:`meshwright.distributed.exchange` turns into the same
 split on both sides.
 
-Layout of a kept part (:class:`PartMesh`, held on its worker): ``points`` (q, 2) float64 are
-the part's own vertices (not on the skeleton); ``triangles`` and ``lines`` are (t, 3) and
-(l, 2) int64 *references*: a skeleton id ``g >= 0`` or ``-1 - j`` for own vertex ``j``, so
-that global numbering (:mod:`meshwright.distributed.numbering`) needs no coordinates.
+One task per part (:func:`mesh_part`): mesh, write the piece, return a :class:`PartSummary`
+(counts, requests, times: a few hundred bytes), so the client never waits on a second task
+per part and no mesh stays in a worker's memory; the piece on the shared file system is the
+part's state, and a part that meshes again in an exchange round overwrites it.
+
+Layout of a part's mesh (:class:`PartMesh`): ``points`` (q, 2) float64 are the part's own
+vertices (not on the skeleton); ``triangles`` and ``lines`` are (t, 3) and (l, 2) int64
+*references*: a skeleton id ``g >= 0`` or ``-1 - j`` for own vertex ``j``, so that global
+numbering (:mod:`meshwright.distributed.numbering`) needs no coordinates.  The piece is
+written with these references; :func:`meshwright.distributed.writer.resolve_pieces` turns
+them into global ids once the prefix sums are known.
 """
 
 from __future__ import annotations
@@ -26,11 +33,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from meshwright.distributed.writer import write_part
 from meshwright.geometry.curves import Line
 from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.ruppert import refine
 
-__all__ = ["INTERFACE_CURVE", "PartMesh", "PartSummary", "mesh_part", "summarize"]
+__all__ = ["INTERFACE_CURVE", "PartMesh", "PartSummary", "build_part", "mesh_part"]
 
 INTERFACE_CURVE = Line((0.0, 0.0), (1.0, 0.0))  # straight: interface splits are midpoints
 
@@ -70,14 +78,33 @@ class PartMesh(NamedTuple):
 
 
 class PartSummary(NamedTuple):
-    """What the client fetches of a part: counts, requests and times, no mesh arrays."""
+    """What the client fetches of a part: counts, requests and times, no mesh arrays.
+
+    Attributes
+    ----------
+    index : int
+    n_points, n_triangles, n_lines : int
+        Own vertices, triangles and boundary lines of the piece (0 with requests).
+    requests : tuple of (int, (k, 2) float64)
+        As :class:`PartMesh`; no piece was written when not empty.
+    min_angle : float
+    seconds : float
+        Meshing time.
+    write_seconds : float
+        Time writing the piece.
+    path : str
+        The piece ("" when not written).
+    """
 
     index: int
     n_points: int
     n_triangles: int
+    n_lines: int
     requests: tuple
     min_angle: float
     seconds: float
+    write_seconds: float
+    path: str
 
 
 def _min_angle(xy: np.ndarray, tris: np.ndarray) -> float:
@@ -93,8 +120,8 @@ def _min_angle(xy: np.ndarray, tris: np.ndarray) -> float:
     return float(np.degrees(np.arctan2(cross, dot)).min()) if length.size else 180.0
 
 
-def mesh_part(pslg, curves, field, min_angle: float, seed: int, max_points: int) -> PartMesh:
-    """Mesh one part (module docstring).
+def mesh_part(pslg, curves, field, min_angle: float, seed: int, max_points: int, path: str) -> PartSummary:
+    """Mesh one part and write its piece (module docstring): the whole work of one task.
 
     Parameters
     ----------
@@ -108,6 +135,27 @@ def mesh_part(pslg, curves, field, min_angle: float, seed: int, max_points: int)
         Insertion order of this part (derived from the run's seed and the part index).
     max_points : int
         Cap on the part's vertices.
+    path : str
+        Where the piece goes (:func:`meshwright.distributed.writer.part_path`).
+
+    Returns
+    -------
+    PartSummary
+        With non-empty ``requests`` (and nothing written) when refinement split an interface.
+    """
+    pm = build_part(pslg, curves, field, min_angle, seed, max_points)
+    if pm.requests:
+        return PartSummary(pm.index, 0, 0, 0, pm.requests, pm.min_angle, pm.seconds, 0.0, "")
+    t0 = time.perf_counter()
+    write_part(pm, path)
+    return PartSummary(
+        pm.index, len(pm.points), len(pm.triangles), len(pm.lines), (), pm.min_angle, pm.seconds,
+        time.perf_counter() - t0, str(path),
+    )
+
+
+def build_part(pslg, curves, field, min_angle: float, seed: int, max_points: int) -> PartMesh:
+    """The mesh of one part, or its split requests (parameters as :func:`mesh_part`).
 
     Returns
     -------
@@ -126,11 +174,9 @@ def mesh_part(pslg, curves, field, min_angle: float, seed: int, max_points: int)
     split = np.flatnonzero(counts > 1)
     if len(split):
         requests = []
-        ends = set()
         for j in split.tolist():
             e = edges[ids == j]
             inner = np.setdiff1d(e.ravel(), ct.index_map[pslg.segments[j]])
-            ends.update(inner.tolist())
             requests.append((int(pslg.skeleton_segment[j]), xy[inner].copy()))
         empty = np.zeros((0, 3), dtype=np.int64)
         return PartMesh(
@@ -164,8 +210,3 @@ def mesh_part(pslg, curves, field, min_angle: float, seed: int, max_points: int)
         min_angle=_min_angle(xy, tris),
         seconds=time.perf_counter() - t0,
     )
-
-
-def summarize(pm: PartMesh) -> PartSummary:
-    """The small record of a part the client fetches."""
-    return PartSummary(pm.index, len(pm.points), len(pm.triangles), pm.requests, pm.min_angle, pm.seconds)

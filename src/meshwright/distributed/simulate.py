@@ -6,8 +6,10 @@ method of the design notes (section 7): run the P-worker problem's tasks on the 
 hand, record every task's compute time, schedule those times on P virtual workers round by
 round (a round ends when its last part ends), and add the client's serial phases.
 
-Model: ``T(P) = decompose + sum_r LPT_P(times of round r) + client_rounds + LPT_P(write times)
-+ client_write``, where client phases are measured, not scaled.  It ignores data transfer
+Model: ``T(P) = decompose + sum_r LPT_P(times of round r) + client_rounds + LPT_P(resolve times)
++ client_write``, where a part's time is its whole task (meshing and writing its piece), the
+resolve times are the per-part seconds of the numbering tasks, and client phases are
+measured, not scaled.  It ignores data transfer
 (parts never move) and scheduler latency per task (about 2 ms here), which is why it is
 validated against a real run before it is trusted.
 """

@@ -8,9 +8,13 @@ writes only the skeleton and the virtual layouts.
 
 Files, for ``out = DIR/NAME.xdmf``:
 
-* ``DIR/NAME_partNNNNN.h5`` (one per part, written on its worker): ``points`` (q, 2) float64,
+* ``DIR/NAME_partNNNNN.h5`` (one per part, written on a worker): ``points`` (q, 2) float64,
   ``point_marker`` (q,) int32, ``cells`` (t, 3) int64 global ids, ``cell_marker`` (t,) int32,
-  ``lines`` (l, 2) int64, ``line_marker`` (l,) int32;
+  ``lines`` (l, 2) int64, ``line_marker`` (l,) int32.  The meshing task writes it with vertex
+  *references* (:mod:`meshwright.distributed.part`) into a temporary name renamed at the end
+  (a task Dask runs again after a lost worker never leaves half a file); once the prefix sums
+  are known, :func:`resolve_pieces` (a few tasks, any worker: the file system is shared)
+  rewrites ``cells`` and ``lines`` in place with global ids (idempotent: ids >= 0 stay);
 * ``DIR/NAME.h5`` (client): ``skeleton_points`` and ``skeleton_point_marker``, and the virtual
   datasets ``points`` (N, 2), ``point_marker`` (N,), ``cells`` (T, 3), ``cell_marker`` (T,),
   ``lines`` (L, 2), ``line_marker`` (L,) in global-id order (skeleton, then parts in order);
@@ -28,13 +32,12 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import NamedTuple
 
 import numpy as np
 
 from meshwright.distributed.numbering import resolve
 
-__all__ = ["PartFile", "part_path", "read_mesh_arrays", "write_mesh", "write_part"]
+__all__ = ["part_path", "read_mesh_arrays", "resolve_pieces", "write_mesh", "write_part"]
 
 _FIELDS = (
     ("points", 2, "<f8"),
@@ -44,18 +47,6 @@ _FIELDS = (
     ("lines", 2, "<i8"),
     ("line_marker", 0, "<i4"),
 )
-
-
-class PartFile(NamedTuple):
-    """What a worker reports after writing its piece."""
-
-    index: int
-    path: str
-    n_points: int
-    n_cells: int
-    n_lines: int
-    nbytes: int
-    seconds: float
 
 
 def part_path(out: Path, i: int) -> Path:
@@ -78,36 +69,62 @@ def _virtual_dataset(f, name: str, layout, shape, dtype) -> None:
                space=h5s.create_simple(shape), dcpl=dcpl).close()
 
 
-def write_part(pm, offset: int, path: str) -> PartFile:
-    """Write one part's piece (on its worker) with global ids; see the module docstring.
+def write_part(pm, path: str) -> int:
+    """Write one part's piece with vertex references (module docstring); returns its bytes.
 
     Parameters
     ----------
     pm : PartMesh
-    offset : int
-        First global id of the part's own points (:func:`meshwright.distributed.numbering.part_offsets`).
     path : str
+        Final name; the data go to ``path.<random>.tmp`` first, renamed when complete.
+    """
+    import uuid
+
+    import h5py
+
+    tmp = f"{path}.{uuid.uuid4().hex}.tmp"
+    with h5py.File(tmp, "w", libver="v110") as f:
+        _dataset(f, "points", pm.points.reshape(-1, 2), "<f8")
+        _dataset(f, "point_marker", pm.point_markers, "<i4")
+        _dataset(f, "cells", pm.triangles.reshape(-1, 3), "<i8")
+        _dataset(f, "cell_marker", pm.triangle_markers, "<i4")
+        _dataset(f, "lines", pm.lines.reshape(-1, 2), "<i8")
+        _dataset(f, "line_marker", pm.line_markers, "<i4")
+    os.replace(tmp, path)
+    return os.path.getsize(path)
+
+
+_CHUNK = 1 << 20  # rows resolved at a time: bounded memory for any piece
+
+
+def resolve_pieces(items) -> list[float]:
+    """Rewrite the references of pieces as global ids, in place (module docstring).
+
+    Parameters
+    ----------
+    items : sequence of (str, int)
+        Piece path and the first global id of its own points
+        (:func:`meshwright.distributed.numbering.part_offsets`).
 
     Returns
     -------
-    PartFile
+    list of float
+        Seconds per piece.
     """
     import time
 
     import h5py
 
-    t0 = time.perf_counter()
-    with h5py.File(path, "w", libver="v110") as f:
-        _dataset(f, "points", pm.points.reshape(-1, 2), "<f8")
-        _dataset(f, "point_marker", pm.point_markers, "<i4")
-        _dataset(f, "cells", resolve(pm.triangles, offset).reshape(-1, 3), "<i8")
-        _dataset(f, "cell_marker", pm.triangle_markers, "<i4")
-        _dataset(f, "lines", resolve(pm.lines, offset).reshape(-1, 2), "<i8")
-        _dataset(f, "line_marker", pm.line_markers, "<i4")
-    return PartFile(
-        pm.index, str(path), len(pm.points), len(pm.triangles), len(pm.lines), os.path.getsize(path),
-        time.perf_counter() - t0,
-    )
+    out = []
+    for path, offset in items:
+        t0 = time.perf_counter()
+        with h5py.File(path, "r+") as f:
+            for name in ("cells", "lines"):
+                d = f[name]
+                for lo in range(0, d.shape[0], _CHUNK):
+                    d[lo : lo + _CHUNK] = resolve(d[lo : lo + _CHUNK], offset)
+        out.append(time.perf_counter() - t0)
+    return out
 
 
 def write_mesh(out: Path, skeleton_points: np.ndarray, skeleton_markers: np.ndarray, pieces) -> list[str]:
@@ -119,8 +136,8 @@ def write_mesh(out: Path, skeleton_points: np.ndarray, skeleton_markers: np.ndar
         ``NAME.xdmf``.
     skeleton_points : (n, 2) float64
     skeleton_markers : (n,) int32
-    pieces : sequence of PartFile
-        In part order.
+    pieces : sequence of PartSummary
+        In part order (``path``, ``n_points``, ``n_triangles``, ``n_lines``).
 
     Returns
     -------
@@ -132,7 +149,7 @@ def write_mesh(out: Path, skeleton_points: np.ndarray, skeleton_markers: np.ndar
     h5 = out.with_suffix(".h5")
     sizes = {
         "points": [len(skeleton_points)] + [p.n_points for p in pieces],
-        "cells": [0] + [p.n_cells for p in pieces],
+        "cells": [0] + [p.n_triangles for p in pieces],
         "lines": [0] + [p.n_lines for p in pieces],
     }
     sizes["point_marker"], sizes["cell_marker"], sizes["line_marker"] = sizes["points"], sizes["cells"], sizes["lines"]
