@@ -69,6 +69,9 @@ BALANCE_WINDOWS = (0.03, 0.06, 0.1)  # fractions of a cell's cost a cut may move
 INTERFACE_SPACING = 0.75  # of h: interfaces a little finer than h rarely need splits (measured)
 INTERFACE_GROWTH = 0.5  # how fast the interface spacing grows away from a boundary crossing
 _CANDIDATES = 81
+_QUERY_BLOCK = 2048  # size queries per block of the interface spacing (block x crossings floats)
+_GOOD_ENOUGH = 0.005  # a cut this near its balance (fraction of the cell's cost) is taken at once
+_SPLITS = 5  # splits k = j + (k - j) of a cell tried, nearest halves first
 _BISECTIONS = 80
 _EQUILATERAL = 4.0 / math.sqrt(3.0)
 
@@ -172,18 +175,20 @@ class PartPSLG(NamedTuple):
 
 
 def _sample_grid(dom_segments, bbox, field, n_samples: int):
-    """Centres of a uniform grid over ``bbox`` inside the domain and their cost weights."""
+    """Centres of a uniform grid over ``bbox`` inside the domain, their cost weights, their
+    grid indices (n, 2) int64 and the grid's coordinates ``(xs, ys)``."""
     x0, y0, x1, y1 = bbox
     w, h = x1 - x0, y1 - y0
     step = math.sqrt(w * h / n_samples)
     nx, ny = max(8, math.ceil(w / step)), max(8, math.ceil(h / step))
     xs = x0 + (np.arange(nx) + 0.5) * (w / nx)
     ys = y0 + (np.arange(ny) + 0.5) * (h / ny)
-    xy = np.ascontiguousarray(np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2))
+    ij = np.stack(np.meshgrid(np.arange(nx), np.arange(ny)), axis=-1).reshape(-1, 2)
+    xy = np.ascontiguousarray(np.column_stack([xs[ij[:, 0]], ys[ij[:, 1]]]))
     inside = classify_points(xy, *dom_segments) == INSIDE
-    xy = xy[inside]
+    xy, ij = xy[inside], ij[inside]
     hv = field(xy)
-    return xy, (w / nx) * (h / ny) / (hv * hv)
+    return xy, (w / nx) * (h / ny) / (hv * hv), ij, (xs, ys)
 
 
 def _crossing(curves, pts, seg, curve, params, s: int, axis: int, c: float):
@@ -283,8 +288,10 @@ class _Skeleton:
         return np.array(new_p, dtype=np.int64), np.array(new_s, dtype=np.int64)
 
 
-def _choose_cut(sk, cell, samples, weights, segs_in, verts, vh, exy, eh, frac):
-    """Best cut of a cell: ``(axis, c, angle)`` (see the module docstring, step 3)."""
+def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, windows=BALANCE_WINDOWS):
+    """Best cut of a cell: ``(axis, c, angle)`` (see the module docstring, step 3); ``grid``
+    is ``(indices (n, 2), (xs, ys))`` of the cell's samples (:func:`_sample_grid`).  With
+    ``windows`` shorter than :data:`BALANCE_WINDOWS`, None when no candidate is admissible."""
     x0, y0, x1, y1 = cell
     axes = (0, 1) if (x1 - x0) >= (y1 - y0) else (1, 0)
     total = weights.sum()
@@ -294,32 +301,53 @@ def _choose_cut(sk, cell, samples, weights, segs_in, verts, vh, exy, eh, frac):
         # Cumulative cost at each distinct sample coordinate, interpolated in between, so
         # that candidates are not tied to the sample grid (gaps between boundary vertices
         # are finer than it where h is small).
-        coord, inv = np.unique(samples[:, axis], return_inverse=True)
-        cum = np.cumsum(np.bincount(inv.ravel(), weights, minlength=len(coord)))
+        ij, axes_xy = grid
+        n_axis = len(axes_xy[axis])
+        present = np.bincount(ij[:, axis], minlength=n_axis) > 0
+        coord = axes_xy[axis][present]
+        cum = np.cumsum(np.bincount(ij[:, axis], weights, minlength=n_axis)[present])
         sorted_axes.append((axis, coord, cum))
-    for clearance, window in [(q, w) for w in BALANCE_WINDOWS for q in VERTEX_CLEARANCES]:
+    strict = len(windows) < len(BALANCE_WINDOWS)
+    found = None  # strict: (relative deviation from the balance, axis, c, angle) of the best admissible
+    for clearance, window in [(q, w) for w in windows for q in VERTEX_CLEARANCES]:
         for axis, coord, cum in sorted_axes:
             lo_cell, hi_cell = cell[axis], cell[axis + 2]
             targets = frac * total + np.linspace(-window, window, _CANDIDATES) * total
             # Nearest the balance first.
             targets = targets[np.argsort(np.abs(targets - frac * total), kind="stable")]
             cs = np.interp(targets, cum, coord) if len(coord) > 1 else np.full(len(targets), 0.5 * (lo_cell + hi_cell))
+            dev = np.abs(targets - frac * total)
             if len(exy) and len(coord) > 1:
                 # Cross junctions first: the coordinates of earlier cut ends within the window.
                 at = np.unique(exy[:, axis])
                 cost = np.abs(np.interp(at, coord, cum) - frac * total)
                 at = at[cost <= window * total]
-                cs = np.concatenate([at[np.argsort(cost[cost <= window * total], kind="stable")], cs])
-            cs = cs[(lo_cell < cs) & (cs < hi_cell)]
+                order = np.argsort(cost[cost <= window * total], kind="stable")
+                cs = np.concatenate([at[order], cs])
+                dev = np.concatenate([np.sort(cost[cost <= window * total]), dev])
+            inside = (lo_cell < cs) & (cs < hi_cell)
+            cs, dev = cs[inside], dev[inside]
             if not len(cs):
                 continue
             score, angle = _scores(sk.pts, sk.seg, segs_in, verts, vh, clearance, exy, eh, axis, cs)
             ok = np.flatnonzero(score >= 1.0)
+            if len(ok) and strict:
+                j = ok[np.argmin(dev[ok])]
+                d = float(dev[j] / total)
+                if d <= _GOOD_ENOUGH:
+                    # In the usual order (longer axis, preferred clearance, junctions) when balanced.
+                    j = ok[0] if dev[ok[0]] <= _GOOD_ENOUGH * total else j
+                    return float(dev[j] / total), axis, float(cs[j]), float(angle[j])
+                if found is None or d < found[0]:
+                    found = (d, axis, float(cs[j]), float(angle[j]))
+                continue
             if len(ok):
                 return axis, float(cs[ok[0]]), float(angle[ok[0]])
             j = int(np.argmax(score))
             if best is None or score[j] > best[0]:
                 best = (float(score[j]), axis, float(cs[j]), float(angle[j]))
+    if strict:
+        return found
     if best is None or best[0] <= 0.0:
         raise MeshingError(
             f"cannot place a cut in the cell ({cell[0]:.6g}, {cell[1]:.6g}) - ({cell[2]:.6g}, {cell[3]:.6g}): "
@@ -359,7 +387,7 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
     pad = 0.01 * max(bx1 - bx0, by1 - by0)
     root = (bx0 - pad, by0 - pad, bx1 + pad, by1 + pad)
     n_samples = int(np.clip(parts * samples_per_part, 16_384, 1_048_576))
-    samples, weights = _sample_grid(dom_segments, dom.bbox, field, n_samples)
+    samples, weights, ij, axes_xy = _sample_grid(dom_segments, dom.bbox, field, n_samples)
     n_interior = len(dom.points)
     interior = np.arange(len(disc.points) - n_interior, len(disc.points), dtype=np.int64)
 
@@ -387,8 +415,24 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
             if len(exy):
                 exy = exy[classify_points(np.ascontiguousarray(exy), *dom_segments) == INSIDE]
             eh = field(exy) if len(exy) else np.zeros(0)
-            kl = k // 2
-            axis, c, angle = _choose_cut(sk, cell, samples[smp], weights[smp], segs_in, verts, vh, exy, eh, kl / k)
+            grid = (ij[smp], axes_xy)
+            # Halves first, then the other splits of k by distance from halves: an admissible
+            # cut within the tightest window at 1 : 3 beats one pushed 10 % off balance at 1 : 1
+            # (cuts meet a circle at >= 60 degrees only within half its radius of the centre).
+            # Scored by the heavier side's cost per part over the mean.
+            cut, excess = None, np.inf
+            for j in sorted(range(1, k), key=lambda j: (abs(2 * j - k), j))[:_SPLITS]:
+                got = _choose_cut(sk, cell, grid, weights[smp], segs_in, verts, vh, exy, eh, j / k, BALANCE_WINDOWS[:1])
+                if got is not None:
+                    d = got[0] / min(j / k, 1.0 - j / k)
+                    if d < excess:
+                        cut, excess, kl = got[1:], d, j
+                    if excess <= _GOOD_ENOUGH:
+                        break
+            if cut is None:
+                kl = k // 2
+                cut = _choose_cut(sk, cell, grid, weights[smp], segs_in, verts, vh, exy, eh, kl / k)
+            axis, c, angle = cut
             below = samples[smp, axis] < c
             # A cut pushed off balance by the angle and clearance rules: hand its sides the
             # part counts nearest their costs (the leaves then balance again).
@@ -425,19 +469,23 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
     return _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, interior_part, dom_segments)
 
 
-def _piece_size(field, pa, pb, end_size) -> SizeField:
-    """Spacing along the cut piece ``pa -> pb``: :data:`INTERFACE_SPACING` ``h``, graded down
-    (by :data:`INTERFACE_GROWTH` per unit length) to the shorter boundary chord at an end
-    that crosses the boundary.  Refinement splits an interface whose end segment is much
-    longer than the boundary chord beside it (the corner's triangle is bad), so matching them
-    keeps parts from requesting splits in the common case."""
-    ends = [(p, end_size(p)) for p in (pa, pb)]
-    ends = [(p, s) for p, s in ends if np.isfinite(s)]
+def _interface_size(field, ends: np.ndarray, end_sizes: np.ndarray) -> SizeField:
+    """Spacing along the cut pieces: :data:`INTERFACE_SPACING` ``h``, graded down (by
+    :data:`INTERFACE_GROWTH` per unit length) to the shorter boundary chord at every point
+    ``ends`` (e, 2) where a cut crosses the boundary (``end_sizes`` (e,)).  Refinement splits an
+    interface whose end segment is much longer than the boundary chord beside it (the
+    corner's triangle is bad), so matching them keeps parts from requesting splits in the
+    common case.  One field for all pieces, so that they are placed in one call."""
 
     def h(xy):
         out = INTERFACE_SPACING * field(xy)
-        for p, s in ends:
-            out = np.minimum(out, s + INTERFACE_GROWTH * np.hypot(xy[:, 0] - p[0], xy[:, 1] - p[1]))
+        for lo in range(0, len(xy), _QUERY_BLOCK):
+            q = xy[lo : lo + _QUERY_BLOCK]
+            d = np.hypot(q[:, 0, None] - ends[None, :, 0], q[:, 1, None] - ends[None, :, 1])
+            if d.size:
+                out[lo : lo + _QUERY_BLOCK] = np.minimum(
+                    out[lo : lo + _QUERY_BLOCK], (end_sizes[None, :] + INTERFACE_GROWTH * d).min(axis=1)
+                )
         return out
 
     return SizeField(h, name="interface spacing")
@@ -476,15 +524,11 @@ def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, int
             n_pts += 1
         return key[k]
 
-    # Spacing at a crossing: the shorter boundary chord there (see _piece_size).
+    # Spacing at a crossing: the shorter boundary chord there (see _interface_size).
     length = np.hypot(*(sk.pts[sk.seg[:, 1]] - sk.pts[sk.seg[:, 0]]).T)
     chord = np.full(len(sk.pts), np.inf)
     np.minimum.at(chord, sk.seg[:, 0], length)
     np.minimum.at(chord, sk.seg[:, 1], length)
-
-    def end_size(p) -> float:
-        pid = key.get((float(p[0]), float(p[1])))
-        return float(chord[pid]) if pid is not None and pid < len(chord) else np.inf
 
     pieces = []  # (cut, axis, c, u, v): the cuts broken at crossings and junctions
     for ci, (axis, c, lo, hi, _) in enumerate(cuts):
@@ -501,18 +545,33 @@ def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, int
         pieces += [(ci, axis, c, u, v) for u, v in itertools.pairwise(breaks.tolist())]
     mids = np.array([[c, 0.5 * (u + v)] if axis == 0 else [0.5 * (u + v), c] for _, axis, c, u, v in pieces])
     inside = classify_points(np.ascontiguousarray(mids.reshape(-1, 2)), *dom_segments) == INSIDE
-    iseg, ileft, iright = [], [], []
-    for (ci, axis, c, u, v), mid, keep in zip(pieces, mids, inside):
-        if not keep:
-            continue
+    kept = [(piece, mid) for piece, mid, keep in zip(pieces, mids, inside) if keep]
+    lines, ends = [], []
+    for (ci, axis, c, u, v), _ in kept:
         pa, pb = np.zeros(2), np.zeros(2)
         pa[axis] = pb[axis] = c
         pa[1 - axis], pb[1 - axis] = u, v
-        t = place_params([Line(pa, pb)], _piece_size(field, pa, pb, end_size), np.ones(1, dtype=np.int64))[0]
-        xy = Line(pa, pb).evaluate(t)
+        lines.append(Line(pa, pb))
+        ends += [pa, pb]
+    ends = np.array(ends, dtype=np.float64).reshape(-1, 2)
+    # Boundary crossings among the piece ends: skeleton points with a boundary chord.
+    end_ids = np.array([key.get((float(x), float(y)), -1) for x, y in ends.tolist()], dtype=np.int64)
+    crossing = end_ids >= 0
+    end_sizes = chord[end_ids[crossing]]
+    finite = np.isfinite(end_sizes)
+    ends_c, key_c = np.unique(ends[crossing][finite], axis=0, return_index=True)
+    size_i = _interface_size(field, ends_c, end_sizes[finite][key_c])
+    params = place_params(lines, size_i, np.ones(len(lines), dtype=np.int64)) if lines else []
+    iseg, ileft, iright = [], [], []
+    for ((ci, axis, c, u, v), mid), line, t in zip(kept, lines, params):
+        xy = line.evaluate(t)
         xy[:, axis] = c
-        xy[0], xy[-1] = pa, pb
-        ids = [point_id(p) for p in xy]
+        xy[0], xy[-1] = line.p0, line.p1
+        # Inner points are new (a skeleton point on a cut is a break); only the ends are shared.
+        inner = np.arange(n_pts, n_pts + len(xy) - 2)
+        pts.append(xy[1:-1])
+        n_pts += len(inner)
+        ids = [point_id(xy[0]), *inner.tolist(), point_id(xy[-1])]
         lower = _leaf(tree, mid, ci, 0)
         upper = _leaf(tree, mid, ci, 1)
         # Oriented with the upper part on the left: down a vertical cut, along a horizontal one.
