@@ -215,35 +215,75 @@ def _lca(a, b, mate, pred, base, mark, stamp):
 
 
 @njit(cache=True)
-def _mark_path(v, b, child, mate, pred, base, blossom):
+def _mark_path(v, b, child, mate, pred, base, blossom, bstack, nb):
+    """Mark the bases on the path from v up to the blossom base b (pushed on ``bstack``)."""
     while base[v] != b:
-        blossom[base[v]] = 1
-        blossom[base[mate[v]]] = 1
+        for x in (base[v], base[mate[v]]):
+            if blossom[x] == 0:
+                blossom[x] = 1
+                bstack[nb] = x
+                nb += 1
         pred[v] = child
         child = mate[v]
         v = pred[mate[v]]
+    return nb
 
 
 @njit(cache=True)
-def _search(xy, tri, nbr, mate, qmin, root, used, pred, base, blossom, mark, stamp, vis, queue, max_visit):
+def _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis, cand, queue, qtail):
+    """Shrink the blossom of the marked bases ``bstack[:nb]`` into ``cur``.
+
+    Each base keeps the list of the triangles it stands for (``head``/``tail``/``link``),
+    so only the blossom's own members are visited, not the whole search (a scan of every
+    visited triangle per blossom made failing searches quadratic in ``max_visit``).  The
+    members not yet in the queue enter it in the order they were first reached
+    (``vpos``), as a scan of the visit list would push them.  Returns the new queue tail.
+    """
+    nc = 0
+    for r in range(nb):
+        b = bstack[r]
+        i = head[b]
+        while i >= 0:
+            base[i] = cur
+            if used[i] == 0:
+                used[i] = 1
+                cand[nc] = vpos[i]
+                nc += 1
+            i = link[i]
+        if b != cur:
+            link[tail[cur]] = head[b]
+            tail[cur] = tail[b]
+            head[b] = -1
+        blossom[b] = 0
+    order = np.sort(cand[:nc])
+    for r in range(nc):
+        queue[qtail] = vis[order[r]]
+        qtail += 1
+    return qtail
+
+
+@njit(cache=True)
+def _search(xy, tri, nbr, mate, qmin, root, used, pred, base, blossom, mark, stamp, vis, queue, max_visit,
+            bstack, head, tail, link, vpos, cand):
     """Edmonds' alternating-tree search from ``root``; returns the free triangle reached or -1.
 
-    ``vis[:count]`` lists every triangle whose ``used``/``pred``/``base`` entries changed;
-    the count is returned second so the caller can reset them.
+    ``vis[:count]`` lists every triangle whose ``used``/``pred``/``base``/member-list
+    entries changed; the count is returned second so the caller can reset them.
     """
     nv = 0
     vis[nv] = root
+    vpos[root] = nv
     nv += 1
     used[root] = 1
-    head = 0
-    tail = 0
-    queue[tail] = root
-    tail += 1
-    while head < tail:
+    head_q = 0
+    tail_q = 0
+    queue[tail_q] = root
+    tail_q += 1
+    while head_q < tail_q:
         if nv >= max_visit:
             return -1, nv, stamp
-        v = queue[head]
-        head += 1
+        v = queue[head_q]
+        head_q += 1
         for k in range(3):
             if not _allowed(xy, tri, nbr, v, k, qmin):
                 continue
@@ -253,30 +293,24 @@ def _search(xy, tri, nbr, mate, qmin, root, used, pred, base, blossom, mark, sta
             if to == root or (mate[to] >= 0 and pred[mate[to]] >= 0):
                 stamp += 1
                 cur = _lca(v, to, mate, pred, base, mark, stamp)
-                for r in range(nv):
-                    blossom[vis[r]] = 0
-                _mark_path(v, cur, to, mate, pred, base, blossom)
-                _mark_path(to, cur, v, mate, pred, base, blossom)
-                for r in range(nv):
-                    i = vis[r]
-                    if blossom[base[i]] != 0:
-                        base[i] = cur
-                        if used[i] == 0:
-                            used[i] = 1
-                            queue[tail] = i
-                            tail += 1
+                nb = _mark_path(v, cur, to, mate, pred, base, blossom, bstack, 0)
+                nb = _mark_path(to, cur, v, mate, pred, base, blossom, bstack, nb)
+                tail_q = _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis, cand, queue,
+                                   tail_q)
             elif pred[to] < 0:
                 pred[to] = v
                 vis[nv] = to
+                vpos[to] = nv
                 nv += 1
                 if mate[to] < 0:
                     return to, nv, stamp
                 w = mate[to]
                 used[w] = 1
                 vis[nv] = w
+                vpos[w] = nv
                 nv += 1
-                queue[tail] = w
-                tail += 1
+                queue[tail_q] = w
+                tail_q += 1
     return -1, nv, stamp
 
 
@@ -287,7 +321,8 @@ def augment(xy, tri, nbr, mate, qmin, max_visit):
     From an unpaired triangle u an alternating tree grows across allowed sides; reaching
     another unpaired triangle v, the pairs along the path shift by one so that u and v
     are both paired.  Each search enters at most ``max_visit`` triangles (it then gives up
-    on u), so the pass costs O(left-overs x max_visit).  Returns the number of pairs gained.
+    on u), so the pass costs O(left-overs x max_visit) plus the blossoms' members.
+    Returns the number of pairs gained.
     """
     nt = mate.shape[0]
     used = np.zeros(nt, dtype=np.int8)
@@ -297,13 +332,21 @@ def augment(xy, tri, nbr, mate, qmin, max_visit):
     mark = np.zeros(nt, dtype=np.int64)
     vis = np.empty(2 * nt + 2, dtype=np.int32)
     queue = np.empty(2 * nt + 2, dtype=np.int32)
+    # Blossom members: a list per base (head, tail, link), positions in ``vis``, scratch.
+    bstack = np.empty(nt + 1, dtype=np.int32)
+    head = np.arange(nt).astype(np.int32)
+    tail = np.arange(nt).astype(np.int32)
+    link = np.full(nt, -1, dtype=np.int32)
+    vpos = np.zeros(nt, dtype=np.int32)
+    cand = np.empty(nt + 1, dtype=np.int32)
     stamp = 0
     gained = 0
     for u in range(nt):
         if mate[u] >= 0:
             continue
         found, nv, stamp = _search(
-            xy, tri, nbr, mate, qmin, u, used, pred, base, blossom, mark, stamp, vis, queue, max_visit
+            xy, tri, nbr, mate, qmin, u, used, pred, base, blossom, mark, stamp, vis, queue, max_visit,
+            bstack, head, tail, link, vpos, cand,
         )
         if found >= 0:
             v = found
@@ -320,6 +363,9 @@ def augment(xy, tri, nbr, mate, qmin, max_visit):
             pred[i] = -1
             base[i] = i
             blossom[i] = 0
+            head[i] = i
+            tail[i] = i
+            link[i] = -1
     return gained
 
 

@@ -129,7 +129,10 @@ PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rou
 MAX_VISIT = 4096  # triangles one alternating-chain search may enter (last round)
 EARLY_VISIT = 64  # ... in the rounds before the last
 MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
-STALE_WALKS = 8  # ... stopped after this many rounds without fewer unpaired triangles
+# ... stopped after this many rounds without fewer unpaired triangles: over the domains of
+# benchmarks/quad_domains.py no walk gained after two stale rounds, and each costs a full
+# chain search (about 0.09 s on the h=0.01 disk, where eight of them were 13 % of the time).
+STALE_WALKS = 2
 CENTRE_ROUNDS = 2  # rounds of splitting the still unpaired triangles at their centroids (second attempt)
 CENTRE_KEEP = 0.3  # ... kept only if it pairs everything with a scaled Jacobian of at least this
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
