@@ -22,7 +22,7 @@ from numba import njit
 
 from meshwright.core.predicates import orient2d
 
-__all__ = ["facing_pairs", "nodes_in_quads", "polish_nodes", "row_crossings"]
+__all__ = ["adjust_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "row_crossings", "row_nodes"]
 
 
 @njit(inline="always")
@@ -248,3 +248,198 @@ def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
             p[v, 1] = by
             moved += 1
     return moved
+
+
+@njit(cache=True)
+def adjust_row(m, rho, calm_only, floating, deg, gap, tuck_at, tuck_max, wedge_min):
+    """Tucks (class 0) and wedges (class 3) of one row from the running surplus of
+    predicted edge lengths ``rho - 1`` over each run of side nodes (class 1), step 6;
+    ``m`` (n,) int64 is changed in place.  A node qualifies only with side neighbours,
+    ``calm_only`` unset, floating, and ``gap`` nodes after the previous change.
+    Returns (tucks, wedges)."""
+    n = m.shape[0]
+    c = 0.0
+    tucks = 0
+    wedges = 0
+    last = -gap
+    for i in range(n):
+        if m[i] != 1:
+            c = 0.0
+            continue
+        c += rho[i] - 1.0
+        calm = m[(i - 1) % n] == 1 and m[(i + 1) % n] == 1 and not calm_only[i] and i - last >= gap
+        if c <= -tuck_at and calm and floating[i] and deg[i] < tuck_max:
+            m[i] = 0
+            c += 2.0
+            tucks += 1
+            last = i
+        elif c >= tuck_at and calm and floating[i] and deg[i] > wedge_min:
+            m[i] = 3
+            c -= 2.0
+            wedges += 1
+            last = i
+    return tucks, wedges
+
+
+@njit(inline="always")
+def _find(parent, x):
+    while parent[x] != x:
+        parent[x] = parent[parent[x]]
+        x = parent[x]
+    return x
+
+
+@njit(cache=True)
+def row_nodes(p, f, ang, m, depth, th0, n0):
+    """New nodes and quads of one row on the paving boundary ``f`` (step 3).
+
+    Node i of class ``m[i]`` = 1 (side) grows one node on its bisector, ``depth[i] /
+    max(sin(ang/2), 1/2)`` away; class 3 or 5 (corner, reversal) a fan of ``m[i]`` nodes
+    (every second one at the diagonal's length); class 0 (row end) none: the last node
+    of its previous neighbour and the first of its next one merge (union-find) at the
+    mean of their positions and the end's own bisector point.  New nodes are numbered
+    from ``n0`` in the order of their union-find roots.
+
+    Parameters
+    ----------
+    p : (n, 2) float64
+        The paving nodes' coordinates, in ``f``'s order.
+    f : (n,) int64
+        The paving boundary's node ids.
+    ang, depth, th0 : (n,) float64
+        Interior angle, row depth and direction of the outgoing edge at each node.
+    m : (n,) int64
+        Node classes (0, 1, 3, 5).
+    n0 : int
+        Id of the first new node.
+
+    Returns
+    -------
+    ok : bool
+        False when the row degenerates (no new node, or a row end beside another).
+    xy : (k, 2) float64
+        New nodes.
+    quads : (q, 4) int64
+        The row's quads, counter-clockwise.
+    front : (s,) int64
+        The new nodes along the row, one entry per spoke (merged ones repeated).
+    owner : (k,) int64
+        The paving node (index into ``f``) each new node grew from.
+    """
+    n = f.shape[0]
+    off = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):
+        off[i + 1] = off[i] + m[i]
+    k = off[n]
+    empty = np.zeros((0, 2))
+    if k == 0:
+        return False, empty, np.zeros((0, 4), dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0, np.int64)
+    for i in range(n):
+        if m[i] == 0 and (m[(i - 1) % n] == 0 or m[(i + 1) % n] == 0):
+            return False, empty, np.zeros((0, 4), dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0, np.int64)
+    coords = np.empty((k, 2))
+    own = np.empty(k, dtype=np.int64)
+    spoke = np.empty(k, dtype=np.int64)  # spoke[off[i] + s]: new-node slot of spoke s of node i
+    nc = 0
+    for i in range(n):
+        mi = m[i]
+        if mi == 0:
+            continue
+        a = ang[i]
+        d = depth[i]
+        if mi == 1:
+            t = th0[i] + 0.5 * a
+            r = d / max(np.sin(0.5 * a), 0.5)
+            coords[nc, 0] = p[i, 0] + r * np.cos(t)
+            coords[nc, 1] = p[i, 1] + r * np.sin(t)
+            own[nc] = i
+            spoke[off[i]] = nc
+            nc += 1
+            continue
+        sig = a / ((mi + 1) // 2 + 1)
+        for j in range((mi + 1) // 2):
+            t = th0[i] + sig * (j + 1)
+            spoke[off[i] + mi - 1 - 2 * j] = nc
+            coords[nc, 0] = p[i, 0] + d * np.cos(t)
+            coords[nc, 1] = p[i, 1] + d * np.sin(t)
+            own[nc] = i
+            nc += 1
+        for j in range((mi - 1) // 2):
+            t = th0[i] + sig * (j + 1.5)
+            spoke[off[i] + mi - 2 - 2 * j] = nc
+            r = 2.0 * d * np.cos(0.5 * sig)
+            coords[nc, 0] = p[i, 0] + r * np.cos(t)
+            coords[nc, 1] = p[i, 1] + r * np.sin(t)
+            own[nc] = i
+            nc += 1
+    parent = np.arange(k)
+    acc = np.zeros((k, 2))
+    cnt = np.zeros(k)
+    for e in range(n):
+        if m[e] != 0:
+            continue
+        a_ = (e - 1) % n
+        b_ = (e + 1) % n
+        t = th0[e] + 0.5 * ang[e]
+        r = min(depth[e] / max(np.sin(0.5 * ang[e]), 1e-3), 1.5 * depth[e])
+        u = _find(parent, spoke[off[a_ + 1] - 1])
+        w = _find(parent, spoke[off[b_]])
+        if u != w:
+            parent[w] = u
+            acc[u, 0] += acc[w, 0]
+            acc[u, 1] += acc[w, 1]
+            cnt[u] += cnt[w]
+        acc[u, 0] += p[e, 0] + r * np.cos(t)
+        acc[u, 1] += p[e, 1] + r * np.sin(t)
+        cnt[u] += 1.0
+        own[u] = e
+    lab = np.full(k, -1, dtype=np.int64)
+    root = np.empty(k, dtype=np.int64)
+    for x in range(k):
+        root[x] = _find(parent, x)
+        lab[root[x]] = 0
+    nk = 0
+    for x in range(k):
+        if lab[x] == 0:
+            lab[x] = n0 + nk
+            nk += 1
+    xy = np.empty((nk, 2))
+    owner = np.empty(nk, dtype=np.int64)
+    for x in range(k):
+        if root[x] == x:
+            r = lab[x] - n0
+            if cnt[x] > 0.0:
+                xy[r, 0] = acc[x, 0] / cnt[x]
+                xy[r, 1] = acc[x, 1] / cnt[x]
+            else:
+                xy[r, 0] = coords[x, 0]
+                xy[r, 1] = coords[x, 1]
+            owner[r] = own[x]
+    quads = np.empty((2 * n + k, 4), dtype=np.int64)
+    nq = 0
+    for i in range(n):
+        j = (i + 1) % n
+        if m[i] != 0 and m[j] != 0:
+            quads[nq, 0] = f[i]
+            quads[nq, 1] = f[j]
+            quads[nq, 2] = lab[root[spoke[off[j]]]]
+            quads[nq, 3] = lab[root[spoke[off[i + 1] - 1]]]
+            nq += 1
+        for s in range(0, m[i] - 2, 2):
+            quads[nq, 0] = f[i]
+            quads[nq, 1] = lab[root[spoke[off[i] + s + 2]]]
+            quads[nq, 2] = lab[root[spoke[off[i] + s + 1]]]
+            quads[nq, 3] = lab[root[spoke[off[i] + s]]]
+            nq += 1
+    for e in range(n):
+        if m[e] == 0:
+            a_ = (e - 1) % n
+            quads[nq, 0] = f[a_]
+            quads[nq, 1] = f[e]
+            quads[nq, 2] = f[(e + 1) % n]
+            quads[nq, 3] = lab[root[spoke[off[a_ + 1] - 1]]]
+            nq += 1
+    front = np.empty(k, dtype=np.int64)
+    for x in range(k):
+        front[x] = lab[root[spoke[x]]]
+    return True, xy, quads[:nq].copy(), front, owner

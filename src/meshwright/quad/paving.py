@@ -265,35 +265,18 @@ class _Paver:
         return 0.25 * (np.roll(d, 1) + 2.0 * d + np.roll(d, -1))
 
     def _adjust(self, f, ang, m, depth, calm_only):
-        """Tucks and wedges from the running surplus of predicted edge lengths (step 6)."""
+        """Tucks and wedges from the running surplus of predicted edge lengths (step 6,
+        :func:`~meshwright.quad._paving_kernel.adjust_row`)."""
         p = self.pts[f]
-        n = len(f)
         th = np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T) + 0.5 * ang
         dist = depth / np.maximum(np.sin(0.5 * ang), 0.5)
         prov = p + dist[:, None] * np.column_stack([np.cos(th), np.sin(th)])
         nxt = np.roll(prov, -1, axis=0)
         rho = np.hypot(*(nxt - prov).T) / self.field(0.5 * (prov + nxt))
-        floating = f >= self.n_fixed
-        deg = np.degrees(ang)
-        c = 0.0
-        tucks = wedges = 0
-        last = -ADJUST_GAP
-        for i in range(n):
-            if m[i] != 1:
-                c = 0.0
-                continue
-            c += rho[i] - 1.0
-            calm = m[i - 1] == 1 and m[(i + 1) % n] == 1 and not calm_only[i] and i - last >= ADJUST_GAP
-            if c <= -TUCK_AT and calm and floating[i] and deg[i] < TUCK_MAX_ANGLE:
-                m[i] = 0
-                c += 2.0
-                tucks += 1
-                last = i
-            elif c >= TUCK_AT and calm and floating[i] and deg[i] > WEDGE_MIN_ANGLE:
-                m[i] = 3
-                c -= 2.0
-                wedges += 1
-                last = i
+        tucks, wedges = pk.adjust_row(
+            m, rho, calm_only, f >= self.n_fixed, np.degrees(ang), ADJUST_GAP, TUCK_AT, TUCK_MAX_ANGLE,
+            WEDGE_MIN_ANGLE,
+        )
         self.pending = (tucks, wedges)
         return m
 
@@ -301,95 +284,19 @@ class _Paver:
         """Candidate row on paving boundary ``f`` with the row depth times ``scale`` and no
         tuck or wedge where ``calm_only``: (new node coordinates, quads with new nodes
         numbered from ``self.n``, new paving boundary, depth, the paving node each new
-        node grew from); None if it degenerates."""
-        n = len(f)
+        node grew from); None if it degenerates (:func:`~meshwright.quad._paving_kernel.row_nodes`)."""
         p = self.pts[f]
         ang = loop_angles(p)
         m = node_classes(np.degrees(ang))
         depth = self._depth(f) * scale
         m = self._adjust(f, ang, m, depth, calm_only)
         th0 = np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T)
-        coords: list[np.ndarray] = []
-        owner: list[int] = []
-        spokes: list[list[int]] = [[] for _ in range(n)]
-        for i in range(n):
-            mi = int(m[i])
-            if mi == 0:
-                continue
-            a, d = float(ang[i]), float(depth[i])
-            if mi == 1:
-                t = th0[i] + 0.5 * a
-                r = d / max(np.sin(0.5 * a), 0.5)
-                spokes[i] = [len(coords)]
-                coords.append(p[i] + r * np.array([np.cos(t), np.sin(t)]))
-                owner.append(i)
-                continue
-            sig = a / ((mi + 1) // 2 + 1)
-            ids = [0] * mi
-            for j in range((mi + 1) // 2):
-                t = th0[i] + sig * (j + 1)
-                ids[mi - 1 - 2 * j] = len(coords)
-                coords.append(p[i] + d * np.array([np.cos(t), np.sin(t)]))
-                owner.append(i)
-            for j in range((mi - 1) // 2):
-                t = th0[i] + sig * (j + 1.5)
-                ids[mi - 2 - 2 * j] = len(coords)
-                coords.append(p[i] + 2.0 * d * np.cos(0.5 * sig) * np.array([np.cos(t), np.sin(t)]))
-                owner.append(i)
-            spokes[i] = ids
-        k = len(coords)
-        if k == 0:
+        ok, new_xy, q, front, owner = pk.row_nodes(p, f.astype(np.int64), ang, m, depth, th0, self.n)
+        if not ok:
             return None
-        parent = np.arange(k)
-
-        def find(x):
-            while parent[x] != x:
-                parent[x] = parent[parent[x]]
-                x = parent[x]
-            return x
-
-        acc = np.zeros((k, 2))
-        cnt = np.zeros(k)
-        own = np.asarray(owner, dtype=np.int64)
-        ends = np.flatnonzero(m == 0).tolist()
-        for e in ends:
-            a_, b_ = (e - 1) % n, (e + 1) % n
-            t = th0[e] + 0.5 * ang[e]
-            r = min(depth[e] / max(np.sin(0.5 * ang[e]), 1e-3), 1.5 * depth[e])
-            x = p[e] + r * np.array([np.cos(t), np.sin(t)])
-            u, w = find(spokes[a_][-1]), find(spokes[b_][0])
-            if u != w:
-                parent[w] = u
-                acc[u] += acc[w]
-                cnt[u] += cnt[w]
-            acc[u] += x
-            cnt[u] += 1.0
-            own[u] = e
-        roots = np.array([find(x) for x in range(k)])
-        pos = np.asarray(coords)
-        has = cnt > 0
-        pos[has] = acc[has] / cnt[has, None]
-        keep = np.unique(roots)
-        newid = np.full(k, -1, dtype=np.int64)
-        newid[keep] = self.n + np.arange(len(keep))
-        lab = newid[roots]
-        quads = []
-        for i in range(n):
-            j = (i + 1) % n
-            if m[i] and m[j]:
-                quads.append((f[i], f[j], lab[spokes[j][0]], lab[spokes[i][-1]]))
-            mi = int(m[i])
-            for s in range(0, mi - 2, 2):
-                quads.append((f[i], lab[spokes[i][s + 2]], lab[spokes[i][s + 1]], lab[spokes[i][s]]))
-        for e in ends:
-            quads.append((f[(e - 1) % n], f[e], f[(e + 1) % n], lab[spokes[(e - 1) % n][-1]]))
-        front = [lab[x] for i in range(n) for x in spokes[i]]
-        front = np.asarray(front, dtype=np.int64)
         front = front[front != np.roll(front, 1)] if len(front) > 1 else front
-        q = np.asarray(quads, dtype=np.int64)
         if len(front) < 2 or len(front) % 2 or (np.sort(q, axis=1)[:, 1:] == np.sort(q, axis=1)[:, :-1]).any():
             return None
-        new_xy = pos[keep]
         if len(front) > 6:
             # Row smoothing: the new nodes relax along the row, which spreads the long
             # and short edges a tuck or wedge leaves over their neighbours.
@@ -401,7 +308,7 @@ class _Paver:
                 lap = 0.25 * (np.roll(c, 1, axis=0) + np.roll(c, -1, axis=0) - 2.0 * c)
                 # Along the row only: corners keep their place, the row its depth.
                 new_xy[loc] = c + (lap * t).sum(axis=1)[:, None] * t
-        return new_xy, q, front, depth, own[keep]
+        return new_xy, q, front, depth, owner
 
     # -- step 7: checks -----------------------------------------------------------------
     def check_row(self, xy, f, quads, others, owner):
