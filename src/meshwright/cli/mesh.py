@@ -240,7 +240,8 @@ def _run_distributed(args, domain, size) -> int:
     s = dm.stats
     print(
         f"{args.method}: {dm.n_cells} triangles in {t.elapsed:.3f} s on {s['workers']} workers "
-        f"({s['parts']} parts, {s['rounds']} exchange rounds, imbalance {s['imbalance']:.3f})"
+        f"({s['parts']} parts, {s['rounds']} exchange rounds, imbalance {s['imbalance']:.3f} per part, "
+        f"{s['worker_imbalance']:.3f} per worker)"
     )
     print(f"wrote {', '.join(dm.files[:2])} and {len(dm.files) - 2} part files")
     return 0
