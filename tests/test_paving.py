@@ -233,3 +233,65 @@ def test_registry_entry_and_the_door():
 def test_smoothing_passes_keep_the_mesh_valid():
     mesh = quadrangulate(circles(), as_size_field(0.15), method="paving", smooth=3)
     _check_all_quad(mesh)
+
+
+def test_row_kernel_grows_side_nodes_on_the_bisectors_and_merges_at_a_row_end():
+    from meshwright.quad import _paving_kernel as pk
+
+    # A regular 16-gon, counter-clockwise: every interior angle is 157.5 degrees, so each
+    # side node grows one node towards the centre, d / sin(ang / 2) inside.
+    n, radius, d = 16, 1.0, 0.1
+    phi = 2.0 * np.pi * np.arange(n) / n
+    p = np.column_stack([radius * np.cos(phi), radius * np.sin(phi)])
+    f = np.arange(n, dtype=np.int64)
+    ang = np.full(n, np.pi - 2.0 * np.pi / n)
+    th0 = np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T)
+    m = np.ones(n, dtype=np.int64)
+    ok, xy, quads, front, owner = pk.row_nodes(p, f, ang, m, np.full(n, d), th0, n)
+    assert ok and len(xy) == n and len(quads) == n and owner.tolist() == list(range(n))
+    expect = (radius - d / np.sin(0.5 * ang[0])) * np.column_stack([np.cos(phi), np.sin(phi)])
+    assert np.allclose(xy, expect, atol=1e-12)
+    assert front.tolist() == list(range(n, 2 * n))
+    assert quads[0].tolist() == [0, 1, n + 1, n]
+    every = np.vstack([p, xy])
+    assert all(_cross(every[q[k]], every[q[(k + 1) % 4]], every[q[(k + 2) % 4]]) > 0 for q in quads for k in range(4))
+
+    # Node 5 a row end: its neighbours' nodes merge into one, placed at the end's own
+    # bisector point (d / sin(ang / 2), at most 1.5 d, inside); one quad closes over it.
+    m[5] = 0
+    ok, xy2, quads2, front2, owner2 = pk.row_nodes(p, f, ang, m, np.full(n, d), th0, n)
+    assert ok and len(xy2) == n - 2 and len(quads2) == n - 1
+    r_end = min(d / np.sin(0.5 * ang[5]), 1.5 * d)
+    merged = int(np.flatnonzero(owner2 == 5)[0])
+    assert np.allclose(xy2[merged], (radius - r_end) * np.array([np.cos(phi[5]), np.sin(phi[5])]), atol=1e-12)
+    assert [4, 5, 6, n + merged] in quads2.tolist()
+    # Two row ends side by side cannot be merged: the row degenerates.
+    m[6] = 0
+    assert not pk.row_nodes(p, f, ang, m, np.full(n, d), th0, n)[0]
+
+
+def test_tuck_and_wedge_scan_follows_the_running_surplus():
+    from meshwright.quad import _paving_kernel as pk
+
+    n = 12
+    m = np.ones(n, dtype=np.int64)
+    deg = np.full(n, 180.0)
+    floating = np.ones(n, dtype=bool)
+    calm = np.zeros(n, dtype=bool)
+    # Edges 0.5 of the size: the shortfall reaches -2 (past -1.6) at every fourth node,
+    # where a tuck takes it back by 2 (ADJUST_GAP = 4 apart).
+    t, w = pk.adjust_row(m, np.full(n, 0.5), calm, floating, deg, 4, 1.6, 179.5, 185.0)
+    assert (t, w) == (0, 0)  # 180 degrees is not flatter than 179.5: no tuck allowed
+    deg[:] = 170.0
+    t, w = pk.adjust_row(m, np.full(n, 0.5), calm, floating, deg, 4, 1.6, 179.5, 185.0)
+    assert (t, w) == (3, 0) and np.flatnonzero(m == 0).tolist() == [3, 7, 11]
+    m[:] = 1
+    deg[:] = 190.0
+    t, w = pk.adjust_row(m, np.full(n, 1.5), calm, floating, deg, 4, 1.6, 179.5, 185.0)
+    assert (t, w) == (0, 3) and np.flatnonzero(m == 3).tolist() == [3, 7, 11]
+    # Marked nodes (a repaired row's calm_only) and fixed nodes take none.
+    m[:] = 1
+    calm[7] = True
+    floating[3] = False
+    t, w = pk.adjust_row(m, np.full(n, 1.5), calm, floating, deg, 4, 1.6, 179.5, 185.0)
+    assert 3 not in np.flatnonzero(m == 3) and 7 not in np.flatnonzero(m == 3) and w >= 1

@@ -296,9 +296,10 @@ def row_nodes(p, f, ang, m, depth, th0, n0):
     Node i of class ``m[i]`` = 1 (side) grows one node on its bisector, ``depth[i] /
     max(sin(ang/2), 1/2)`` away; class 3 or 5 (corner, reversal) a fan of ``m[i]`` nodes
     (every second one at the diagonal's length); class 0 (row end) none: the last node
-    of its previous neighbour and the first of its next one merge (union-find) at the
-    mean of their positions and the end's own bisector point.  New nodes are numbered
-    from ``n0`` in the order of their union-find roots.
+    of its previous neighbour and the first of its next one merge (union-find) into one
+    node at the mean of the bisector points of the row ends merged into it (each
+    ``depth / sin(ang/2)`` inside, at most ``1.5 depth``).  New nodes are numbered from
+    ``n0`` in the order of their union-find roots.
 
     Parameters
     ----------
