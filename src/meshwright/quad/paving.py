@@ -319,8 +319,10 @@ class _Paver:
         old = np.sort(np.column_stack([f, np.roll(f, -1)]), axis=1)
         key = np.sort(e, axis=1)
         n = len(xy)
-        mask = ~np.isin(key[:, 0] * n + key[:, 1], old[:, 0] * n + old[:, 1])
-        new = np.unique(key[mask], axis=0)
+        # Edges as one int64 key each: a 1-D unique, not the row-wise one (a lexsort).
+        flat = key[:, 0] * n + key[:, 1]
+        flat = np.unique(flat[~np.isin(flat, old[:, 0] * n + old[:, 1])])
+        new = np.column_stack([flat // n, flat % n])
         oa, ob = edges_of(others + [f])
         sa = np.concatenate([oa, new[:, 0]])
         sb = np.concatenate([ob, new[:, 1]])
@@ -524,12 +526,14 @@ class _Paver:
         if not sel:
             return
         q = np.concatenate(sel)
-        used = np.unique(q)
+        mark = np.zeros(self.n, dtype=bool)
+        mark[q.ravel()] = True
+        used = np.flatnonzero(mark)
         ro = self.round_of[used]
         free = (used >= self.n_fixed) & (ro >= rnd - 2) & (ro <= rnd - 1) & ~on_front[used]
         if not free.any():
             return
-        local = np.searchsorted(used, q)
+        local = (np.cumsum(mark) - 1)[q]
         moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH)
         self.pts[used] = moved
 
