@@ -298,3 +298,19 @@ def test_demo_writes_every_mesh_and_picture(tmp_path):
         mesh = mw.read(tmp_path / f"{stem}.vtu")
         mesh.validate()
         assert len(mesh.cells["quad"]) > 0 and len(mesh.cells.get("triangle", ())) == 0
+
+
+def test_demo_first_run_notice_reads_numba_cache_state(tmp_path, monkeypatch, capsys):
+    """The notice appears exactly when the insertion kernel has no cache index on disk."""
+    from meshwright.cli import demo
+
+    mw.delaunay(np.random.default_rng(0).random((20, 2)))  # compiles or loads: the index exists
+    assert demo.kernels_cached()
+    monkeypatch.setattr(demo, "kernels_cached", lambda: False)
+    monkeypatch.setattr(demo, "mesh_solids", lambda out: None)
+    monkeypatch.setattr(demo, "triangulate", lambda *a, **k: (_ for _ in ()).throw(KeyboardInterrupt))
+    with pytest.raises(KeyboardInterrupt):
+        demo.run(type("A", (), {"directory": str(tmp_path), "seed": 0})())
+    out = capsys.readouterr().out
+    assert out.startswith("First run: Numba compiles")
+    assert "circle (bowyer) ..." in out and "naca0012 (delaunay) ..." in out

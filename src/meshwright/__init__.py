@@ -29,13 +29,34 @@ from meshwright.core.quality import QualityReport
 from meshwright.geometry import Domain
 from meshwright.io import read, read_points
 from meshwright._api import delaunay
-from meshwright.tet import TET_METHODS, Tetrahedralization, tetrahedralize
 from meshwright.tri import DELAUNAY_ALGORITHMS, MESH_METHODS, Triangulation, triangulate
-from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.tri.smoothing import smooth
 from meshwright.tri.voronoi import Voronoi, voronoi
 
 __version__ = "0.1.0"
+
+# Imported on first use (PEP 562): a 2-D user does not load the quad and tet floors.
+_LAZY = {
+    "QUAD_METHODS": "meshwright.quad",
+    "quadrangulate": "meshwright.quad",
+    "TET_METHODS": "meshwright.tet",
+    "Tetrahedralization": "meshwright.tet",
+    "tetrahedralize": "meshwright.tet",
+}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'meshwright' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
 
 __all__ = [
     "__version__",

@@ -4,16 +4,21 @@
 above both and sends ``(n, 2)`` input to :func:`meshwright.tri.triangulation.delaunay` and
 ``(n, 3)`` input to :func:`meshwright.tet.tetrahedralization.delaunay3d`.  Both dimensions
 offer the same algorithms (``DELAUNAY_ALGORITHMS``: Bowyer, Watson) and the same keywords.
+``tet`` is imported on the first 3-D call only: a 2-D user never loads it.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from typing import TYPE_CHECKING
+
 from meshwright.core.errors import InputError
-from meshwright.tet import SUPERSTRUCTURES, Tetrahedralization, delaunay3d
 from meshwright.tri import DELAUNAY_ALGORITHMS, Triangulation
 from meshwright.tri import delaunay as delaunay2d
+
+if TYPE_CHECKING:
+    from meshwright.tet import Tetrahedralization
 
 __all__ = ["delaunay"]
 
@@ -54,8 +59,11 @@ def delaunay(points, algorithm: str = "bowyer", duplicates: str = "merge", seed=
     """
     if algorithm not in DELAUNAY_ALGORITHMS:
         raise InputError(f"unknown algorithm {algorithm!r}; choose from {sorted(DELAUNAY_ALGORITHMS)}")
-    if superstructure not in SUPERSTRUCTURES:
-        raise InputError(f"superstructure must be one of {SUPERSTRUCTURES}, got {superstructure!r}")
+    if superstructure != "ghost":
+        from meshwright.tet import SUPERSTRUCTURES
+
+        if superstructure not in SUPERSTRUCTURES:
+            raise InputError(f"superstructure must be one of {SUPERSTRUCTURES}, got {superstructure!r}")
     try:
         shape = np.shape(points)
     except ValueError as exc:
@@ -63,6 +71,8 @@ def delaunay(points, algorithm: str = "bowyer", duplicates: str = "merge", seed=
     if len(shape) != 2 or shape[1] not in (2, 3):
         raise InputError(f"points must have shape (n, 2) or (n, 3), got {shape}")
     if shape[1] == 3:
+        from meshwright.tet import delaunay3d
+
         return delaunay3d(points, algorithm=algorithm, duplicates=duplicates, seed=seed, superstructure=superstructure)
     if superstructure != "ghost":
         raise InputError("superstructure='box' is offered for 3-D points only; 2-D uses the vertex at infinity")

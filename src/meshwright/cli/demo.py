@@ -52,13 +52,38 @@ def circle_points(n_boundary: int, n_interior: int, rng: np.random.Generator) ->
     return np.ascontiguousarray(np.vstack([boundary, interior]))
 
 
+def kernels_cached() -> bool:
+    """Whether Numba's on-disk cache already holds the 2-D insertion kernel (not a first run).
+
+    Reads the cache index path of ``tri._build2d.insert_batch`` from Numba's dispatcher; where
+    this Numba keeps it elsewhere, answers False (the first-run notice is then printed anyway).
+    """
+    from meshwright.tri import _build2d
+
+    try:
+        index = _build2d.insert_batch._cache._cache_file._index_path
+    except AttributeError:
+        return False
+    return Path(index).exists()
+
+
 def run(args) -> int:
     out = Path(args.directory)
     out.mkdir(parents=True, exist_ok=True)
+    if not kernels_cached():
+        # A new user's first run spends most of its time compiling: say so once, and name each
+        # case before it starts so the wait shows progress (benchmarks/compile2d.py).
+        print(
+            "First run: Numba compiles each method's kernels when it is first used (a few "
+            "minutes in all for this demo); they are cached on disk and later runs start in "
+            "seconds.",
+            flush=True,
+        )
     rng = np.random.default_rng(args.seed)
     points = circle_points(48, 200, rng)
 
     for algorithm in ("bowyer", "watson"):
+        print(f"circle ({algorithm}) ...", flush=True)
         with Timer() as t:
             tri = delaunay(points, algorithm=algorithm)
         mesh = tri.to_mesh()
@@ -85,6 +110,7 @@ def run(args) -> int:
         ("three-element", "delaunay", 0),
         ("three-element", "frontal-delaunay", 0),
     ):
+        print(f"{name} ({method}) ...", flush=True)
         with Timer() as t:
             mesh = triangulate(builtin(name), method=method, smooth=smooth)
         stem = out / f"{name}-{method}"
@@ -96,6 +122,7 @@ def run(args) -> int:
         )
 
     for name, method in (("three-element", "quadtree"), ("naca0012", "pairing"), ("naca0012", "paving")):
+        print(f"{name} ({method}) ...", flush=True)
         with Timer() as t:
             mesh = quadrangulate(builtin(name), method=method)
         stem = out / f"{name}-quad-{method}"
@@ -112,6 +139,7 @@ def run(args) -> int:
 def mesh_solids(out: Path) -> None:
     """Mesh the 3-D cases of :func:`solids` into ``out`` (``NAME-tet.vtu`` and ``.png``)."""
     for name, surface, size in solids():
+        print(f"{name} (tetrahedralize) ...", flush=True)
         with Timer() as t:
             mesh = tetrahedralize(surface, size)
         mesh.validate()

@@ -64,9 +64,9 @@ MAX_EXPANSION_LENGTH = 2098
 # Offsets are almost always constants at the call sites; without an explicit signature Numba
 # would compile a separate literal-typed specialisation for every call site (minutes of
 # compile time), hence the signatures on the expansion routines below.  The four error-free
-# transformations are inlined at the Numba IR level: as separate calls they cost several
-# times the dozen flops they perform.
-@nb.njit(inline="always")
+# transformations are plain @njit over scalars: LLVM inlines them into their callers, and
+# Numba's IR inlining of their many call sites only cost first-run compile time.
+@nb.njit(cache=True)
 def two_sum(a, b):
     """Return ``(x, y)`` with ``x = fl(a + b)`` and ``x + y = a + b`` exactly (Knuth).
 
@@ -86,7 +86,7 @@ def two_sum(a, b):
     return x, (a - a_virtual) + (b - b_virtual)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def two_diff(a, b):
     """Return ``(x, y)`` with ``x = fl(a - b)`` and ``x + y = a - b`` exactly.
 
@@ -105,7 +105,7 @@ def two_diff(a, b):
     return x, (a - a_virtual) + (b_virtual - b)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def split(a):
     """Split ``a`` into ``hi + lo`` with each half fitting in 26 significant bits (Dekker).
 
@@ -125,7 +125,7 @@ def split(a):
     return hi, a - hi
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def two_product(a, b):
     """Return ``(x, y)`` with ``x = fl(a * b)`` and ``x + y = a * b`` exactly (Dekker/Veltkamp).
 

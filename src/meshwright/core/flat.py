@@ -8,8 +8,11 @@ to obtain a larger copy; amortised over the insertions the copying costs O(1) ea
 Invariant: ``grown(a, need)`` returns ``a`` itself when it is already large enough, so
 callers can write ``a = grown(a, need)`` unconditionally.
 
-Triangle index helpers (:func:`next3`, :func:`prev3`, :func:`index3`, :func:`back3`) are
-``inline="always"``: they are called on every step of every 2-D kernel.  Edge k of triangle t
+Triangle index helpers: :func:`index3` and :func:`back3` take arrays and are
+``inline="always"`` (a call would cost an array reference-count pair); :func:`next3` and
+:func:`prev3` take a scalar and are plain ``@njit``: LLVM inlines them at every call site
+anyway, while Numba's IR inlining of their hundreds of call sites cost seconds of first-run
+compile (see ``benchmarks/compile2d.py``).  Edge k of triangle t
 runs from ``tri[3t + next3(k)]`` to ``tri[3t + prev3(k)]``; ``nbr[3t + k]`` lies across it.
 
 ``GHOST = -1`` is the vertex id of the symbolic vertex at infinity in connectivity arrays
@@ -64,7 +67,10 @@ def grown(a, need):
     if need <= m:
         return a
     out = np.empty(max(need, 2 * m), dtype=a.dtype)
-    out[:m] = a
+    # An element loop, not ``out[:m] = a``: the slice assignment's broadcasting checks cost
+    # about 3 s of cold compile (their error-message string handling) on the first call.
+    for i in range(m):
+        out[i] = a[i]
     return out
 
 
@@ -94,13 +100,13 @@ def grown_rows(a: np.ndarray, need: int, fill=None) -> np.ndarray:
     return out
 
 
-@njit(inline="always")
+@njit(cache=True)
 def next3(k):
     """``(k + 1) % 3`` without a division."""
     return 0 if k == 2 else k + 1
 
 
-@njit(inline="always")
+@njit(cache=True)
 def prev3(k):
     """``(k + 2) % 3`` without a division."""
     return 2 if k == 0 else k - 1

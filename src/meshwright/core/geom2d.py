@@ -13,8 +13,11 @@ Shewchuk's Triangle), which keeps the rounding error relative to the triangle's 
     u = b - a,  w = c - a,  d = 2 (u x w)
     centre = a + ( w_y |u|^2 - u_y |w|^2 ,  u_x |w|^2 - w_x |u|^2 ) / d
 
-All functions are ``inline="always"``: they are called once per triangle or per step of a
-hot loop, and a call would cost more than the arithmetic.
+The functions over scalars are plain ``@njit``: they are called once per triangle or per
+step of a hot loop, where LLVM inlines them (checked on the insertion kernel's machine code);
+Numba's IR inlining (``inline="always"``) would only add first-run compile time.
+:func:`corners` takes arrays and stays ``inline="always"``: a call would cost a
+reference-count pair per array.
 
 :func:`off_centre`: A. Üngör, "Off-centers: a new type of Steiner points for computing
 size-optimal quality-guaranteed Delaunay triangulations", LATIN 2004.
@@ -42,7 +45,7 @@ def corners(pts, tri, t):
     return pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1]
 
 
-@njit(inline="always")
+@njit(cache=True)
 def orient_filtered(ax, ay, bx, by, cx, cy):
     """``orient2d`` with its stage-A filter inlined: same sign, exact predicate only if unsure."""
     left = (ax - cx) * (by - cy)
@@ -54,7 +57,7 @@ def orient_filtered(ax, ay, bx, by, cx, cy):
     return orient2d(ax, ay, bx, by, cx, cy)
 
 
-@njit(inline="always")
+@njit(cache=True)
 def circumcentre_offset(ux, uy, wx, wy):
     """Circumcentre of the triangle (0, 0), u, w, relative to the origin (u x w != 0)."""
     uu = ux * ux + uy * uy
@@ -63,21 +66,21 @@ def circumcentre_offset(ux, uy, wx, wy):
     return (wy * uu - uy * ww) * inv, (ux * ww - wx * uu) * inv
 
 
-@njit(inline="always")
+@njit(cache=True)
 def circumcentre(ax, ay, bx, by, cx, cy):
     """Circumcentre of a non-degenerate triangle abc, computed relative to a."""
     ox, oy = circumcentre_offset(bx - ax, by - ay, cx - ax, cy - ay)
     return ax + ox, ay + oy
 
 
-@njit(inline="always")
+@njit(cache=True)
 def circumcircle(ax, ay, bx, by, cx, cy):
     """Circumcentre and circumradius ``(x, y, r)`` of a non-degenerate triangle abc."""
     ox, oy = circumcentre_offset(bx - ax, by - ay, cx - ax, cy - ay)
     return ax + ox, ay + oy, np.hypot(ox, oy)
 
 
-@njit(inline="always")
+@njit(cache=True)
 def off_centre(ax, ay, bx, by, cx, cy, off):
     """Üngör's off-centre of the counter-clockwise triangle abc, or its circumcentre if nearer.
 
@@ -105,7 +108,7 @@ def off_centre(ax, ay, bx, by, cx, cy, off):
     return ox, oy
 
 
-@njit(inline="always")
+@njit(cache=True)
 def closest_on_segment(ax, ay, bx, by, x, y):
     """Point of the segment ab nearest (x, y) (a when a == b)."""
     ex = bx - ax
@@ -115,7 +118,7 @@ def closest_on_segment(ax, ay, bx, by, x, y):
     return ax + u * ex, ay + u * ey
 
 
-@njit(inline="always")
+@njit(cache=True)
 def segment_dist2(ax, ay, bx, by, x, y):
     """Squared distance from (x, y) to the segment ab: the test of the disc searches that
     flood the triangles a disc reaches (an edge farther than r keeps the disc out)."""

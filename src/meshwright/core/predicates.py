@@ -235,7 +235,7 @@ def _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     return estimate(w, acc, n)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def incircle_stage_a(ax, ay, bx, by, cx, cy, dx, dy):
     """Shewchuk's stage-A in-circle filter: ``(det, err)``, the floating-point determinant
     (the sign of :func:`incircle`) and its a-priori error bound.
@@ -344,7 +344,7 @@ def _orient3d_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     return estimate(w, acc, n)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def orient3d_stage_a(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """Shewchuk's stage-A orient3d filter: ``(det, err)``, the floating-point determinant in
     Shewchuk's sign (the negative of :func:`orient3d`) and its a-priori error bound.
@@ -483,7 +483,7 @@ def _insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
     return estimate(w, acc, n)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def insphere_stage_a(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
     """Shewchuk's stage-A in-sphere filter: ``(det, err)``, the floating-point determinant in
     Shewchuk's sign (the negative of :func:`insphere`) and its a-priori error bound.

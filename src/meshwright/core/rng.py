@@ -22,7 +22,7 @@ def seed_state(seed: int) -> int:
     return (int(seed) * 2654435761 + 1) % 0xFFFFFFFF or 1
 
 
-@njit(inline="always")
+@njit(cache=True)
 def xorshift32(r):
     """Next state of the 32-bit xorshift generator (also the pseudo-random output).
 

@@ -150,7 +150,6 @@ def _hilbert_table():
     return lut
 
 
-@njit(cache=True)
 def hilbert_keys(points, bits):
     """Hilbert-curve index of every point, quantised on the points' bounding box.
 
@@ -166,8 +165,15 @@ def hilbert_keys(points, bits):
     (n,) int64
         Index of each point's cell along the Hilbert curve of order ``bits``.
     """
+    # Dispatched here, not in a kernel: a 2-D user never compiles the 3-D keys.
     if points.shape[1] == 3:
         return _hilbert_keys_3d(points, bits)
+    return _hilbert_keys_2d(points, bits)
+
+
+@njit(cache=True)
+def _hilbert_keys_2d(points, bits):
+    """:func:`hilbert_keys` of (n, 2) points."""
     n = points.shape[0]
     keys = np.zeros(n, dtype=np.int64)
     if n == 0:
@@ -218,7 +224,11 @@ def _radix_order(keys):
     idx = np.arange(n)
     if n < 2:
         return idx
-    top = keys.max()
+    # Loops, not ``keys.max()`` / ``cnt.max()``: numpy's reductions add about a second of
+    # cold compile to the first Delaunay call.
+    top = 0
+    for i in range(n):
+        top = max(top, keys[i])
     nbits = 0
     while (top >> nbits) > 0:
         nbits += 1
@@ -231,10 +241,14 @@ def _radix_order(keys):
     cnt = np.empty(mask + 1, dtype=np.int64)
     for p in range(passes):
         shift = p * dbits
-        cnt[:] = 0
+        for b in range(mask + 1):
+            cnt[b] = 0
         for i in range(n):
             cnt[(k[i] >> shift) & mask] += 1
-        if cnt.max() == n:
+        full = False
+        for b in range(mask + 1):
+            full = full or cnt[b] == n
+        if full:
             continue
         total = 0
         for b in range(mask + 1):

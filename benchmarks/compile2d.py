@@ -1,0 +1,117 @@
+"""First-run (JIT compile) cost of every 2-D method: what a new user waits for on the first call.
+
+Usage::
+
+    python benchmarks/compile2d.py                 # every case, cold then cached
+    python benchmarks/compile2d.py --cases delaunay front
+    python benchmarks/compile2d.py --no-all        # skip the all-methods-in-one-process row
+
+Each case runs in a fresh process.  *Cold* gives it an empty ``NUMBA_CACHE_DIR`` (nothing
+compiled yet: a new user's first call); *cached* reruns it with the cache the cold run left
+(every later session).  The row ``all 2-D methods`` runs every case one after the other in a
+single cold process: kernels the methods share compile once, which is what a user who tries
+every method pays in total.  Times are wall and CPU seconds of the child, split into
+``import meshwright`` and the first call (on tiny inputs, so run time is negligible: the
+cached column shows it).  On a loaded machine compare CPU seconds; wall seconds stretch with
+the load.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(__file__))
+from _harness import print_table  # noqa: E402
+
+# Each snippet runs after ``import numpy as np; import meshwright as mw``; inputs are tiny.
+CASES = {
+    "delaunay": "mw.delaunay(np.random.default_rng(0).random((1000, 2)))",
+    "delaunay watson": "mw.delaunay(np.random.default_rng(0).random((1000, 2)), algorithm='watson')",
+    "voronoi": "mw.voronoi(mw.delaunay(np.random.default_rng(0).random((500, 2))), clip=(0, 0, 1, 1))",
+    "triangulate delaunay": "mw.triangulate(mw.geometry.circle(), size=0.1, method='delaunay')",
+    "triangulate weatherill": "mw.triangulate(mw.geometry.circle(), size=0.1, method='weatherill')",
+    "triangulate frontal-delaunay": "mw.triangulate(mw.geometry.circle(), size=0.1, method='frontal-delaunay')",
+    "triangulate front": "mw.triangulate(mw.geometry.circle(), size=0.1, method='front')",
+    "smooth": "g = np.linspace(0, 1, 6); X, Y = np.meshgrid(g, g); I, J = np.meshgrid(np.arange(5), np.arange(5)); "
+    "a = (6 * J + I).ravel(); T = np.r_[np.c_[a, a + 1, a + 7], np.c_[a, a + 7, a + 6]].astype(np.int32); "
+    "mw.smooth(np.c_[X.ravel(), Y.ravel()], T, passes=3)",
+    "quad pairing": "mw.quadrangulate(mw.geometry.circle(), size=0.15, method='pairing')",
+    "quad paving": "mw.quadrangulate(mw.geometry.circle(), size=0.15, method='paving')",
+    "quad quadtree": "mw.quadrangulate(mw.geometry.circle(), size=0.15, method='quadtree')",
+}
+
+CHILD = r"""
+import json, sys, time
+w0 = time.perf_counter(); c0 = time.process_time()
+import numpy as np
+import meshwright as mw
+wi = time.perf_counter() - w0; ci = time.process_time() - c0
+out = {"import_wall": wi, "import_cpu": ci, "calls": []}
+for code in json.loads(sys.argv[1]):
+    w = time.perf_counter(); c = time.process_time()
+    exec(code)
+    out["calls"].append([time.perf_counter() - w, time.process_time() - c])
+print(json.dumps(out))
+"""
+
+
+def run_child(snippets: list[str], cache: str) -> dict:
+    """Run the snippets in one fresh process with ``NUMBA_CACHE_DIR=cache``; its timings."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    res = subprocess.run(
+        [sys.executable, "-c", CHILD, json.dumps(snippets)], capture_output=True, text=True, env=env
+    )
+    if res.returncode != 0:
+        raise RuntimeError(f"child failed:\n{res.stderr[-3000:]}")
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", nargs="*", choices=sorted(CASES), default=list(CASES))
+    ap.add_argument("--no-all", action="store_true", help="skip the all-methods-in-one-process row")
+    args = ap.parse_args()
+    rows = []
+    for name in args.cases:
+        with tempfile.TemporaryDirectory() as cache:
+            cold = run_child([CASES[name]], cache)
+            warm = run_child([CASES[name]], cache)
+        rows.append(
+            [
+                name,
+                f"{cold['import_wall'] + cold['calls'][0][0]:.1f}",
+                f"{cold['import_cpu'] + cold['calls'][0][1]:.1f}",
+                f"{cold['calls'][0][1]:.1f}",
+                f"{warm['import_wall'] + warm['calls'][0][0]:.2f}",
+                f"{warm['import_cpu'] + warm['calls'][0][1]:.2f}",
+            ]
+        )
+        print(f"{name}: done", file=sys.stderr, flush=True)
+    if not args.no_all:
+        snippets = [CASES[n] for n in args.cases]
+        with tempfile.TemporaryDirectory() as cache:
+            cold = run_child(snippets, cache)
+            warm = run_child(snippets, cache)
+        cw = cold["import_wall"] + sum(c[0] for c in cold["calls"])
+        cc = cold["import_cpu"] + sum(c[1] for c in cold["calls"])
+        ww = warm["import_wall"] + sum(c[0] for c in warm["calls"])
+        wc = warm["import_cpu"] + sum(c[1] for c in warm["calls"])
+        rows.append(
+            [f"all {len(snippets)} cases, one process", f"{cw:.1f}", f"{cc:.1f}",
+             f"{cc - cold['import_cpu']:.1f}", f"{ww:.2f}", f"{wc:.2f}"]
+        )
+    load = os.getloadavg()[0]
+    print(f"\nload average {load:.2f} on {os.cpu_count()} CPUs; seconds to the first result, "
+          "import included")
+    print_table(
+        ["case", "cold wall", "cold CPU", "of which call CPU", "cached wall", "cached CPU"], rows
+    )
+
+
+if __name__ == "__main__":
+    main()
