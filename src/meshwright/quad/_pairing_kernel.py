@@ -39,7 +39,7 @@ FLAT = 0.5  # a corner between two boundary sides needs this sine (angle <= 150 
 
 __all__ = [
     "FLAT", "corner_ok", "corner_flat", "quad_sj", "quad_ok", "pair_quad", "pair_score", "greedy_pairs", "augment",
-    "enhance_pass",
+    "enhance_pass", "dual_neighbours",
 ]
 
 
@@ -589,3 +589,59 @@ def enhance_pass(xy, quad, alive, bnd, off, idx, tri_node, accept, gain):
     n2 = _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept)
     n3 = _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain)
     return n1, n2, n3
+
+
+@njit(cache=True)
+def dual_neighbours(tri, n, bkey):
+    """``nbr`` (flat, 3 per triangle) of counter-clockwise triangles ``tri`` (flat), -1 on
+    the boundary and across blocked edges (``bkey``: sorted int64 keys ``min * n + max``
+    of edges between nodes below ``n``; nodes added later, such as split points, are
+    never ends of a blocked edge); one pass over each node's star, O(triangles).
+
+    Returns (nbr, bad): ``bad`` is -1, or a triangle with an edge that no other triangle
+    traverses the other way but one or more traverse the same way or share it twice
+    (not a consistently oriented 2-manifold), for the caller to name.
+    """
+    nt = tri.shape[0] // 3
+    nn = 0
+    for i in range(3 * nt):
+        nn = max(nn, tri[i] + 1)
+    ptr = np.zeros(nn + 1, dtype=np.int64)
+    for i in range(3 * nt):
+        ptr[tri[i] + 1] += 1
+    for v in range(nn):
+        ptr[v + 1] += ptr[v]
+    fill = ptr[:-1].copy()
+    star = np.empty(3 * nt, dtype=np.int32)
+    for t in range(nt):
+        for k in range(3):
+            v = tri[3 * t + k]
+            star[fill[v]] = t
+            fill[v] += 1
+    nbr = np.full(3 * nt, -1, dtype=np.int32)
+    for t in range(nt):
+        for k in range(3):
+            u = tri[3 * t + (k + 1) % 3]
+            w = tri[3 * t + (k + 2) % 3]
+            found = -1
+            for r in range(ptr[u], ptr[u + 1]):
+                s = star[r]
+                if s == t:
+                    continue
+                for j in range(3):
+                    # s traverses the edge w -> u: its side opposite vertex j.
+                    if tri[3 * s + (j + 1) % 3] == w and tri[3 * s + (j + 2) % 3] == u:
+                        if found >= 0:
+                            return nbr, t
+                        found = s
+                    elif tri[3 * s + (j + 1) % 3] == u and tri[3 * s + (j + 2) % 3] == w:
+                        return nbr, t
+            if found < 0:
+                continue
+            if bkey.shape[0] and max(u, w) < n:
+                key = min(u, w) * np.int64(n) + max(u, w)
+                i = np.searchsorted(bkey, key)
+                if i < bkey.shape[0] and bkey[i] == key:
+                    continue
+            nbr[3 * t + k] = found
+    return nbr, -1

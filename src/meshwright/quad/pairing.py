@@ -94,7 +94,6 @@ from typing import NamedTuple
 import numpy as np
 
 from meshwright.core.errors import GeometryError, InputError, MeshingError, fmt_point
-from meshwright.core.mesh import build_neighbors
 from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import (
     as_cells,
@@ -282,14 +281,14 @@ def make_loops_even(domain: Domain, disc, fixed_boundary: bool = False):
 
 
 def _neighbours(tris: np.ndarray, bkey: np.ndarray, n: int) -> np.ndarray:
-    """(t, 3) int32 neighbours with -1 across the blocked edges (keys ``min * n + max``)."""
-    nbr = build_neighbors(tris).astype(np.int32)
-    if len(bkey):
-        for k in range(3):
-            u = tris[:, (k + 1) % 3].astype(np.int64)
-            w = tris[:, (k + 2) % 3].astype(np.int64)
-            nbr[np.isin(np.minimum(u, w) * n + np.maximum(u, w), bkey), k] = -1
-    return nbr
+    """(t, 3) int32 neighbours with -1 across the blocked edges (sorted keys ``min * n + max``)."""
+    nbr, bad = pk.dual_neighbours(np.ascontiguousarray(tris, dtype=np.int32).ravel(), n, bkey)
+    if bad >= 0:
+        raise MeshingError(
+            f"triangle {bad} {tris[bad].tolist()} shares an edge with more than one triangle, or traverses it in "
+            "the same direction as its neighbour; the triangles to pair must be a consistently oriented mesh"
+        )
+    return nbr.reshape(-1, 3)
 
 
 def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> int:
