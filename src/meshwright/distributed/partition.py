@@ -69,7 +69,7 @@ BALANCE_WINDOWS = (0.03, 0.06, 0.1)  # fractions of a cell's cost a cut may move
 INTERFACE_SPACING = 0.75  # of h: interfaces a little finer than h rarely need splits (measured)
 INTERFACE_GROWTH = 0.5  # how fast the interface spacing grows away from a boundary crossing
 _CANDIDATES = 81
-_QUERY_BLOCK = 2048  # size queries per block of the interface spacing (block x crossings floats)
+_QUERY_BLOCK = 256  # size queries per block of the interface spacing (consecutive: near each other)
 _GOOD_ENOUGH = 0.005  # a cut this near its balance (fraction of the cell's cost) is taken at once
 _SPLITS = 5  # splits k = j + (k - j) of a cell tried, nearest halves first
 _BISECTIONS = 80
@@ -232,23 +232,33 @@ def _scores(pts, seg, segs_in, verts, vh, clearance, exy, eh, axis: int, cs: np.
     ``exy`` (e, 2) are the ends of earlier cuts on the cell's edges, which a cut either meets
     exactly (a cross junction) or passes at :data:`JUNCTION_CLEARANCE` ``h`` (``eh`` (e,)) at
     least, so that no interface piece between two junctions is short.  All candidates are
-    scored at once (arrays of k by the cell's segments and vertices)."""
+    scored at once (arrays of k by the segments and vertices near them: a segment that
+    straddles none of them cannot be crossed, and a vertex farther than ``vh`` from all of them
+    scores >= 1, so leaving both out changes no admissible set and no score below 1)."""
     k = len(cs)
+    lo, hi = cs.min(), cs.max()
     ends = seg[segs_in]
     a, b = pts[ends[:, 0], axis], pts[ends[:, 1], axis]
+    near = (np.maximum(a, b) > lo) & (np.minimum(a, b) < hi)
+    segs_in, ends, a, b = segs_in[near], ends[near], a[near], b[near]
     cross = (a[None, :] - cs[:, None]) * (b[None, :] - cs[:, None]) < 0.0
     d = pts[ends[:, 1]] - pts[ends[:, 0]]
     seg_angle = np.degrees(np.arccos(np.clip(np.abs(d[:, 1 - axis]) / np.hypot(d[:, 0], d[:, 1]), 0.0, 1.0)))
     angle = np.where(cross, seg_angle[None, :], 180.0).min(axis=1) if len(segs_in) else np.full(k, 180.0)
     clear = np.full(k, np.inf)
-    if len(verts):
-        pos = np.searchsorted(verts, ends)
-        crossed = np.zeros((k, len(verts)), dtype=bool)
+    coord = pts[verts, axis]
+    reach = max(TANGENT_CLEARANCE, *VERTEX_CLEARANCES) * vh
+    keep = (coord > lo - reach) & (coord < hi + reach)
+    if keep.any():
+        slot = np.full(len(verts), -1, dtype=np.int64)
+        slot[keep] = np.arange(int(keep.sum()))
+        pos = slot[np.searchsorted(verts, ends)]
+        crossed = np.zeros((k, int(keep.sum()) + 1), dtype=bool)  # column -1: ends left out
         rows, cols = np.nonzero(cross)
         crossed[rows, pos[cols, 0]] = True
         crossed[rows, pos[cols, 1]] = True
-        factor = np.where(crossed, clearance, TANGENT_CLEARANCE) * vh[None, :]
-        clear = (np.abs(pts[verts, axis][None, :] - cs[:, None]) / factor).min(axis=1)
+        factor = np.where(crossed[:, :-1], clearance, TANGENT_CLEARANCE) * vh[keep][None, :]
+        clear = (np.abs(coord[keep][None, :] - cs[:, None]) / factor).min(axis=1)
     if len(exy):
         de = np.abs(exy[:, axis][None, :] - cs[:, None])
         clear = np.minimum(clear, np.where(de == 0.0, np.inf, de / (JUNCTION_CLEARANCE * eh[None, :])).min(axis=1))
@@ -479,13 +489,19 @@ def _interface_size(field, ends: np.ndarray, end_sizes: np.ndarray) -> SizeField
 
     def h(xy):
         out = INTERFACE_SPACING * field(xy)
+        if not len(ends):
+            return out
         for lo in range(0, len(xy), _QUERY_BLOCK):
-            q = xy[lo : lo + _QUERY_BLOCK]
-            d = np.hypot(q[:, 0, None] - ends[None, :, 0], q[:, 1, None] - ends[None, :, 1])
-            if d.size:
-                out[lo : lo + _QUERY_BLOCK] = np.minimum(
-                    out[lo : lo + _QUERY_BLOCK], (end_sizes[None, :] + INTERFACE_GROWTH * d).min(axis=1)
-                )
+            q, o = xy[lo : lo + _QUERY_BLOCK], out[lo : lo + _QUERY_BLOCK]
+            # Crossings farther than this from the block's box cannot lower any of its sizes.
+            reach = (o.max() - end_sizes.min()) / INTERFACE_GROWTH
+            sel = np.flatnonzero(
+                (ends[:, 0] >= q[:, 0].min() - reach) & (ends[:, 0] <= q[:, 0].max() + reach)
+                & (ends[:, 1] >= q[:, 1].min() - reach) & (ends[:, 1] <= q[:, 1].max() + reach)
+            )
+            if len(sel):
+                d = np.hypot(q[:, 0, None] - ends[None, sel, 0], q[:, 1, None] - ends[None, sel, 1])
+                np.minimum(o, (end_sizes[None, sel] + INTERFACE_GROWTH * d).min(axis=1), out=o)
         return out
 
     return SizeField(h, name="interface spacing")
