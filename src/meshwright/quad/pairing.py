@@ -41,7 +41,8 @@ the order the front made them, and the pairing then walks them in that order.
    :data:`MAX_VISIT` triangles per search, Edmonds' blossoms shrunk).  Triangles still
    unpaired then *walk*: the diagonal between one and a paired neighbour is flipped, the
    two new triangles paired, the neighbour's old partner freed, and the search repeated
-   (at most :data:`MAX_WALKS` rounds, :data:`STALE_WALKS` without progress).  If triangles
+   (at most :data:`MAX_WALKS` rounds, :data:`STALE_WALKS` without progress, or
+   :data:`DOMAIN_STALE_WALKS` in :func:`pair_domain`).  If triangles
    are still left, a second attempt splits them at their centroids (:data:`CENTRE_ROUNDS`:
    a boundary fan's nodes get a second interior side) and pairs again; it is kept when
    it pairs everything with a scaled Jacobian of at least :data:`CENTRE_KEEP`.  This is the
@@ -120,7 +121,8 @@ from meshwright.tri.front import advancing_front
 
 __all__ = [
     "ParityError", "PairingReport", "pair_domain", "pairing_fill", "make_loops_even",
-    "pair_triangles", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS", "CENTRE_ROUNDS",
+    "pair_triangles", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS", "DOMAIN_STALE_WALKS",
+    "CENTRE_ROUNDS",
     "CENTRE_KEEP", "FLAT_ANGLE", "RESPACE",
 ]
 
@@ -128,10 +130,12 @@ PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rou
 MAX_VISIT = 4096  # triangles one alternating-chain search may enter (last round)
 EARLY_VISIT = 64  # ... in the rounds before the last
 MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
-# ... stopped after this many rounds without fewer unpaired triangles: over the domains of
-# benchmarks/quad_domains.py no walk gained after two stale rounds, and each costs a full
-# chain search (about 0.09 s on the h=0.01 disk, where eight of them were 13 % of the time).
-STALE_WALKS = 2
+STALE_WALKS = 8  # ... stopped after this many rounds without fewer unpaired triangles
+# ... in pair_domain: over the domains of benchmarks/quad_domains.py no walk gained after two
+# stale rounds there, and each costs a full chain search (about 0.09 s on the h=0.01 disk,
+# eight of them 13 % of its time); paving's void fill (pair_triangles) keeps STALE_WALKS,
+# its angles on the three-element airfoil fell from 49.2 to 46.2 degrees with two.
+DOMAIN_STALE_WALKS = 2
 CENTRE_ROUNDS = 2  # rounds of splitting the still unpaired triangles at their centroids (second attempt)
 CENTRE_KEEP = 0.3  # ... kept only if it pairs everything with a scaled Jacobian of at least this
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
@@ -494,8 +498,9 @@ class _PairState(NamedTuple):
     chains: int
 
 
-def _pair_rounds(xy, tris, bkey, n, bounds, max_visit, walks, seed) -> _PairState:
-    """Ears opened, greedy and chain rounds per bound, then the walks (steps 1-3)."""
+def _pair_rounds(xy, tris, bkey, n, bounds, max_visit, walks, seed, stale_walks=STALE_WALKS) -> _PairState:
+    """Ears opened, greedy and chain rounds per bound, then the walks (steps 1-3), stopped
+    after ``stale_walks`` rounds without fewer unpaired triangles."""
     nbr = _neighbours(tris, bkey, n)
     xy, tris, changed = _open_ears(xy, tris, nbr)
     if changed:
@@ -511,7 +516,7 @@ def _pair_rounds(xy, tris, bkey, n, bounds, max_visit, walks, seed) -> _PairStat
     rng = np.random.default_rng(seed)
     best, stale = int((mate < 0).sum()), 0
     for _ in range(walks):
-        if best == 0 or stale >= STALE_WALKS:
+        if best == 0 or stale >= stale_walks:
             break
         if _walk_left_overs(xy, tris, nbr, mate, rng, max(float(bounds[-1]), 0.0)) == 0:
             break
@@ -655,7 +660,9 @@ def pair_domain(
     tri_in = as_cells(base.cells["triangle"], "triangles", 3, n).copy()
     lkey = np.sort(lines.astype(np.int64), axis=1)
     bkey = np.unique(lkey[:, 0] * n + lkey[:, 1])
-    paired = _pair_rounds(as_points(xy, "points"), tri_in, bkey, n, PAIR_BOUNDS, MAX_VISIT, MAX_WALKS, seed)
+    paired = _pair_rounds(
+        as_points(xy, "points"), tri_in, bkey, n, PAIR_BOUNDS, MAX_VISIT, MAX_WALKS, seed, DOMAIN_STALE_WALKS
+    )
 
     def attempt(st):
         """Enhance, smooth and revert a pairing: (xy, quads, left-over triangles, report fields)."""
