@@ -677,16 +677,19 @@ def pair_domain(
         quads, lt = unpair_nonconvex(pts, quads, lt)
         return pts, quads, lt, (len(t3), len(first), chains, len(left), n_quads - len(quads), counts)
 
-    xy, quads, lt, stats = attempt(paired)
-    if all_quad and len(lt):
-        # Left-overs (mostly boundary fans): try again with them split at their centroids,
-        # continuing from the same pairing, and keep that one if it needs no chords and
-        # stays well shaped (a centre pairing that still leaves triangles is not enhanced).
+    chosen = None
+    if all_quad and (paired.mate < 0).any():
+        # Left-overs (mostly boundary fans): try them split at their centroids, continuing
+        # from the same pairing, and keep that if it needs no chords and stays well shaped
+        # (a centre pairing that still leaves triangles is not enhanced).  Only then is the
+        # plain pairing enhanced: attempt() does not modify its state, and a pairing with
+        # no left-over has nothing to split, so the choice is the one made after it.
         centred = _centre_rounds(paired, bkey, n, PAIR_BOUNDS[-1], MAX_VISIT, CENTRE_ROUNDS)
         if not (centred.mate < 0).any():
             xy2, quads2, lt2, stats2 = attempt(centred)
             if not len(lt2) and len(quads2) and min_scaled_jacobian(xy2, quads2) >= CENTRE_KEEP:
-                xy, quads, lt, stats = xy2, quads2, lt2, stats2
+                chosen = xy2, quads2, lt2, stats2
+    xy, quads, lt, stats = attempt(paired) if chosen is None else chosen
     xy, (quads, lt, lines), remap = _compact(xy, [quads, lt, lines])
     fixed_pts = remap[fixed_pts]
     fill = QuadFill(xy, quads, lt, lines, line_marker, line_curve)
