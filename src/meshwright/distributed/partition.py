@@ -430,15 +430,19 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
             # cut within the tightest window at 1 : 3 beats one pushed 10 % off balance at 1 : 1
             # (cuts meet a circle at >= 60 degrees only within half its radius of the centre).
             # Scored by the heavier side's cost per part over the mean.
+            # Wider windows only when no split has an admissible cut in a narrower one.
             cut, excess = None, np.inf
-            for j in sorted(range(1, k), key=lambda j: (abs(2 * j - k), j))[:_SPLITS]:
-                got = _choose_cut(sk, cell, grid, weights[smp], segs_in, verts, vh, exy, eh, j / k, BALANCE_WINDOWS[:1])
-                if got is not None:
-                    d = got[0] / min(j / k, 1.0 - j / k)
-                    if d < excess:
-                        cut, excess, kl = got[1:], d, j
-                    if excess <= _GOOD_ENOUGH:
-                        break
+            for window in BALANCE_WINDOWS:
+                for j in sorted(range(1, k), key=lambda j: (abs(2 * j - k), j))[:_SPLITS]:
+                    got = _choose_cut(sk, cell, grid, weights[smp], segs_in, verts, vh, exy, eh, j / k, (window,))
+                    if got is not None:
+                        d = got[0] / min(j / k, 1.0 - j / k)
+                        if d < excess:
+                            cut, excess, kl = got[1:], d, j
+                        if excess <= _GOOD_ENOUGH:
+                            break
+                if cut is not None:
+                    break
             if cut is None:
                 kl = k // 2
                 cut = _choose_cut(sk, cell, grid, weights[smp], segs_in, verts, vh, exy, eh, kl / k)
