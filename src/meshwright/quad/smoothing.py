@@ -54,6 +54,37 @@ def _min_sine(points, cells, cell_ptr, cell_idx, v):
     return worst
 
 
+@njit(cache=True)
+def _moved_ok(points, cells, cell_ptr, cell_idx, v, bound):
+    """Whether every corner sine that moving ``v`` changes is at least ``bound``.
+
+    With ``bound`` the star's smallest sine before the move, this is the guard's test
+    (the smallest sine does not fall) without recomputing the corners opposite ``v`` in
+    its quads (unchanged, and not below ``bound``), stopping at the first failure.
+    """
+    for t in range(cell_ptr[v], cell_ptr[v + 1]):
+        c = cell_idx[t]
+        nv = 4 if cells[c, 3] >= 0 else 3
+        kv = 0
+        while cells[c, kv] != v:
+            kv += 1
+        for k in range(nv):
+            if nv == 4 and k == (kv + 2) % 4:
+                continue
+            a = cells[c, (k + nv - 1) % nv]
+            b = cells[c, k]
+            d = cells[c, (k + 1) % nv]
+            ux = points[d, 0] - points[b, 0]
+            uy = points[d, 1] - points[b, 1]
+            wx = points[a, 0] - points[b, 0]
+            wy = points[a, 1] - points[b, 1]
+            den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+            s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
+            if s < bound:
+                return False
+    return True
+
+
 @njit(inline="always")
 def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
     """Mean of vertex ``v``'s neighbours (the spring analogy's equilibrium)."""
@@ -81,7 +112,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes):
             for step in (1.0, 0.5):
                 points[v, 0] = x0 + step * (tx - x0)
                 points[v, 1] = y0 + step * (ty - y0)
-                if _min_sine(points, cells, cell_ptr, cell_idx, v) >= before:
+                if _moved_ok(points, cells, cell_ptr, cell_idx, v, before):
                     kept += 1
                     break
                 points[v, 0] = x0
@@ -175,7 +206,7 @@ def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty):
     y0 = points[v, 1]
     points[v, 0] = tx
     points[v, 1] = ty
-    if _min_sine(points, cells, cell_ptr, cell_idx, v) >= before:
+    if _moved_ok(points, cells, cell_ptr, cell_idx, v, before):
         ok = True
         for s in range(cell_ptr[v], cell_ptr[v + 1]):
             if not _valid_cell(points, cells, cell_idx[s]):
