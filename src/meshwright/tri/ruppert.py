@@ -90,6 +90,7 @@ from meshwright.tri._encroach import (
 from meshwright.tri._kernel2d import (
     BROKEN, DUP_BASE, M_NTRI, M_NV, NEED_SPACE, cavity, fan, on_constraint, split_edge, walk,
 )
+from meshwright.tri._refine_caps import Caps
 
 __all__ = ["refine", "conform", "split_subsegment", "RefineState"]
 
@@ -460,6 +461,8 @@ def refine_loop(s, c, r):
             prm[P_WX] = x
             prm[P_WY] = y
             if st[S_STEPS] > st[S_MAXSTEPS]:
+                # Requeued: a caller that raises the cap continues where the loop stopped.
+                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
                 return R_CAP_STEPS
             t0, hb = walk(s, t, x, y, True)
             if hb < 0 and tri[3 * t0 + 2] != GHOST:
@@ -473,6 +476,7 @@ def refine_loop(s, c, r):
                 st[S_SKIPPED] += 1  # unreachable without crossing a segment: cannot happen
                 continue
             if nv >= st[S_MAXPTS]:
+                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
                 return R_CAP_POINTS
             pts[nv, 0] = x
             pts[nv, 1] = y
@@ -594,10 +598,11 @@ class _Run:
         prm[P_CX], prm[P_CY], prm[P_CT] = x, y, t
         st[S_CREADY] = 1
 
-    def run(self, size, estimate: int, what: str, progress=None) -> None:
+    def run(self, size, estimate: int, what: str, progress=None, caps: Caps | None = None) -> None:
         """Call the loop until it is done, serving its requests; raise on caps and errors.
 
-        ``progress(n_vertices)`` is called whenever the loop hands control back to Python.
+        ``progress(n_vertices)`` is called whenever the loop hands control back to Python;
+        ``caps`` may raise default caps once when one is reached (:mod:`._refine_caps`).
         """
         ct = self.ct
         while True:
@@ -617,6 +622,9 @@ class _Run:
                 apply_sizes(h, ct.state, self.r)
             elif code == R_CURVE:
                 self.curve_point()
+            elif code in (R_CAP_POINTS, R_CAP_STEPS) and caps is not None and caps.relax(ct):
+                st[S_MAXPTS] = caps.max_points
+                st[S_MAXSTEPS] = caps.max_steps
             else:
                 self._fail(code, what)
 
@@ -645,23 +653,6 @@ class _Run:
         raise MeshingError(f"{what}: inserting a vertex near {where} met an inconsistent cavity")
 
 
-def _estimate(ct, amax: float, size) -> float:
-    """Vertices a size-bounded mesh of the inside triangles needs, roughly (area / bound)."""
-    tris = ct.triangles(True)
-    if not len(tris):
-        return 0.0
-    p = ct.points
-    a, b, c = p[tris[:, 0]], p[tris[:, 1]], p[tris[:, 2]]
-    area = 0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
-    ntri = int(ct.state.meta[M_NTRI])
-    reg = ct.constraints.treg[:ntri][ct.inside_slots()]
-    bound = np.minimum(amax, ct.constraints.rarea[np.maximum(reg, 0)])
-    if size is not None and size.constant is None:
-        h = np.minimum(np.minimum(size(a), size(b)), np.minimum(size(c), size((a + b + c) / 3.0)))
-        bound = np.minimum(bound, _EQUILATERAL * h * h)
-    return float(np.sum(area / bound))
-
-
 def refine(
     ct, *, min_angle: float = 30.0, size=None, max_area=None, max_points=None, max_steps=None,
     offcenters: bool = True, curves=None, progress=None,
@@ -683,10 +674,11 @@ def refine(
         Largest triangle area (region seeds of :meth:`classify` may lower it locally).
     max_points : int, optional
         Cap on the number of vertices; default ``nv + 50 nv + 4 * estimate + 1000`` with the
-        estimate from ``size`` / ``max_area``.
+        estimate from ``size`` / ``max_area``, raised once to the local-feature-size estimate
+        when reached (:mod:`meshwright.tri._refine_caps`).
     max_steps : int, optional
         Cap on loop steps (default ``20 * min(max_points, nv + 50 nv + 4 * estimate + 1000)``,
-        so a stalled loop stops early even under a large ``max_points``).
+        so a stalled loop stops early even under a large ``max_points``; raised likewise).
     offcenters : bool
         Insert Üngör's off-centres instead of circumcentres where nearer (fewer vertices).
     curves : SegmentCurves or callable, optional
@@ -722,20 +714,11 @@ def refine(
     theta = np.radians(float(min_angle))
     sin2 = np.sin(theta) ** 2
     off = 0.475 * np.sqrt((1.0 + np.cos(theta)) / (1.0 - np.cos(theta))) if offcenters and theta > 0 else 0.0
-    est = _estimate(ct, amax, field)
-    nv = ct.n_points
-    # The estimate-based bound is the default point cap and, whatever cap the caller gives,
-    # bounds the steps: a caller's generous max_points (triangulate passes 10**8) must not
-    # turn a stalled loop into billions of steps.
-    expected = int(min(nv + 50 * nv + 4 * est + 1000, 2**31 - 16))
-    if max_points is None:
-        max_points = expected
-    if max_steps is None:
-        max_steps = 20 * min(int(max_points), expected)
+    caps = Caps(ct, amax, field, max_points, max_steps)
     sized = field is not None and field.constant is None
-    run = _Run(ct, MODE_RUPPERT, sin2, amax, off, sized, int(max_points), int(max_steps))
+    run = _Run(ct, MODE_RUPPERT, sin2, amax, off, sized, caps.max_points, caps.max_steps)
     run.seed()
-    run.run(field, int(min(max_points, nv + 1.2 * est + 16)), "refine", progress)
+    run.run(field, caps.room, "refine", progress, caps)
     return ct
 
 
