@@ -42,6 +42,12 @@ def bucket_shape(pts: np.ndarray, m: int) -> tuple[np.ndarray, float, np.ndarray
     per_axis = np.sqrt(m / 2.0) if d == 2 else np.cbrt(m / 2.0)
     cells = max(1, int(per_axis))
     cell = ext / cells if ext > 0 else 1.0
+    if d == 2 and ext > 0:
+        # A thin box (aspect above 4) gets as many cubes as a square one, not one row of
+        # sqrt(m) crowded cubes; other boxes keep their grid.
+        thin = float(np.sqrt(ext * float(min(hi - lo)) / max(m / 2.0, 1.0)))
+        if thin < 0.5 * cell:
+            cell = max(thin, ext / (2.0 * m + 2.0))
     dims = np.array([max(1, int(np.ceil((hi[k] - lo[k]) / cell)) + 1) for k in range(d)], dtype=np.int64)
     return np.ascontiguousarray(lo, dtype=np.float64), cell, dims
 

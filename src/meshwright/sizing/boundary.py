@@ -104,6 +104,11 @@ class _Graded:
         ext = float(np.ptp(src, axis=0).max())
         g = max(1, int(np.ceil(np.sqrt(len(src) / 2.0))))
         self.w = ext / g if ext > 0 else 1.0
+        # A thin box (aspect above 4) gets as many cells as a square one, not one row of
+        # crowded cells; other boxes keep their grid.
+        thin = float(np.sqrt(ext * float(np.ptp(src, axis=0).min()) / max(len(src) / 2.0, 1.0)))
+        if ext > 0 and thin < 0.5 * self.w:
+            self.w = max(thin, ext / (2.0 * len(src) + 2.0))
         self.x0, self.y0 = float(lo[0]), float(lo[1])
         self.gx = int(np.ptp(src[:, 0]) / self.w) + 1
         self.gy = int(np.ptp(src[:, 1]) / self.w) + 1

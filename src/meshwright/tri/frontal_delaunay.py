@@ -85,6 +85,7 @@ the method's ``FrontalState``, layout in :mod:`meshwright.tri._frontal_kernel`.
 from __future__ import annotations
 
 import copy
+import math
 
 import numpy as np
 
@@ -96,6 +97,7 @@ from meshwright.sizing.field import as_size_field
 from meshwright.tri import _frontal_kernel as fk
 from meshwright.tri._kernel2d import M_NTRI, M_NV
 from meshwright.tri._mapped import transfer_regions
+from meshwright.tri._refine_caps import estimate
 from meshwright.tri._scaffold import SCRATCH
 
 __all__ = ["ACCEPT", "CLEAR", "SAMPLE", "SCAFFOLD", "SPACING", "frontal_delaunay", "scaffold_points", "stretching"]
@@ -108,6 +110,7 @@ CLEAR = 1.0  # a proposed point removes the scaffold vertices within this many h
 MIN_SCAFFOLD = 1000  # fewer scaffold cells than this: no scaffold (the front is short)
 LIFT = 1e3  # heap-key lift of a triangle with a scaffold vertex: it waits before all others
 _MAX_LEVELS = 40  # quadtree levels of the scaffold (cells of 2**-40 of the box)
+_MAX_ROOT_LEVELS = 10  # a thin box gets up to 2**10 roots along its longer side
 
 
 def _background(ct, field) -> BackgroundGrid:
@@ -130,6 +133,10 @@ def scaffold_points(bg: BackgroundGrid, lo, hi, limit: int) -> np.ndarray:
     """Centres of the leaves of a quadtree over the box ``lo``-``hi`` whose cells are at
     most ``SCAFFOLD`` times the spacing of ``bg`` at their centre, in Hilbert order.
 
+    The roots are squares of the longer side over ``2**k``, the smallest ``k <= 10`` for
+    which the shorter side is at least that (one root for a box of aspect ratio below 2):
+    a square root over a thin box would spend almost all its leaves outside it.
+
     Parameters
     ----------
     bg : BackgroundGrid
@@ -146,10 +153,19 @@ def scaffold_points(bg: BackgroundGrid, lo, hi, limit: int) -> np.ndarray:
         (a lattice's exactly cocircular quadruples would send every in-circle test of the
         insertions and removals to the exact stage).
     """
-    side = float(max(hi[0] - lo[0], hi[1] - lo[1]))
+    wx, wy = float(hi[0] - lo[0]), float(hi[1] - lo[1])
+    side = max(wx, wy)
     if not side > 0.0:
         return np.zeros((0, 2))
-    centres = np.array([[lo[0] + 0.5 * side, lo[1] + 0.5 * side]])
+    k = 0
+    while k < _MAX_ROOT_LEVELS and side / 2 ** (k + 1) >= min(wx, wy):
+        k += 1
+    side /= 2**k
+    nx, ny = max(1, math.ceil(wx / side)), max(1, math.ceil(wy / side))
+    if nx * ny > limit:
+        return np.zeros((0, 2))
+    gx, gy = np.meshgrid(lo[0] + side * (np.arange(nx) + 0.5), lo[1] + side * (np.arange(ny) + 0.5))
+    centres = np.column_stack([gx.ravel(), gy.ravel()])
     leaves = []
     half = 0.5 * side
     count = 0
@@ -348,7 +364,11 @@ def frontal_delaunay(ct, size, *, max_points: int | None = None, scaffold: bool 
     if scaffold:
         p = ct.points
         cap = int(par[fk.P_MAX_POINTS])
-        xy = scaffold_points(grid, p.min(axis=0), p.max(axis=0), min(cap, 1 << 26))
+        # The tree covers the domain's box, not the domain: a thin domain across its box
+        # would grow it far past the points the domain itself needs (its inside triangles'
+        # area over h^2), which is all a scaffold of SCAFFOLD h cells can use.
+        need = int(min(estimate(ct, np.inf, grid), 1 << 26))
+        xy = scaffold_points(grid, p.min(axis=0), p.max(axis=0), min(cap, 1 << 26, 4 * need + 4 * MIN_SCAFFOLD))
         if len(xy) < MIN_SCAFFOLD:
             xy = xy[:0]  # a short front: no long cavities to avoid, same mesh as without
         i = 0
