@@ -238,7 +238,7 @@ def test_demo_solids_are_meshed_written_and_drawn(tmp_path, capsys):
     from meshwright.cli.demo import mesh_solids, solids
 
     mesh_solids(tmp_path)
-    assert capsys.readouterr().out.count("(tetrahedralize)") == 3
+    assert capsys.readouterr().out.count("(tetrahedralize):") == 3  # one result line per solid
     for name, surface, _ in solids():
         assert_png(tmp_path / f"{name}-tet.png")
         mesh = read(tmp_path / f"{name}-tet.vtu")

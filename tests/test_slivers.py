@@ -193,6 +193,38 @@ def test_arguments_are_checked():
         remove_slivers(Mesh(mesh.points, {"tetra": mesh.tetra}, cell_data={"q": {"tetra": np.zeros(len(mesh.tetra))}}))
     with pytest.raises(InputError, match="must be a meshwright Mesh"):
         remove_slivers(mesh.tetra)
+    with pytest.raises(InputError, match="radius_edge must be finite and at least"):
+        remove_slivers(mesh, radius_edge=0.5)
+    with pytest.raises(InputError, match="radius_edge must be a number"):
+        remove_slivers(mesh, radius_edge="2")
+
+
+def test_radius_edge_cap_is_not_exceeded_by_flips_or_moves():
+    mesh = scipy_mesh(random_points(300, seed=11))
+    p = mesh.points[mesh.tetra]
+    u, v, w = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]
+    det = np.einsum("ij,ij->i", u, np.cross(v, w))
+
+    def radius_edge(points, tets):
+        q = points[tets]
+        a, b, c = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0], q[:, 3] - q[:, 0]
+        d = np.einsum("ij,ij->i", a, np.cross(b, c))
+        o = (np.einsum("ij,ij->i", a, a)[:, None] * np.cross(b, c) + np.einsum("ij,ij->i", b, b)[:, None] * np.cross(c, a)
+             + np.einsum("ij,ij->i", c, c)[:, None] * np.cross(a, b)) / (2 * d[:, None])
+        e = np.stack([np.linalg.norm(q[:, i] - q[:, j], axis=1) for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))], 1)
+        return np.linalg.norm(o, axis=1) / e.min(axis=1)
+
+    assert (det > 0).all()
+    before = radius_edge(mesh.points, mesh.tetra)
+    bound = float(np.quantile(before, 0.9))
+    free, _ = remove_slivers(mesh, threshold=0.2, max_iter=4)
+    capped, report = remove_slivers(mesh, threshold=0.2, max_iter=4, radius_edge=bound)
+    check_result(mesh, capped, report)
+    # no operation lifts a tet over the bound: tets over it after the stage are at most as
+    # many as before (those the stage could not repair), and fewer than without the cap
+    over = int((radius_edge(capped.points, capped.tetra) > bound).sum())
+    assert over <= int((before > bound).sum())
+    assert over <= int((radius_edge(free.points, free.tetra) > bound).sum())
 
 
 def test_on_meshwright_delaunay_of_points_on_a_sphere():

@@ -94,6 +94,33 @@ def _orient(pts, a, b, c, d):
 @njit(inline="always")
 def _ratio_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """Signed r_in / R_circ of the tet (a, b, c, d); 0 when the float volume or radius is 0."""
+    return _ratio_radius(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)[0]
+
+
+@njit(inline="always")
+def _quality_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, cap):
+    """The sliver ratio, times ``(cap l_min / R)**2 / 2`` when the radius-edge ratio R / l_min
+    exceeds ``cap`` (> 0): a flip or move that would lift a tet over the refinement's bound
+    counts as making a sliver of it, so the sliver stage keeps the bound (0: no cap)."""
+    q, big_r = _ratio_radius(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
+    if cap > 0.0 and q > 0.0:
+        l2 = min(
+            (bx - ax) ** 2 + (by - ay) ** 2 + (bz - az) ** 2,
+            (cx - ax) ** 2 + (cy - ay) ** 2 + (cz - az) ** 2,
+            (dx - ax) ** 2 + (dy - ay) ** 2 + (dz - az) ** 2,
+            (cx - bx) ** 2 + (cy - by) ** 2 + (cz - bz) ** 2,
+            (dx - bx) ** 2 + (dy - by) ** 2 + (dz - bz) ** 2,
+            (dx - cx) ** 2 + (dy - cy) ** 2 + (dz - cz) ** 2,
+        )
+        lim = cap * cap * l2
+        if big_r * big_r > lim:
+            q *= 0.5 * lim / (big_r * big_r)
+    return q
+
+
+@njit(inline="always")
+def _ratio_radius(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+    """``(r_in / R_circ, R_circ)`` of the tet (a, b, c, d), signed; ratio 0 when flat."""
     ux, uy, uz = bx - ax, by - ay, bz - az
     vx, vy, vz = cx - ax, cy - ay, cz - az
     wx, wy, wz = dx - ax, dy - ay, dz - az
@@ -103,7 +130,7 @@ def _ratio_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     s0, s1, s2 = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
     det = ux * p0 + uy * p1 + uz * p2
     if det == 0.0:
-        return 0.0
+        return 0.0, 0.0
     lu, lv, lw = ux * ux + uy * uy + uz * uz, vx * vx + vy * vy + vz * vz, wx * wx + wy * wy + wz * wz
     inv = 0.5 / det
     ox = (lu * p0 + lv * q0 + lw * s0) * inv
@@ -121,26 +148,26 @@ def _ratio_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
         + np.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
     )
     if big_r == 0.0:
-        return 0.0  # nearly flat and cocircular: the centre's numerator cancelled exactly
+        return 0.0, 0.0  # nearly flat and cocircular: the centre's numerator cancelled exactly
     # r = 3 V / S = det / (2 S) = det / area2, with area2 = 2 S.
-    return (det / area2) / big_r
+    return (det / area2) / big_r, big_r
 
 
 @njit(inline="always")
-def _ratio(pts, a, b, c, d):
-    return _ratio_xyz(
+def _ratio(pts, a, b, c, d, cap):
+    return _quality_xyz(
         pts[a, 0], pts[a, 1], pts[a, 2], pts[b, 0], pts[b, 1], pts[b, 2],
-        pts[c, 0], pts[c, 1], pts[c, 2], pts[d, 0], pts[d, 1], pts[d, 2],
+        pts[c, 0], pts[c, 1], pts[c, 2], pts[d, 0], pts[d, 1], pts[d, 2], cap,
     )
 
 
 @njit(inline="always")
-def _tet_ratio(pts, tet, t):
-    return _ratio(pts, tet[4 * t], tet[4 * t + 1], tet[4 * t + 2], tet[4 * t + 3])
+def _tet_ratio(pts, tet, t, cap):
+    return _ratio(pts, tet[4 * t], tet[4 * t + 1], tet[4 * t + 2], tet[4 * t + 3], cap)
 
 
 @njit(cache=True)
-def all_ratios(pts, tet, ntet):
+def all_ratios(pts, tet, ntet, cap):
     """Sliver ratio of every slot, ``inf`` for dead slots.
 
     Parameters
@@ -155,7 +182,7 @@ def all_ratios(pts, tet, ntet):
     """
     out = np.empty(ntet)
     for t in range(ntet):
-        out[t] = np.inf if tet[4 * t] < 0 else _tet_ratio(pts, tet, t)
+        out[t] = np.inf if tet[4 * t] < 0 else _tet_ratio(pts, tet, t, cap)
     return out
 
 
@@ -196,7 +223,7 @@ def _sort3(a, b, c):
 
 
 @njit(cache=True)
-def _eval_23(pts, tet, nbr, lock, t, k, newv):
+def _eval_23(pts, tet, nbr, lock, t, k, newv, cap):
     """2-3 flip of slot t across its face k; new tets into ``newv[0:12]``.
 
     ::
@@ -229,7 +256,7 @@ def _eval_23(pts, tet, nbr, lock, t, k, newv):
         y = b if i == 0 else (c if i == 1 else a)
         if not _orient(pts, x, y, d, e) > 0.0:
             return -np.inf
-        worst = min(worst, _ratio(pts, x, y, d, e))
+        worst = min(worst, _ratio(pts, x, y, d, e, cap))
         newv[4 * i] = x
         newv[4 * i + 1] = y
         newv[4 * i + 2] = d
@@ -238,7 +265,7 @@ def _eval_23(pts, tet, nbr, lock, t, k, newv):
 
 
 @njit(cache=True)
-def _eval_ring(pts, tet, nbr, lock, ekeys, nv, t, i, j, ring, rtets, tq, rows, start, count):
+def _eval_ring(pts, tet, nbr, lock, ekeys, nv, t, i, j, ring, rtets, tq, rows, start, count, cap):
     """Edge removal of the edge (i, j) (local vertices) of slot t.
 
     Walks the ring of tets around the edge pq into ``rtets`` and its vertices w_0 .. w_m-1
@@ -315,7 +342,7 @@ def _eval_ring(pts, tet, nbr, lock, ekeys, nv, t, i, j, ring, rtets, tq, rows, s
             for c in range(b + 1, m):
                 wa, wb, wc = ring[a], ring[b], ring[c]
                 if _orient(pts, wa, wb, wc, q) > 0.0 and _orient(pts, wa, wc, wb, p) > 0.0:
-                    tq[a, b, c] = min(_ratio(pts, wa, wb, wc, q), _ratio(pts, wa, wc, wb, p))
+                    tq[a, b, c] = min(_ratio(pts, wa, wb, wc, q, cap), _ratio(pts, wa, wc, wb, p, cap))
                 else:
                     tq[a, b, c] = -np.inf
     best = -np.inf
@@ -421,7 +448,7 @@ def _replace(tet, nbr, lock, region, old, n_old, newv, n_new, free, nfree, ntet,
 
 
 @njit(cache=True)
-def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, ekeys, nv, rows, start, count, counters):
+def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, ekeys, nv, rows, start, count, counters, cap):
     """Try to flip every slot of ``cand`` that is still a sliver (ratio < threshold).
 
     For each, every 2-3 flip across its four faces and every edge removal (ring size
@@ -472,7 +499,7 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
         t = cand[ci]
         if tet[4 * t] < 0:
             continue
-        q0 = _tet_ratio(pts, tet, t)
+        q0 = _tet_ratio(pts, tet, t, cap)
         if not q0 < threshold:
             continue
         best = -np.inf
@@ -482,21 +509,21 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
             u = nbr[4 * t + k]
             if u < 0:
                 continue
-            v = _eval_23(pts, tet, nbr, lock, t, k, newv)
-            worst_old = min(q0, _tet_ratio(pts, tet, u))
+            v = _eval_23(pts, tet, nbr, lock, t, k, newv, cap)
+            worst_old = min(q0, _tet_ratio(pts, tet, u, cap))
             if v > worst_old and v > best:
                 best = v
                 kind = 0
                 arg = k
         for e in range(6):
             v, m, sidx = _eval_ring(
-                pts, tet, nbr, lock, ekeys, nv, t, _EDGES[e, 0], _EDGES[e, 1], ring, rtets, tq, rows, start, count
+                pts, tet, nbr, lock, ekeys, nv, t, _EDGES[e, 0], _EDGES[e, 1], ring, rtets, tq, rows, start, count, cap
             )
             if m == 0 or not v > best:
                 continue
             worst_old = np.inf
             for o in range(m):
-                worst_old = min(worst_old, _tet_ratio(pts, tet, rtets[o]))
+                worst_old = min(worst_old, _tet_ratio(pts, tet, rtets[o], cap))
             if v > worst_old:
                 best = v
                 kind = 1
@@ -505,14 +532,14 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
             continue
         # Re-evaluate the winner to refill the buffers, then apply it.
         if kind == 0:
-            _eval_23(pts, tet, nbr, lock, t, arg, newv)
+            _eval_23(pts, tet, nbr, lock, t, arg, newv, cap)
             old[0] = t
             old[1] = nbr[4 * t + arg]
             n_old = 2
             n_new = 3
         else:
             v, m, sidx = _eval_ring(
-                pts, tet, nbr, lock, ekeys, nv, t, _EDGES[arg, 0], _EDGES[arg, 1], ring, rtets, tq, rows, start, count
+                pts, tet, nbr, lock, ekeys, nv, t, _EDGES[arg, 0], _EDGES[arg, 1], ring, rtets, tq, rows, start, count, cap
             )
             p = tet[4 * t + _EDGES[arg, 0]]
             q = tet[4 * t + _EDGES[arg, 1]]
@@ -533,10 +560,10 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
                 newv[8 * s + 7] = p
         n_bad = 0
         for o in range(n_old):
-            if _tet_ratio(pts, tet, old[o]) < threshold:
+            if _tet_ratio(pts, tet, old[o], cap) < threshold:
                 n_bad += 1
         for s in range(n_new):
-            if _ratio(pts, newv[4 * s], newv[4 * s + 1], newv[4 * s + 2], newv[4 * s + 3]) < threshold:
+            if _ratio(pts, newv[4 * s], newv[4 * s + 1], newv[4 * s + 2], newv[4 * s + 3], cap) < threshold:
                 n_bad -= 1
         counters[C_REMOVED_FLIP] += max(n_bad, 0)
         counters[C_CREATED] += max(-n_bad, 0)
@@ -588,7 +615,7 @@ def vertex_stars(tet, ntet, nv):
 
 
 @njit(inline="always")
-def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor):
+def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor, cap):
     """Smallest ratio and sliver count of v's star with v placed at (x, y, z).
 
     Returns -inf as soon as a tet's float ratio is <= ``floor`` (the position cannot
@@ -602,7 +629,7 @@ def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor):
     worst = np.inf
     bad = 0
     for i in range(first[v], first[v + 1]):
-        r = _tet_ratio(pts, tet, slots[i])
+        r = _tet_ratio(pts, tet, slots[i], cap)
         if r <= floor:
             worst = -np.inf
             break
@@ -622,7 +649,7 @@ def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor):
 
 
 @njit(cache=True)
-def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
+def move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap):
     """Move one vertex of every slot of ``cand`` that is still a sliver, when that helps.
 
     For each movable vertex v of the sliver, candidate positions are tried: towards the
@@ -657,7 +684,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
     moved = 0
     for ci in range(cand.shape[0]):
         t = cand[ci]
-        if tet[4 * t] < 0 or not _tet_ratio(pts, tet, t) < threshold:
+        if tet[4 * t] < 0 or not _tet_ratio(pts, tet, t, cap) < threshold:
             continue
         best_gain = 0.0
         best_v = -1
@@ -669,7 +696,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
             if not movable[v]:
                 continue
             px, py, pz = pts[v, 0], pts[v, 1], pts[v, 2]
-            q0, bad0 = _star_worst(pts, tet, first, slots, v, px, py, pz, threshold, -np.inf)
+            q0, bad0 = _star_worst(pts, tet, first, slots, v, px, py, pz, threshold, -np.inf, cap)
             a = tet[4 * t + TET_FACES[k, 0]]
             b = tet[4 * t + TET_FACES[k, 1]]
             c = tet[4 * t + TET_FACES[k, 2]]
@@ -727,7 +754,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
             qv = q0
             xv, yv, zv = px, py, pz
             for i in range(nc):
-                q, bad = _star_worst(pts, tet, first, slots, v, cands[i, 0], cands[i, 1], cands[i, 2], threshold, qv)
+                q, bad = _star_worst(pts, tet, first, slots, v, cands[i, 0], cands[i, 1], cands[i, 2], threshold, qv, cap)
                 if q > qv and bad <= bad0:
                     qv = q
                     xv, yv, zv = cands[i, 0], cands[i, 1], cands[i, 2]
@@ -743,7 +770,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
                         sign = 1.0 if dxn == _DIRS.shape[0] else -1.0
                         ax, ay, az = sign * nx, sign * ny, sign * nz
                     cx, cy, cz = xv + step * ax, yv + step * ay, zv + step * az
-                    q, bad = _star_worst(pts, tet, first, slots, v, cx, cy, cz, threshold, qv)
+                    q, bad = _star_worst(pts, tet, first, slots, v, cx, cy, cz, threshold, qv, cap)
                     if q > qv and bad <= bad0:
                         qv = q
                         xv, yv, zv = cx, cy, cz
@@ -757,9 +784,9 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters):
         if best_v < 0:
             continue
         _, before = _star_worst(
-            pts, tet, first, slots, best_v, pts[best_v, 0], pts[best_v, 1], pts[best_v, 2], threshold, -np.inf
+            pts, tet, first, slots, best_v, pts[best_v, 0], pts[best_v, 1], pts[best_v, 2], threshold, -np.inf, cap
         )
-        _, after = _star_worst(pts, tet, first, slots, best_v, best_x, best_y, best_z, threshold, -np.inf)
+        _, after = _star_worst(pts, tet, first, slots, best_v, best_x, best_y, best_z, threshold, -np.inf, cap)
         pts[best_v, 0] = best_x
         pts[best_v, 1] = best_y
         pts[best_v, 2] = best_z

@@ -43,7 +43,7 @@ from meshwright.tet.recovery import (
     recover,
     unique_edges,
 )
-from meshwright.tet.refine3d import SIZE_FACTOR, circumspheres, select_points
+from meshwright.tet.refine3d import SIZE_FACTOR, circumspheres, crease_caps, refine_in_queue, select_points
 from meshwright.tet.tetrahedralization import Tetrahedralization
 
 __all__ = ["REFINE_ROUNDS", "SLIVER_MODES", "TET_METHODS", "TetMethod", "tetrahedralize"]
@@ -303,6 +303,7 @@ def _run_delaunay(job: _Job) -> Mesh:
 
         bar = tqdm(desc="tetrahedralize", unit=" points")
     rounds = 0
+    tried = set()
     while refine:
         rounds += 1
         if rounds > REFINE_ROUNDS:
@@ -313,15 +314,38 @@ def _run_delaunay(job: _Job) -> Mesh:
         pts = tz.points
         cc, r2, lmin, vol = circumspheres(pts, tets)
         bad, reach = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), EXEMPT / FLOOR * float(floor.min()), guard)
-        if bad.size == 0 and flat.size == 0:
+        caps, apex = _new_caps(tets, barrier, solid, face_of, parent, pts, cc, r2, vol, tried)
+        if bad.size == 0 and flat.size == 0 and caps.size == 0:
             break
-        order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)
-        accept, enc = select_points(pts, tets, nbr, barrier, cc, r2, order, int(rng.integers(1, 2**31)))
-        # a subface edge is split down to the tet's reach (size and volume bounds), else to
-        # the surface floor (quality, flat tets)
-        hit = np.concatenate([face_of[enc[enc >= 0]], flat])
-        least = np.concatenate([reach[order[enc >= 0]], np.full(flat.size, np.inf)])
-        new_interior = np.ascontiguousarray(cc[order[accept]])
+        inserted = 0
+        if bad.size and (job.field is None or job.field.constant is not None):
+            # one point at a time from a queue (tet/_refine_kernel.py); a callable size
+            # field is Python, so it stays with the rounds below
+            h = job.field.constant if job.field is not None else np.inf
+            inserted, enc, capped = refine_in_queue(
+                tz, barrier, solid, np.minimum(vmax, job.max_volume), bad,
+                MARGIN * job.radius_edge if job.radius_edge is not None else np.inf, SIZE_FACTOR * h,
+                EXEMPT / FLOOR * float(floor.min()), job.max_points, int(rng.integers(1, 2**31)),
+            )
+            if capped:
+                raise_cap(job.max_points, "Delaunay refinement")
+            pts = tz.points
+            hit, why = _subfaces_of(faces, enc)
+            reach_of = np.array([np.inf, max(guard, SIZE_SPLIT * h), guard])
+            hit = np.concatenate([hit, flat])
+            least = np.concatenate([reach_of[why], np.full(flat.size, np.inf)])
+            new_interior = np.zeros((0, 3))
+        else:
+            order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)
+            target = np.concatenate([cc[order], apex])
+            close = np.concatenate([np.zeros(order.size, dtype=bool), np.ones(caps.size, dtype=bool)])
+            order = np.concatenate([order, caps]).astype(np.int32)
+            accept, enc = select_points(pts, tets, nbr, barrier, cc, r2, order, target, close, int(rng.integers(1, 2**31)))
+            # a subface edge is split down to the tet's reach (size and volume bounds), else to
+            # the surface floor (quality, flat tets)
+            hit = np.concatenate([face_of[enc[enc >= 0]], flat])
+            least = np.concatenate([reach[order[enc >= 0]], np.full(flat.size, np.inf)])
+            new_interior = np.ascontiguousarray(target[accept])
         added = 0
         if hit.size:
             edges, face_edges = unique_edges(faces)
@@ -339,8 +363,10 @@ def _run_delaunay(job: _Job) -> Mesh:
             if tz.points.shape[0] + new_interior.shape[0] > job.max_points:
                 raise_cap(job.max_points, "Delaunay refinement")
             before = tz.points.shape[0]
+            tried.update(tuple(sorted(r)) for r in tets[order[accept & close]].tolist())
             tz.insert(new_interior)
             added += tz.points.shape[0] - before
+        added += inserted
         if bar is not None:
             bar.update(added)
         if added == 0:
@@ -409,7 +435,7 @@ def _unflatten(job: _Job, tz, faces, parent, where, axis, origins):
             if sign == 0 or any(np.sign(_orient_proj(tz.points, ax, tri)) != sign for tri in new):
                 continue
             if rim is None:
-                rim = _rim(faces, parent)
+                rim = _rim(faces, parent, parent[f1[pick]])
             shared = set(faces[a].tolist()) & set(faces[b].tolist())
             other = set(tets[t].tolist()) - shared
             if _on_rim_between(rim, int(parent[a]), job.faces[parent[a]].tolist(), shared, other):
@@ -426,8 +452,37 @@ def _unflatten(job: _Job, tz, faces, parent, where, axis, origins):
     return faces, where, split, (barrier, face_of, solid, vmax)
 
 
-def _rim(faces, parent) -> set:
-    """Subface edges on their input face's boundary, as sorted vertex pairs with the parent."""
+def _subfaces_of(faces, enc) -> tuple[np.ndarray, np.ndarray]:
+    """Subface ids (k,) int64 of the kernel's encroachment records ``enc`` (r, 4) and their
+    reasons (k,) int64; records naming no subface are dropped."""
+    if enc.shape[0] == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    index = {key: i for i, key in enumerate(map(tuple, np.sort(faces, axis=1).tolist()))}
+    rows = [(index.get(tuple(sorted(r[:3]))), r[3]) for r in enc.tolist()]
+    rows = [r for r in rows if r[0] is not None]
+    return np.array([r[0] for r in rows], dtype=np.int64), np.array([r[1] for r in rows], dtype=np.int64)
+
+
+def _new_caps(tets, barrier, solid, face_of, parent, pts, cc, r2, vol, tried: set):
+    """:func:`crease_caps` of this round not proposed before (one apex per cap: an apex that
+    did not remove its cap is not tried again), as (c,) int64 tets and (c, 3) apexes."""
+    fp = np.where(barrier, parent[np.maximum(face_of, 0)].reshape(barrier.shape), -1)
+    caps, apex = crease_caps(pts, tets, barrier, solid, fp, cc, r2, vol, SLIVER_RATIO)
+    if caps.size and tried:
+        fresh = np.array([tuple(sorted(r)) not in tried for r in tets[caps].tolist()], dtype=bool)
+        caps, apex = caps[fresh], apex[fresh]
+    return caps, apex
+
+
+def _rim(faces, parent, among) -> set:
+    """Subface edges on their input face's boundary, as sorted vertex pairs with the parent.
+
+    Only the input faces ``among`` (k,) are looked at: the set of every face's rim edges,
+    built on each unflatten pass, was 46 % of the level-4 sphere's time.
+    """
+    sel = np.isin(parent, among)
+    faces = faces[sel]
+    parent = parent[sel]
     a = faces[:, [1, 2, 0]].ravel()
     b = faces[:, [2, 0, 1]].ravel()
     key = np.stack([np.minimum(a, b), np.maximum(a, b), np.repeat(parent, 3)], axis=1)
@@ -518,7 +573,7 @@ def _to_mesh(job: _Job, tz, faces, parent, where) -> Mesh:
     if job.slivers == "remove":
         # remove_slivers validates the mesh at its door and its result before returning
         # (a third validation here cost 5 % of the level-4 sphere)
-        mesh = _remove_slivers(mesh, job.min_dihedral)
+        mesh = _remove_slivers(mesh, job.min_dihedral, job.radius_edge)
     else:
         mesh.validate()
     if job.smooth:
@@ -531,7 +586,7 @@ def _to_mesh(job: _Job, tz, faces, parent, where) -> Mesh:
     return mesh
 
 
-def _remove_slivers(mesh: Mesh, min_dihedral: float | None) -> Mesh:
+def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float | None) -> Mesh:
     """Flips and interior vertex moves (tet/slivers.py) until the dihedral target is met.
 
     The sliver ratio a = r_in / R threshold starts at :data:`SLIVER_RATIO` (measured: the
@@ -545,7 +600,7 @@ def _remove_slivers(mesh: Mesh, min_dihedral: float | None) -> Mesh:
 
     threshold = SLIVER_RATIO
     while True:
-        out, _ = remove_slivers(mesh, threshold=threshold, max_iter=SLIVER_PASSES)
+        out, _ = remove_slivers(mesh, threshold=threshold, max_iter=SLIVER_PASSES, radius_edge=radius_edge)
         if min_dihedral is None:
             return out
         worst = float(tetra_quality(out.points, out.cells["tetra"])["min_dihedral"].min())

@@ -142,6 +142,17 @@ def _check_args(mesh, threshold, move_points, movable, max_iter):
             raise InputError(f"movable must be a ({mesh.n_points},) bool array, got {arr.dtype} {arr.shape}")
 
 
+def _check_radius_edge(radius_edge) -> float:
+    """The radius-edge cap of the kernels (0.0: none) from ``radius_edge``, checked."""
+    if radius_edge is None:
+        return 0.0
+    if isinstance(radius_edge, bool) or not isinstance(radius_edge, (int, float, np.floating, np.integer)):
+        raise InputError(f"radius_edge must be a number or None, got {radius_edge!r}")
+    if not np.isfinite(radius_edge) or float(radius_edge) < np.sqrt(6.0) / 4.0:
+        raise InputError(f"radius_edge must be finite and at least sqrt(6)/4 = 0.612 (the regular tet's), got {radius_edge!r}")
+    return float(radius_edge)
+
+
 def _fixed_vertices(mesh: Mesh) -> np.ndarray:
     """Vertices that never move: on the boundary surface or on a triangle, line or vertex cell."""
     fixed = np.zeros(mesh.n_points, bool)
@@ -151,7 +162,7 @@ def _fixed_vertices(mesh: Mesh) -> np.ndarray:
     return fixed
 
 
-def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True, movable=None, max_iter: int = 50):
+def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True, movable=None, max_iter: int = 50, radius_edge=None):
     """Remove slivers (r_in / R_circ < threshold) by flips and vertex moves (section 18.1.1).
 
     Parameters
@@ -174,6 +185,12 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
     max_iter : int
         Cap on the flip + move passes; the loop also stops when a pass changes nothing
         or three passes in a row did not lower the number of slivers.
+    radius_edge : float, optional
+        A radius-edge bound B (circumradius over shortest edge, at least the regular tet's
+        sqrt(6)/4) the flips and moves keep: a tet with R / l_min > B counts with the
+        quality ``a (B l_min / R)**2 / 2`` instead of ``a``, so an operation that would lift a
+        tet over B is refused like one making a sliver, and tets already over it are
+        treated (and reported) as slivers.  ``tetrahedralize`` passes its bound.
 
     Returns
     -------
@@ -192,6 +209,7 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
         An internal inconsistency (a bug): no broken mesh is ever returned.
     """
     _check_args(mesh, threshold, move_points, movable, max_iter)
+    cap = _check_radius_edge(radius_edge)
     mesh.validate()
     threshold = float(threshold)
     n = mesh.n_points
@@ -214,7 +232,7 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
     pts = mesh.points.copy()
 
     counters = np.zeros(_flips.N_COUNTERS, np.int64)
-    ratios = _flips.all_ratios(pts, tet, ntet)
+    ratios = _flips.all_ratios(pts, tet, ntet, cap)
     found = int(np.count_nonzero(ratios < threshold))
     min_before = float(ratios.min())
     capped = False
@@ -228,17 +246,17 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
         cand = cand[np.argsort(ratios[cand], kind="stable")].astype(np.int64)
         iterations += 1
         tet, nbr, lock, region, free, ntet, nfree, flips, ok = _flips.flip_pass(
-            pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, ekeys, n, _ROWS, _START, _COUNT, counters
+            pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, ekeys, n, _ROWS, _START, _COUNT, counters, cap
         )
         if not ok:
             raise MeshingError("sliver flip produced a face that matches no neighbour (internal error)")
         moved = 0
         if any_movable:
-            ratios = _flips.all_ratios(pts, tet, ntet)
+            ratios = _flips.all_ratios(pts, tet, ntet, cap)
             cand = np.flatnonzero(ratios < threshold)
             cand = cand[np.argsort(ratios[cand], kind="stable")].astype(np.int64)
-            moved = _flips.move_pass(pts, tet, ntet, cand, threshold, movable, counters)
-        ratios = _flips.all_ratios(pts, tet, ntet)
+            moved = _flips.move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap)
+        ratios = _flips.all_ratios(pts, tet, ntet, cap)
         n_slivers = int(np.count_nonzero(ratios < threshold))
         if n_slivers < fewest:
             fewest, stalled = n_slivers, 0

@@ -433,6 +433,27 @@ class Tetrahedralization:
         self._nt = compact(self._s.tet, self._s.nbr, self._s.sph, self._s.meta)
         return out.astype(np.int32)
 
+    def _edit_begin(self) -> TetState:
+        """The kernel bundle, for a kernel that inserts vertices itself (refinement's queue).
+
+        Arrays already handed out keep their values (the tet array is copied first).  Hand
+        the bundle back with :meth:`_edit_end` before using the object again.
+        """
+        s = self._s
+        if self._exported:
+            s = s._replace(tet=s.tet.copy())
+            self._exported = False
+        self._s = s
+        self._cache = {}
+        return s
+
+    def _edit_end(self, s: TetState, added: int) -> None:
+        """Adopt the bundle ``s`` after a kernel appended ``added`` vertices (rows after the last)."""
+        self._s = s
+        self._nv += int(added)
+        self._cache = {}
+        self._nt = compact(s.tet, s.nbr, s.sph, s.meta)
+
     def locate(self, xyz):
         """Tetrahedron containing each point (boundary included), -1 outside.
 
