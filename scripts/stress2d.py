@@ -26,7 +26,10 @@ reproducer that ``tests/test_regressions.py`` replays: ``"status": "open"`` unti
 
 Usage::
 
-    python scripts/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--timeout 60]
+    python scripts/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--timeout 60] [--jobs 2]
+
+``--jobs N`` runs N worker processes (each compiles the kernels once, then takes one mesh
+at a time); the domains drawn depend on ``--seed`` only, not on N.
 """
 
 from __future__ import annotations
@@ -258,12 +261,13 @@ def _worker(conn, methods) -> None:
             conn.send(("fail", f"{type(e).__name__}: {e}"[:2000], time.perf_counter() - t))
 
 
-class _Pool:
-    """One worker process fed one job at a time, killed and restarted on a time-out."""
+class _Worker:
+    """One worker process fed one job at a time; killed and restarted after a time-out."""
 
     def __init__(self, methods):
         self.methods = methods
         self.proc = None
+        self.job = None  # (domain index, case, method, deadline) while busy
 
     def start(self):
         a, b = mp.Pipe()
@@ -273,21 +277,67 @@ class _Pool:
         if not self.conn.poll(JIT_TIMEOUT) or self.conn.recv() != "ready":
             raise RuntimeError(f"the worker did not compile the kernels in {JIT_TIMEOUT} s")
 
-    def run(self, job, timeout):
+    def send(self, i, case, method, timeout):
         if self.proc is None or not self.proc.is_alive():
             self.start()
-        self.conn.send(job)
-        if self.conn.poll(timeout):
-            return self.conn.recv()
+        self.conn.send((case, method))
+        self.job = (i, case, method, time.monotonic() + timeout)
+
+    def kill(self):
         self.proc.kill()
         self.proc.join()
         self.proc = None
-        return ("fail", f"Timeout: no result in {timeout} s", timeout)
 
     def close(self):
         if self.proc is not None and self.proc.is_alive():
             self.conn.send(None)
             self.proc.join(5)
+
+
+def _jobs(rng, args, mw):
+    """``(domain index, case, method)`` for every valid drawn domain and method."""
+    for i in range(args.count):
+        case = generate(rng, args.methods)
+        try:
+            build(case, args.methods[0])[0].validate()
+        except mw.MeshwrightError as e:
+            print(f"[{i}] generator produced an invalid domain, skipped: {e}")
+            continue
+        for method in args.methods:
+            yield i, case, method
+
+
+def _run_all(jobs, workers, timeout, report) -> None:
+    """Feed ``jobs`` to the idle ``workers``; ``report(i, case, method, status, msg)`` for
+    each result, a worker past ``timeout`` seconds being killed (its job a failure)."""
+    from multiprocessing.connection import wait
+
+    pending = iter(jobs)
+    more = True
+    while True:
+        for w in workers:
+            if w.job is None and more:
+                nxt = next(pending, None)
+                if nxt is None:
+                    more = False
+                else:
+                    w.send(*nxt, timeout)
+        busy = [w for w in workers if w.job is not None]
+        if not busy:
+            return
+        left = min(w.job[3] for w in busy) - time.monotonic()
+        ready = wait([w.conn for w in busy], timeout=max(left, 0.0))
+        for w in busy:
+            i, case, method, deadline = w.job
+            if w.conn in ready:
+                status, msg, _ = w.conn.recv()
+            elif time.monotonic() >= deadline:
+                w.kill()
+                status, msg = "fail", f"Timeout: no result in {timeout} s"
+            else:
+                continue
+            w.job = None
+            report(i, case, method, status, msg)
 
 
 def record(case: dict, method: str, message: str) -> Path:
@@ -310,33 +360,35 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--methods", nargs="*", choices=sorted(mw.MESH_METHODS), default=sorted(mw.MESH_METHODS))
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds per mesh before it counts as a hang")
+    ap.add_argument("--jobs", type=int, default=1, help="worker processes (one core each)")
     ap.add_argument("--no-record", action="store_true", help="report failures without writing reproducers")
     args = ap.parse_args(argv)
+    if args.jobs < 1:
+        ap.error(f"--jobs must be at least 1, got {args.jobs}")
     rng = np.random.default_rng(args.seed)
-    pool = _Pool(args.methods)
-    fails = runs = 0
+    workers = [_Worker(args.methods) for _ in range(args.jobs)]
+    tally = {"runs": 0, "fails": 0, "domains": set()}
     t0 = time.perf_counter()
+
+    def report(i, case, method, status, msg):
+        tally["runs"] += 1
+        if status != "ok":
+            tally["fails"] += 1
+            where = "" if args.no_record else f" -> {record(case, method, msg).name}"
+            print(f"[{i}] {method} ({case['kind']}, size {case['size']['kind']}): {msg[:200]}{where}", flush=True)
+        tally["domains"].add(i)
+        if tally["runs"] % (100 * len(args.methods)) == 0:
+            print(f"{len(tally['domains'])} domains, {tally['runs']} meshes, {tally['fails']} failures, "
+                  f"{time.perf_counter() - t0:.0f} s", flush=True)
+
     try:
-        for i in range(args.count):
-            case = generate(rng, args.methods)
-            try:
-                build(case, args.methods[0])[0].validate()
-            except mw.MeshwrightError as e:
-                print(f"[{i}] generator produced an invalid domain, skipped: {e}")
-                continue
-            for method in args.methods:
-                status, msg, dt = pool.run((case, method), args.timeout)
-                runs += 1
-                if status != "ok":
-                    fails += 1
-                    where = "" if args.no_record else f" -> {record(case, method, msg).name}"
-                    print(f"[{i}] {method} ({case['kind']}, size {case['size']['kind']}): {msg[:200]}{where}", flush=True)
-            if (i + 1) % 100 == 0:
-                print(f"{i + 1} domains, {runs} meshes, {fails} failures, {time.perf_counter() - t0:.0f} s", flush=True)
+        _run_all(_jobs(rng, args, mw), workers, args.timeout, report)
     finally:
-        pool.close()
-    print(f"done: {args.count} domains, {runs} meshes, {fails} failures in {time.perf_counter() - t0:.0f} s")
-    return 1 if fails else 0
+        for w in workers:
+            w.close()
+    print(f"done: {args.count} domains drawn, {len(tally['domains'])} meshed, {tally['runs']} meshes, "
+          f"{tally['fails']} failures in {time.perf_counter() - t0:.0f} s")
+    return 1 if tally["fails"] else 0
 
 
 if __name__ == "__main__":
