@@ -35,7 +35,10 @@ its boundary gap's triangles become three quads each.
 
 Every metric is computed by meshwright's own :func:`meshwright.core.quality.quad_quality`
 on the quads of both meshes: quads per second (wall time, best of ``--repeat``, of the
-whole call, Gmsh's geometry set-up included), the fraction of quads among the cells,
+whole call, Gmsh's geometry set-up included; ``cpu [s]`` the process CPU time of the same
+calls, best of the runs, which a loaded machine inflates far less than the wall time:
+``cpu rate x subdivision`` is the quads per CPU second against the subdivision's), the
+fraction of quads among the cells,
 min / mean scaled Jacobian, min / max interior angle, and the throughput relative to
 each Gmsh run.  The JIT compile time of ``import meshwright`` plus a first small
 :func:`meshwright.quadrangulate` of every method is reported cold (empty Numba cache)
@@ -46,6 +49,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 
 import numpy as np
 
@@ -203,20 +207,30 @@ def main(argv=None) -> int:
     for label, domain, size, grading in cases(args.quick):
         results = {}
         for name, fn in found.items():
-            t, (pts, quads, tris) = best_time(lambda: fn(domain, size, grading), args.repeat)
-            results[name] = (t, len(quads), quality(pts, quads, tris))
-            print(f"done {label}: {name} {t:.2f} s", file=sys.stderr)
+            cpu = []
+
+            def run(fn=fn, cpu=cpu, d=domain, s=size, g=grading):
+                c0 = time.process_time()
+                out = fn(d, s, g)
+                cpu.append(time.process_time() - c0)
+                return out
+
+            t, (pts, quads, tris) = best_time(run, args.repeat)
+            results[name] = (t, len(quads), quality(pts, quads, tris), min(cpu))
+            print(f"done {label}: {name} {t:.2f} s (cpu {min(cpu):.2f} s)", file=sys.stderr)
         refs = [results.get(GMSH_BLOSSOM), results.get(GMSH_SUBDIV)]
-        for name, (t, nq, q) in results.items():
+        sub = results.get(GMSH_SUBDIV)
+        for name, (t, nq, q, c) in results.items():
             rate = nq / t
             rows.append([
-                label, name, f"{t:.3f}", f"{nq:,}", f"{q['boundary']:,}", f"{rate:,.0f}", f"{q['frac']:.3f}",
+                label, name, f"{t:.3f}", f"{c:.3f}", f"{nq:,}", f"{q['boundary']:,}", f"{rate:,.0f}", f"{q['frac']:.3f}",
                 f"{q['sj_min']:.3f}", f"{q['sj_mean']:.3f}", f"{q['ang_min']:.1f}", f"{q['ang_max']:.1f}",
                 *(f"{rate / (r[1] / r[0]):.2f}" if r else "-" for r in refs),
+                f"{(nq / c) / (sub[1] / sub[3]):.2f}" if sub else "-",
             ])
     print_table(
-        ["case", "method", "time [s]", "quads", "boundary edges", "quads/s", "quad fraction", "min SJ", "mean SJ",
-         "min angle", "max angle", "quads/s x blossom", "quads/s x subdivision"],
+        ["case", "method", "time [s]", "cpu [s]", "quads", "boundary edges", "quads/s", "quad fraction", "min SJ",
+         "mean SJ", "min angle", "max angle", "quads/s x blossom", "quads/s x subdivision", "cpu rate x subdivision"],
         rows,
     )
     return 0
