@@ -439,7 +439,7 @@ def _gap_mesh(dom: Domain, gap_dom: Domain, hfield, marker_gap: int, job):
         return gap, boundary, _line_curves(dom, gap.points, gap.cells["line"][boundary])
 
     if job.all_quad:
-        hfield = _sagitta_sources(dom, gap_dom, hfield)
+        hfield = _sagitta_sources(dom, hfield)
     for _ in range(SAGITTA_ROUNDS):
         gap, boundary, curves = attempt(hfield)
         if not job.all_quad:
@@ -455,33 +455,27 @@ def _gap_mesh(dom: Domain, gap_dom: Domain, hfield, marker_gap: int, job):
     return attempt(hfield)
 
 
-def _sagitta_sources(dom: Domain, gap_dom: Domain, hfield):
-    """The sagitta rounds of :func:`_gap_mesh` on the gap's boundary discretisation alone.
+def _sagitta_sources(dom: Domain, hfield):
+    """The sagitta rounds of :func:`_gap_mesh` on the domain's boundary discretisation alone.
 
     Each round of :func:`_gap_mesh` triangulates the whole gap; the chords it refines are
     those of the discretisation (the refinement only halves some), so the sources are
-    found here first, on ``gap_dom.discretize`` (no triangulation), at most
-    ``SAGITTA_ROUNDS`` times, with each chord's arc midpoint from its curve parameters;
-    the loop of :func:`_gap_mesh` then checks the triangulation's chords as before and
-    usually passes at once.  Chords on curves of
-    ``gap_dom`` that are not ``dom``'s (the core's outline) are not checked.
+    found here first, on ``dom.discretize`` (no triangulation; the gap's own discretisation
+    places the same chords on the domain's curves and adds the core's outline, which is
+    not checked: about twice the work), at most ``SAGITTA_ROUNDS`` times, with each
+    chord's arc midpoint from its curve parameters; the loop of :func:`_gap_mesh` then
+    checks the triangulation's chords as before and usually passes at once.
     """
-    own = {id(c): i for i, c in enumerate(dom.curves)}
-    curve_map = np.array([own.get(id(c), -1) for c in gap_dom.curves], dtype=np.int64)
     for _ in range(SAGITTA_ROUNDS):
-        disc = gap_dom.discretize(hfield)
-        cur = curve_map[disc.segment_curve]
-        mine = cur >= 0
-        seg = disc.segments[mine]
-        if not len(seg):
-            return hfield
+        disc = dom.discretize(hfield)
+        seg = disc.segments
         a, b = disc.points[seg[:, 0]], disc.points[seg[:, 1]]
         length = np.hypot(*(b - a).T)
-        # The discretisation knows each chord's curve parameters (the gap shares dom's
-        # curve objects): the arc midpoint needs no projection (a Python golden-section
-        # search per curve, 60-85 % of the three-element airfoil's quadtree time).
-        ta, tb = disc.segment_params[mine].T
-        on = dom.split(cur[mine], ta, tb)[1]
+        # The discretisation knows each chord's curve parameters: the arc midpoint needs
+        # no projection (a Python golden-section search per curve, 60-85 % of the
+        # three-element airfoil's quadtree time).
+        ta, tb = disc.segment_params.T
+        on = dom.split(disc.segment_curve, ta, tb)[1]
         bad = np.hypot(*(on - 0.5 * (a + b)).T) > SAGITTA * length
         if not bad.any():
             return hfield
