@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+import meshwright as mw
 from meshwright.core.errors import InputError
 from meshwright.core.predicates import orient2d_batch
 from meshwright.core.topology import boundary_edges_of
@@ -97,3 +98,20 @@ def test_adjacency_and_errors():
         smooth(pts, tris, relax=1.5)
     with pytest.raises(InputError, match="shape"):
         smooth(pts[:, :1], tris)
+
+
+def test_adjacency_lists_each_node_neighbours_once_in_ascending_order():
+    """Against a set built edge by edge in Python (independent of the star pass)."""
+    rng = np.random.default_rng(4)
+    tri = mw.delaunay(rng.random((400, 2)))
+    pts, tris = tri.points, tri.triangles
+    n = len(pts) + 3  # trailing nodes in no triangle get empty lists
+    off, idx, _, _ = node_adjacency(tris, n)
+    want = [set() for _ in range(n)]
+    for a, b, c in tris.tolist():
+        for u, v in ((a, b), (b, c), (c, a)):
+            want[u].add(v)
+            want[v].add(u)
+    assert off.dtype == np.int64 and idx.dtype == np.int32 and off[-1] == len(idx)
+    for v in range(n):
+        assert idx[off[v] : off[v + 1]].tolist() == sorted(want[v])

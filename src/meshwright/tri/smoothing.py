@@ -69,22 +69,45 @@ def node_adjacency(triangles: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarra
         Triangles incident to node i.
     """
     tri = np.asarray(triangles, dtype=np.int64)
-    m = len(tri)
     owners = tri.ravel()
     order = np.argsort(owners, kind="stable")
     tri_indices = (order // 3).astype(np.int32)
     tri_offsets = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(owners, minlength=n), out=tri_offsets[1:])
 
-    # Each triangle contributes both directions of its three edges; dedupe by (a, b) key.
-    a = np.concatenate([tri[:, 0], tri[:, 1], tri[:, 2], tri[:, 1], tri[:, 2], tri[:, 0]])
-    b = np.concatenate([tri[:, 1], tri[:, 2], tri[:, 0], tri[:, 0], tri[:, 1], tri[:, 2]])
-    key = np.unique(a * n + b) if m else np.zeros(0, dtype=np.int64)
-    a, b = key // n, key % n
-    nbr_indices = b.astype(np.int32)
-    nbr_offsets = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(np.bincount(a, minlength=n), out=nbr_offsets[1:])
+    nbr_offsets, nbr_indices = _star_neighbours(tri, tri_offsets, tri_indices, n)
     return nbr_offsets, nbr_indices, tri_offsets, tri_indices
+
+
+@njit(cache=True)
+def _star_neighbours(tri, tri_offsets, tri_indices, n):
+    """Distinct neighbours of every node, ascending, from its triangle star (CSR).
+
+    One pass over the stars with a stamp array: linear, where deduplicating the 6m directed
+    edges by ``np.unique`` sorted them (0.45 s of a 40k-quad pairing's 1.5 s).  Ascending
+    order per node, as that sort gave, so sums over neighbours keep their order.
+    """
+    stamp = np.full(n, -1, dtype=np.int64)
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    out = np.empty(2 * tri_indices.shape[0], dtype=np.int32)
+    k = 0
+    for v in range(n):
+        start = k
+        for j in range(tri_offsets[v], tri_offsets[v + 1]):
+            t = tri_indices[j]
+            for c in range(3):
+                u = tri[t, c]
+                if u != v and stamp[u] != v:
+                    stamp[u] = v
+                    # Insertion into the sorted run: stars hold about six neighbours.
+                    i = k
+                    while i > start and out[i - 1] > u:
+                        out[i] = out[i - 1]
+                        i -= 1
+                    out[i] = u
+                    k += 1
+        offsets[v + 1] = k
+    return offsets, out[:k].copy()
 
 
 @njit(cache=True)
