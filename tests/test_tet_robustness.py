@@ -3,7 +3,10 @@
 Each reproducer in ``tests/data/tet_fuzz`` is a surface and the keyword arguments it failed
 with: coarse rotated spheres with a size, where flat tets on the surface made size splits
 cascade and refinement starved ("did not finish in 400 rounds"), and extruded star polygons
-whose wall midpoints coincided with earlier vertices or whose recovery cascaded to the guard.
+whose wall midpoints coincided with earlier vertices or whose recovery cascaded to the guard;
+``extruded_crease170`` is fuzz case 46 (seed 7), two walls meeting at a 170 degree crease,
+whose recovery cascade failed before refinement moved into the queue kernel (and whose
+sliver stage then took 14 s of vertex moves for tets exempt from the radius-edge bound).
 Oracles are the test's own: volumes by numpy triple products against the divergence theorem
 on the input faces, areas per marker, exact rational in-circle tests for the Lawson flips.
 """

@@ -98,12 +98,15 @@ def _ratio_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
 
 
 @njit(inline="always")
-def _quality_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, cap):
-    """The sliver ratio, times ``(cap l_min / R)**2 / 2`` when the radius-edge ratio R / l_min
-    exceeds ``cap`` (> 0): a flip or move that would lift a tet over the refinement's bound
-    counts as making a sliver of it, so the sliver stage keeps the bound (0: no cap)."""
+def _quality_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, bound):
+    """The sliver ratio, times ``(B l_min / R)**2 / 2`` when the radius-edge ratio R / l_min
+    exceeds ``B = bound[0]`` (> 0; 0: no bound) and ``l_min**2 >= bound[1]``: a flip or move that
+    would lift a tet over the refinement's bound counts as making a sliver of it, so the
+    sliver stage keeps the bound.  Tets with an edge shorter than the refinement's exemption
+    are left out (near acute input angles no bound is reachable, and vertex moves for them
+    crawled on: 14 s of a 39 s fuzz case)."""
     q, big_r = _ratio_radius(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
-    if cap > 0.0 and q > 0.0:
+    if bound[0] > 0.0 and q > 0.0:
         l2 = min(
             (bx - ax) ** 2 + (by - ay) ** 2 + (bz - az) ** 2,
             (cx - ax) ** 2 + (cy - ay) ** 2 + (cz - az) ** 2,
@@ -112,8 +115,8 @@ def _quality_xyz(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, cap):
             (dx - bx) ** 2 + (dy - by) ** 2 + (dz - bz) ** 2,
             (dx - cx) ** 2 + (dy - cy) ** 2 + (dz - cz) ** 2,
         )
-        lim = cap * cap * l2
-        if big_r * big_r > lim:
+        lim = bound[0] * bound[0] * l2
+        if big_r * big_r > lim and l2 >= bound[1]:
             q *= 0.5 * lim / (big_r * big_r)
     return q
 
@@ -154,20 +157,20 @@ def _ratio_radius(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
 
 
 @njit(inline="always")
-def _ratio(pts, a, b, c, d, cap):
+def _ratio(pts, a, b, c, d, bound):
     return _quality_xyz(
         pts[a, 0], pts[a, 1], pts[a, 2], pts[b, 0], pts[b, 1], pts[b, 2],
-        pts[c, 0], pts[c, 1], pts[c, 2], pts[d, 0], pts[d, 1], pts[d, 2], cap,
+        pts[c, 0], pts[c, 1], pts[c, 2], pts[d, 0], pts[d, 1], pts[d, 2], bound,
     )
 
 
 @njit(inline="always")
-def _tet_ratio(pts, tet, t, cap):
-    return _ratio(pts, tet[4 * t], tet[4 * t + 1], tet[4 * t + 2], tet[4 * t + 3], cap)
+def _tet_ratio(pts, tet, t, bound):
+    return _ratio(pts, tet[4 * t], tet[4 * t + 1], tet[4 * t + 2], tet[4 * t + 3], bound)
 
 
 @njit(cache=True)
-def all_ratios(pts, tet, ntet, cap):
+def all_ratios(pts, tet, ntet, bound):
     """Sliver ratio of every slot, ``inf`` for dead slots.
 
     Parameters
@@ -182,7 +185,7 @@ def all_ratios(pts, tet, ntet, cap):
     """
     out = np.empty(ntet)
     for t in range(ntet):
-        out[t] = np.inf if tet[4 * t] < 0 else _tet_ratio(pts, tet, t, cap)
+        out[t] = np.inf if tet[4 * t] < 0 else _tet_ratio(pts, tet, t, bound)
     return out
 
 
@@ -223,7 +226,7 @@ def _sort3(a, b, c):
 
 
 @njit(cache=True)
-def _eval_23(pts, tet, nbr, lock, t, k, newv, cap):
+def _eval_23(pts, tet, nbr, lock, t, k, newv, bound):
     """2-3 flip of slot t across its face k; new tets into ``newv[0:12]``.
 
     ::
@@ -256,7 +259,7 @@ def _eval_23(pts, tet, nbr, lock, t, k, newv, cap):
         y = b if i == 0 else (c if i == 1 else a)
         if not _orient(pts, x, y, d, e) > 0.0:
             return -np.inf
-        worst = min(worst, _ratio(pts, x, y, d, e, cap))
+        worst = min(worst, _ratio(pts, x, y, d, e, bound))
         newv[4 * i] = x
         newv[4 * i + 1] = y
         newv[4 * i + 2] = d
@@ -265,7 +268,7 @@ def _eval_23(pts, tet, nbr, lock, t, k, newv, cap):
 
 
 @njit(cache=True)
-def _eval_ring(pts, tet, nbr, lock, ekeys, nv, t, i, j, ring, rtets, tq, rows, start, count, cap):
+def _eval_ring(pts, tet, nbr, lock, ekeys, nv, t, i, j, ring, rtets, tq, rows, start, count, bound):
     """Edge removal of the edge (i, j) (local vertices) of slot t.
 
     Walks the ring of tets around the edge pq into ``rtets`` and its vertices w_0 .. w_m-1
@@ -342,7 +345,7 @@ def _eval_ring(pts, tet, nbr, lock, ekeys, nv, t, i, j, ring, rtets, tq, rows, s
             for c in range(b + 1, m):
                 wa, wb, wc = ring[a], ring[b], ring[c]
                 if _orient(pts, wa, wb, wc, q) > 0.0 and _orient(pts, wa, wc, wb, p) > 0.0:
-                    tq[a, b, c] = min(_ratio(pts, wa, wb, wc, q, cap), _ratio(pts, wa, wc, wb, p, cap))
+                    tq[a, b, c] = min(_ratio(pts, wa, wb, wc, q, bound), _ratio(pts, wa, wc, wb, p, bound))
                 else:
                     tq[a, b, c] = -np.inf
     best = -np.inf
@@ -448,7 +451,7 @@ def _replace(tet, nbr, lock, region, old, n_old, newv, n_new, free, nfree, ntet,
 
 
 @njit(cache=True)
-def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, ekeys, nv, rows, start, count, counters, cap):
+def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, ekeys, nv, rows, start, count, counters, bound):
     """Try to flip every slot of ``cand`` that is still a sliver (ratio < threshold).
 
     For each, every 2-3 flip across its four faces and every edge removal (ring size
@@ -477,6 +480,8 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
         Incremented: ``C_23``, ``C_RING + m``, and by the net change of the number of
         slivers among the tets a flip replaces, ``C_REMOVED_FLIP`` (fewer) or
         ``C_CREATED`` (more).
+    bound : (2,) float64
+        Radius-edge bound and squared exempt edge of the quality (:func:`_quality_xyz`).
 
     Returns
     -------
@@ -499,7 +504,7 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
         t = cand[ci]
         if tet[4 * t] < 0:
             continue
-        q0 = _tet_ratio(pts, tet, t, cap)
+        q0 = _tet_ratio(pts, tet, t, bound)
         if not q0 < threshold:
             continue
         best = -np.inf
@@ -509,21 +514,21 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
             u = nbr[4 * t + k]
             if u < 0:
                 continue
-            v = _eval_23(pts, tet, nbr, lock, t, k, newv, cap)
-            worst_old = min(q0, _tet_ratio(pts, tet, u, cap))
+            v = _eval_23(pts, tet, nbr, lock, t, k, newv, bound)
+            worst_old = min(q0, _tet_ratio(pts, tet, u, bound))
             if v > worst_old and v > best:
                 best = v
                 kind = 0
                 arg = k
         for e in range(6):
             v, m, sidx = _eval_ring(
-                pts, tet, nbr, lock, ekeys, nv, t, _EDGES[e, 0], _EDGES[e, 1], ring, rtets, tq, rows, start, count, cap
+                pts, tet, nbr, lock, ekeys, nv, t, _EDGES[e, 0], _EDGES[e, 1], ring, rtets, tq, rows, start, count, bound
             )
             if m == 0 or not v > best:
                 continue
             worst_old = np.inf
             for o in range(m):
-                worst_old = min(worst_old, _tet_ratio(pts, tet, rtets[o], cap))
+                worst_old = min(worst_old, _tet_ratio(pts, tet, rtets[o], bound))
             if v > worst_old:
                 best = v
                 kind = 1
@@ -532,14 +537,14 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
             continue
         # Re-evaluate the winner to refill the buffers, then apply it.
         if kind == 0:
-            _eval_23(pts, tet, nbr, lock, t, arg, newv, cap)
+            _eval_23(pts, tet, nbr, lock, t, arg, newv, bound)
             old[0] = t
             old[1] = nbr[4 * t + arg]
             n_old = 2
             n_new = 3
         else:
             v, m, sidx = _eval_ring(
-                pts, tet, nbr, lock, ekeys, nv, t, _EDGES[arg, 0], _EDGES[arg, 1], ring, rtets, tq, rows, start, count, cap
+                pts, tet, nbr, lock, ekeys, nv, t, _EDGES[arg, 0], _EDGES[arg, 1], ring, rtets, tq, rows, start, count, bound
             )
             p = tet[4 * t + _EDGES[arg, 0]]
             q = tet[4 * t + _EDGES[arg, 1]]
@@ -560,21 +565,21 @@ def flip_pass(pts, tet, nbr, lock, region, ntet, free, nfree, cand, threshold, e
                 newv[8 * s + 7] = p
         n_bad = 0
         for o in range(n_old):
-            if _tet_ratio(pts, tet, old[o], cap) < threshold:
+            if _tet_ratio(pts, tet, old[o], bound) < threshold:
                 n_bad += 1
         for s in range(n_new):
-            if _ratio(pts, newv[4 * s], newv[4 * s + 1], newv[4 * s + 2], newv[4 * s + 3], cap) < threshold:
+            if _ratio(pts, newv[4 * s], newv[4 * s + 1], newv[4 * s + 2], newv[4 * s + 3], bound) < threshold:
                 n_bad -= 1
         counters[C_REMOVED_FLIP] += max(n_bad, 0)
         counters[C_CREATED] += max(-n_bad, 0)
         need = ntet + n_new
         if 4 * need > tet.shape[0]:
-            cap = max(2 * (tet.shape[0] // 4), need)
-            tet = grown(tet, 4 * cap)
-            nbr = grown(nbr, 4 * cap)
-            lock = grown(lock, 4 * cap)
-            region = grown(region, cap)
-            free = grown(free, cap)
+            room = max(2 * (tet.shape[0] // 4), need)
+            tet = grown(tet, 4 * room)
+            nbr = grown(nbr, 4 * room)
+            lock = grown(lock, 4 * room)
+            region = grown(region, room)
+            free = grown(free, room)
         nfree, ntet, ok = _replace(tet, nbr, lock, region, old, n_old, newv, n_new, free, nfree, ntet, ext, slots)
         if not ok:
             return tet, nbr, lock, region, free, ntet, nfree, flips, False
@@ -615,7 +620,7 @@ def vertex_stars(tet, ntet, nv):
 
 
 @njit(inline="always")
-def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor, cap):
+def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor, bound):
     """Smallest ratio and sliver count of v's star with v placed at (x, y, z).
 
     Returns -inf as soon as a tet's float ratio is <= ``floor`` (the position cannot
@@ -629,7 +634,7 @@ def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor, cap):
     worst = np.inf
     bad = 0
     for i in range(first[v], first[v + 1]):
-        r = _tet_ratio(pts, tet, slots[i], cap)
+        r = _tet_ratio(pts, tet, slots[i], bound)
         if r <= floor:
             worst = -np.inf
             break
@@ -649,7 +654,7 @@ def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor, cap):
 
 
 @njit(cache=True)
-def move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap):
+def move_pass(pts, tet, ntet, cand, threshold, movable, counters, bound):
     """Move one vertex of every slot of ``cand`` that is still a sliver, when that helps.
 
     For each movable vertex v of the sliver, candidate positions are tried: towards the
@@ -672,6 +677,8 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap):
     counters : (N_COUNTERS,) int64
         Incremented: ``C_MOVES`` and ``C_REMOVED_MOVE`` (slivers of the star before
         minus after; a move never adds slivers to the star).
+    bound : (2,) float64
+        As for :func:`flip_pass`.
 
     Returns
     -------
@@ -684,7 +691,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap):
     moved = 0
     for ci in range(cand.shape[0]):
         t = cand[ci]
-        if tet[4 * t] < 0 or not _tet_ratio(pts, tet, t, cap) < threshold:
+        if tet[4 * t] < 0 or not _tet_ratio(pts, tet, t, bound) < threshold:
             continue
         best_gain = 0.0
         best_v = -1
@@ -696,7 +703,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap):
             if not movable[v]:
                 continue
             px, py, pz = pts[v, 0], pts[v, 1], pts[v, 2]
-            q0, bad0 = _star_worst(pts, tet, first, slots, v, px, py, pz, threshold, -np.inf, cap)
+            q0, bad0 = _star_worst(pts, tet, first, slots, v, px, py, pz, threshold, -np.inf, bound)
             a = tet[4 * t + TET_FACES[k, 0]]
             b = tet[4 * t + TET_FACES[k, 1]]
             c = tet[4 * t + TET_FACES[k, 2]]
@@ -754,7 +761,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap):
             qv = q0
             xv, yv, zv = px, py, pz
             for i in range(nc):
-                q, bad = _star_worst(pts, tet, first, slots, v, cands[i, 0], cands[i, 1], cands[i, 2], threshold, qv, cap)
+                q, bad = _star_worst(pts, tet, first, slots, v, cands[i, 0], cands[i, 1], cands[i, 2], threshold, qv, bound)
                 if q > qv and bad <= bad0:
                     qv = q
                     xv, yv, zv = cands[i, 0], cands[i, 1], cands[i, 2]
@@ -770,7 +777,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap):
                         sign = 1.0 if dxn == _DIRS.shape[0] else -1.0
                         ax, ay, az = sign * nx, sign * ny, sign * nz
                     cx, cy, cz = xv + step * ax, yv + step * ay, zv + step * az
-                    q, bad = _star_worst(pts, tet, first, slots, v, cx, cy, cz, threshold, qv, cap)
+                    q, bad = _star_worst(pts, tet, first, slots, v, cx, cy, cz, threshold, qv, bound)
                     if q > qv and bad <= bad0:
                         qv = q
                         xv, yv, zv = cx, cy, cz
@@ -784,9 +791,9 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters, cap):
         if best_v < 0:
             continue
         _, before = _star_worst(
-            pts, tet, first, slots, best_v, pts[best_v, 0], pts[best_v, 1], pts[best_v, 2], threshold, -np.inf, cap
+            pts, tet, first, slots, best_v, pts[best_v, 0], pts[best_v, 1], pts[best_v, 2], threshold, -np.inf, bound
         )
-        _, after = _star_worst(pts, tet, first, slots, best_v, best_x, best_y, best_z, threshold, -np.inf, cap)
+        _, after = _star_worst(pts, tet, first, slots, best_v, best_x, best_y, best_z, threshold, -np.inf, bound)
         pts[best_v, 0] = best_x
         pts[best_v, 1] = best_y
         pts[best_v, 2] = best_z

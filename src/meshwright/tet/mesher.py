@@ -573,7 +573,7 @@ def _to_mesh(job: _Job, tz, faces, parent, where) -> Mesh:
     if job.slivers == "remove":
         # the sliver stage validates its result before returning (validating its input too,
         # as remove_slivers does, cost 16 % of the level-4 sphere)
-        mesh = _remove_slivers(mesh, job.min_dihedral, job.radius_edge)
+        mesh = _remove_slivers(mesh, job.min_dihedral, job.radius_edge, _exempt_edge(job))
     else:
         mesh.validate()
     if job.smooth:
@@ -586,7 +586,13 @@ def _to_mesh(job: _Job, tz, faces, parent, where) -> Mesh:
     return mesh
 
 
-def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float | None) -> Mesh:
+def _exempt_edge(job: _Job) -> float:
+    """The edge length below which refinement exempts a tet from the radius-edge bound."""
+    fp = job.points[job.faces]
+    return EXEMPT * float(np.linalg.norm(fp - fp[:, [1, 2, 0]], axis=2).min())
+
+
+def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float | None, exempt: float) -> Mesh:
     """Flips and interior vertex moves (tet/slivers.py) until the dihedral target is met.
 
     The sliver ratio a = r_in / R threshold starts at :data:`SLIVER_RATIO` (measured: the
@@ -601,7 +607,7 @@ def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float |
     threshold = SLIVER_RATIO
     while True:
         # the mesh is valid by construction (and each result is validated before returning)
-        out, _ = remove_slivers_of_valid(mesh, threshold, True, None, SLIVER_PASSES, radius_edge or 0.0)
+        out, _ = remove_slivers_of_valid(mesh, threshold, True, None, SLIVER_PASSES, radius_edge or 0.0, exempt)
         if min_dihedral is None:
             return out
         worst = float(tetra_quality(out.points, out.cells["tetra"])["min_dihedral"].min())

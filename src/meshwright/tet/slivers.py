@@ -214,11 +214,13 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
     return remove_slivers_of_valid(mesh, float(threshold), move_points, movable, max_iter, cap)
 
 
-def remove_slivers_of_valid(mesh: Mesh, threshold: float, move_points: bool, movable, max_iter: int, cap: float):
+def remove_slivers_of_valid(mesh: Mesh, threshold: float, move_points: bool, movable, max_iter: int, cap: float, exempt: float = 0.0):
     """:func:`remove_slivers` after its door: ``mesh`` already valid and the arguments checked
-    (``cap`` the radius-edge bound, 0.0 for none).  ``tetrahedralize`` calls it on the mesh it
+    (``cap`` the radius-edge bound, 0.0 for none; tets with an edge shorter than ``exempt``
+    are not held to it).  ``tetrahedralize`` calls it on the mesh it
     has just built: validating it again cost 16 % of the level-4 sphere.  The result is
     validated all the same."""
+    cap = np.array([cap, exempt * exempt])
     n = mesh.n_points
     fixed = _fixed_vertices(mesh)
     if movable is None:
