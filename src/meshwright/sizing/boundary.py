@@ -10,8 +10,9 @@
   sizes: ``h(x) = min_i (h_i + (g - 1) |x - x_i|)`` (capped by ``hmax`` and an optional base
   field), the Lipschitz-continuous size of P.-O. Persson, "Mesh size functions for implicit
   geometries and PDE-based gradient limiting", Engineering with Computers 22:95-109, 2006.
-  The minimum over sources uses a uniform grid with ring search and a lower bound per
-  cell, so no KD-tree (and no SciPy) is needed.
+  The minimum over sources uses a uniform grid of the sources under a pyramid of cell
+  minima, searched best first by a lower bound per cell, so no KD-tree (and no SciPy) is
+  needed.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import numba as nb
 import numpy as np
 
 from meshwright.core.errors import InputError, SizeError
+from meshwright.core.heap import heap_pop, heap_push
 from meshwright.sizing.field import SizeField, as_size_field, fmt_point
 
 __all__ = ["point_distribution", "gradation", "boundary_size"]
@@ -54,45 +56,104 @@ def point_distribution(points, segments) -> np.ndarray:
 
 
 @nb.njit(cache=True)
-def _cone_min(query, upper, src, h, slope, start, items, cell_hmin, x0, y0, w, gx, gy):
-    """``min(upper_k, min_i h_i + slope |q_k - src_i|)`` for each query ``q_k``, by ring
-    search over grid cells; the bound ``upper`` (the cap, the base field) ends the search
-    as soon as no cell can beat it, instead of at the nearest cone far from every source."""
+def _cone_min(query, upper, src, h, slope, start, items, hmin, off, gxs, gys, x0, y0, w):
+    """``min(upper_k, min_i h_i + slope |q_k - src_i|)`` for each query ``q_k``, best first
+    over a pyramid of cells (:func:`_pyramid`): a cell is opened in the order of its lower
+    bound ``hmin(cell) + slope dist(q_k, cell)`` and the search stops when the next bound
+    is not below the best value found.  A ring search on the finest grid with the global
+    smallest size as its bound visited every cell within ``best / slope`` of a query far
+    from a fine source: O(sources) per query on a boundary with a tiny feature."""
     out = np.empty(query.shape[0])
-    hglob = h.min()
+    top = gxs.shape[0] - 1
+    hkey = np.empty(256)
+    hval = np.empty((256, 3), dtype=np.int32)
     for k in range(query.shape[0]):
         qx, qy = query[k, 0], query[k, 1]
-        ci = min(max(int((qx - x0) / w), 0), gx - 1)
-        cj = min(max(int((qy - y0) / w), 0), gy - 1)
         best = upper[k]
-        r = 0
-        while r <= max(gx, gy):
-            # Cells on ring r are at least (r - 1) w away.
-            if hglob + slope * max(r - 1, 0) * w >= best:
+        n = 0
+        for j in range(gys[top]):
+            for i in range(gxs[top]):
+                hkey, hval = _grow_heap(hkey, hval, n + 1)
+                e = heap_push(hkey, hval, n, hmin[off[top] + j * gxs[top] + i])
+                hval[e, 0], hval[e, 1], hval[e, 2] = top, i, j
+                n += 1
+        while n > 0:
+            if hkey[0] >= best:
                 break
-            for j in range(cj - r, cj + r + 1):
-                if j < 0 or j >= gy:
-                    continue
-                step = 1 if (j == cj - r or j == cj + r) else 2 * r
-                i = ci - r
-                while i <= ci + r:
-                    if 0 <= i < gx:
-                        c = j * gx + i
-                        if start[c] < start[c + 1]:
-                            dx = max(x0 + i * w - qx, 0.0, qx - (x0 + (i + 1) * w))
-                            dy = max(y0 + j * w - qy, 0.0, qy - (y0 + (j + 1) * w))
-                            if cell_hmin[c] + slope * np.sqrt(dx * dx + dy * dy) < best:
-                                for p in range(start[c], start[c + 1]):
-                                    s = items[p]
-                                    ex = qx - src[s, 0]
-                                    ey = qy - src[s, 1]
-                                    v = h[s] + slope * np.sqrt(ex * ex + ey * ey)
-                                    if v < best:
-                                        best = v
-                    i += step
-            r += 1
+            lev, i, j = hval[0, 0], hval[0, 1], hval[0, 2]
+            heap_pop(hkey, hval, n)
+            n -= 1
+            if lev == 0:
+                c = j * gxs[0] + i
+                for p in range(start[c], start[c + 1]):
+                    s = items[p]
+                    ex = qx - src[s, 0]
+                    ey = qy - src[s, 1]
+                    v = h[s] + slope * np.sqrt(ex * ex + ey * ey)
+                    if v < best:
+                        best = v
+                continue
+            side = w * 2.0 ** (lev - 1)
+            for b in range(2):
+                for a in range(2):
+                    ci = 2 * i + a
+                    cj = 2 * j + b
+                    if ci >= gxs[lev - 1] or cj >= gys[lev - 1]:
+                        continue
+                    hm = hmin[off[lev - 1] + cj * gxs[lev - 1] + ci]
+                    if not hm < best:
+                        continue
+                    dx = max(x0 + ci * side - qx, 0.0, qx - (x0 + (ci + 1) * side))
+                    dy = max(y0 + cj * side - qy, 0.0, qy - (y0 + (cj + 1) * side))
+                    bound = hm + slope * np.sqrt(dx * dx + dy * dy)
+                    if bound < best:
+                        hkey, hval = _grow_heap(hkey, hval, n + 1)
+                        e = heap_push(hkey, hval, n, bound)
+                        hval[e, 0], hval[e, 1], hval[e, 2] = lev - 1, ci, cj
+                        n += 1
         out[k] = best
     return out
+
+
+@nb.njit(inline="always")
+def _grow_heap(hkey, hval, need):
+    """The heap arrays with room for ``need`` entries (doubling)."""
+    if need <= hkey.shape[0]:
+        return hkey, hval
+    cap = 2 * hkey.shape[0]
+    while cap < need:
+        cap *= 2
+    nk = np.empty(cap)
+    nv = np.empty((cap, 3), dtype=np.int32)
+    nk[: hkey.shape[0]] = hkey
+    nv[: hkey.shape[0]] = hval
+    return nk, nv
+
+
+def _pyramid(cell_hmin: np.ndarray, gx: int, gy: int):
+    """Min-pyramid of a (gy, gx) grid of cell minima: a cell of level L + 1 holds the
+    minimum of its four cells of level L (inf outside), up to a level of at most 4 cells.
+
+    Returns
+    -------
+    hmin : (total,) float64
+        Every level's cells, row-major, level 0 first.
+    off : (levels + 1,) int64
+        Start of each level in ``hmin``.
+    gxs, gys : (levels,) int64
+        Cells per row and per column of each level.
+    """
+    levels = [cell_hmin.reshape(gy, gx)]
+    while levels[-1].size > 4:
+        a = levels[-1]
+        ny, nx = a.shape
+        b = np.full((ny + ny % 2, nx + nx % 2), np.inf)
+        b[:ny, :nx] = a
+        levels.append(b.reshape(b.shape[0] // 2, 2, b.shape[1] // 2, 2).min(axis=(1, 3)))
+    off = np.concatenate([[0], np.cumsum([a.size for a in levels])]).astype(np.int64)
+    gxs = np.array([a.shape[1] for a in levels], dtype=np.int64)
+    gys = np.array([a.shape[0] for a in levels], dtype=np.int64)
+    return np.concatenate([a.ravel() for a in levels]), off, gxs, gys
 
 
 class _Graded:
@@ -120,6 +181,7 @@ class _Graded:
         self.start = np.concatenate([[0], np.cumsum(np.bincount(cell, minlength=ncell))])
         self.cell_hmin = np.full(ncell, np.inf)
         np.minimum.at(self.cell_hmin, cell, h)
+        self.pyramid = _pyramid(self.cell_hmin, self.gx, self.gy)
 
     def __call__(self, xy: np.ndarray) -> np.ndarray:
         q = np.ascontiguousarray(xy, dtype=np.float64)
@@ -130,19 +192,7 @@ class _Graded:
             out = np.minimum(upper, self.h.min())
         else:
             out = _cone_min(
-                q,
-                upper,
-                self.src,
-                self.h,
-                self.slope,
-                self.start,
-                self.items,
-                self.cell_hmin,
-                self.x0,
-                self.y0,
-                self.w,
-                self.gx,
-                self.gy,
+                q, upper, self.src, self.h, self.slope, self.start, self.items, *self.pyramid, self.x0, self.y0, self.w
             )
         return out
 
