@@ -304,6 +304,7 @@ def _run_delaunay(job: _Job) -> Mesh:
         bar = tqdm(desc="tetrahedralize", unit=" points")
     rounds = 0
     tried = set()
+    caps_only = False  # a round for the crease caps alone, after the queue got stuck
     while refine:
         rounds += 1
         if rounds > REFINE_ROUNDS:
@@ -318,7 +319,7 @@ def _run_delaunay(job: _Job) -> Mesh:
         if bad.size == 0 and flat.size == 0 and caps.size == 0:
             break
         inserted = 0
-        if bad.size and (job.field is None or job.field.constant is not None):
+        if bad.size and not caps_only and (job.field is None or job.field.constant is not None):
             # one point at a time from a queue (tet/_refine_kernel.py); a callable size
             # field is Python, so it stays with the rounds below
             h = job.field.constant if job.field is not None else np.inf
@@ -336,7 +337,7 @@ def _run_delaunay(job: _Job) -> Mesh:
             least = np.concatenate([reach_of[why], np.full(flat.size, np.inf)])
             new_interior = np.zeros((0, 3))
         else:
-            order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)
+            order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)[: 0 if caps_only else bad.size]
             target = np.concatenate([cc[order], apex])
             close = np.concatenate([np.zeros(order.size, dtype=bool), np.ones(caps.size, dtype=bool)])
             order = np.concatenate([order, caps]).astype(np.int32)
@@ -369,8 +370,12 @@ def _run_delaunay(job: _Job) -> Mesh:
         added += inserted
         if bar is not None:
             bar.update(added)
+        if added == 0 and caps.size and not caps_only:
+            caps_only = True  # the queue left tets it cannot repair (encroachment below the floor)
+            continue
         if added == 0:
             break
+        caps_only = False
         faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins)
     if bar is not None:
         bar.close()
