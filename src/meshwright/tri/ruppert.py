@@ -646,7 +646,7 @@ class _Run:
         if code == R_OFF_CURVE:
             a, b, p = int(st[S_REQ_A]), int(st[S_REQ_B]), int(st[S_REQ_P])
             raise GeometryError(
-                f"{what}: subsegment {tuple(pts[a])}-{tuple(pts[b])} of segment "
+                f"{what}: subsegment ({pts[a, 0]:.17g}, {pts[a, 1]:.17g})-({pts[b, 0]:.17g}, {pts[b, 1]:.17g}) of segment "
                 f"{int(ct.constraints.seg_in[p])} cannot be split at {where}: the point is neither on it nor "
                 "inside its two triangles (a vertex lies between the chord and the true curve)"
             )
