@@ -44,8 +44,9 @@ bench: $(VENV)/.stamp-bench
 # under tests/regressions/ that `make test` replays.  STRESS_COUNT domains per run.
 STRESS_COUNT ?= 2000
 STRESS_SEED ?= 0
+STRESS_JOBS ?= 1
 stress: $(VENV)/.stamp-test
-	$(BIN)/python scripts/stress2d.py --count $(STRESS_COUNT) --seed $(STRESS_SEED)
+	$(BIN)/python scripts/stress2d.py --count $(STRESS_COUNT) --seed $(STRESS_SEED) --jobs $(STRESS_JOBS)
 
 # Numba's on-disk cache is keyed by each function's own file: after editing a kernel that
 # other modules call (e.g. tri/_kernel2d.py), drop the cache so callers are recompiled.
