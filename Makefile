@@ -39,6 +39,7 @@ bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/frontal2d.py
 	$(BIN)/python benchmarks/quad_domains.py
 	$(BIN)/python benchmarks/scale2d.py
+	$(BIN)/python benchmarks/compile2d.py
 
 # Random domains through every 2-D method (scripts/stress2d.py); failures become reproducers
 # under tests/regressions/ that `make test` replays.  STRESS_COUNT domains per run.
