@@ -48,6 +48,7 @@ from numba import njit
 
 from meshwright.core.flat import TET_FACES
 from meshwright.core.predicates import orient3d
+from meshwright.tet._refine_kernel import _in_diametral_ball as in_face_ball
 
 __all__ = ["SIZE_FACTOR", "WALK_CAP", "circumspheres", "crease_caps", "refine_in_queue", "select_points"]
 
@@ -132,35 +133,7 @@ def _beyond(pts, tets, u, k, cx, cy, cz):
 @njit(inline="always")
 def _in_diametral_ball(pts, tets, w, k, cx, cy, cz):
     """Whether c lies strictly inside the smallest ball through face k of tet w."""
-    a = tets[w, (k + 1) % 4]
-    b = tets[w, (k + 2) % 4]
-    c = tets[w, (k + 3) % 4]
-    ux = pts[b, 0] - pts[a, 0]
-    uy = pts[b, 1] - pts[a, 1]
-    uz = pts[b, 2] - pts[a, 2]
-    vx = pts[c, 0] - pts[a, 0]
-    vy = pts[c, 1] - pts[a, 1]
-    vz = pts[c, 2] - pts[a, 2]
-    nx = uy * vz - uz * vy
-    ny = uz * vx - ux * vz
-    nz = ux * vy - uy * vx
-    n2 = nx * nx + ny * ny + nz * nz
-    if n2 == 0.0:
-        return False
-    lu = ux * ux + uy * uy + uz * uz
-    lv = vx * vx + vy * vy + vz * vz
-    # centre offset = (|u|^2 v - |v|^2 u) x n / (2 |n|^2)
-    sx = lu * vx - lv * ux
-    sy = lu * vy - lv * uy
-    sz = lu * vz - lv * uz
-    ox = (sy * nz - sz * ny) / (2.0 * n2)
-    oy = (sz * nx - sx * nz) / (2.0 * n2)
-    oz = (sx * ny - sy * nx) / (2.0 * n2)
-    r2 = ox * ox + oy * oy + oz * oz
-    dx = cx - pts[a, 0] - ox
-    dy = cy - pts[a, 1] - oy
-    dz = cz - pts[a, 2] - oz
-    return dx * dx + dy * dy + dz * dz < r2
+    return in_face_ball(pts, tets[w, (k + 1) % 4], tets[w, (k + 2) % 4], tets[w, (k + 3) % 4], cx, cy, cz)
 
 
 @njit(cache=True)
