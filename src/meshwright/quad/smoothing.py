@@ -32,6 +32,17 @@ from meshwright.core.validate_input import check_count
 __all__ = ["smooth_cells", "smooth_sliding", "cell_tables"]
 
 
+@njit(inline="always")
+def _corner_sine(points, a, b, d):
+    """Sine of the corner at b between b->d and b->a (-1 for a degenerate corner)."""
+    ux = points[d, 0] - points[b, 0]
+    uy = points[d, 1] - points[b, 1]
+    wx = points[a, 0] - points[b, 0]
+    wy = points[a, 1] - points[b, 1]
+    den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+    return (ux * wy - uy * wx) / den if den > 0.0 else -1.0
+
+
 @njit(cache=True)
 def _min_sine(points, cells, cell_ptr, cell_idx, v):
     """Smallest corner sine over the cells around vertex ``v``."""
@@ -43,12 +54,7 @@ def _min_sine(points, cells, cell_ptr, cell_idx, v):
             a = cells[c, (k + nv - 1) % nv]
             b = cells[c, k]
             d = cells[c, (k + 1) % nv]
-            ux = points[d, 0] - points[b, 0]
-            uy = points[d, 1] - points[b, 1]
-            wx = points[a, 0] - points[b, 0]
-            wy = points[a, 1] - points[b, 1]
-            den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
-            s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
+            s = _corner_sine(points, a, b, d)
             if s < worst:
                 worst = s
     return worst
@@ -74,12 +80,7 @@ def _moved_ok(points, cells, cell_ptr, cell_idx, v, bound):
             a = cells[c, (k + nv - 1) % nv]
             b = cells[c, k]
             d = cells[c, (k + 1) % nv]
-            ux = points[d, 0] - points[b, 0]
-            uy = points[d, 1] - points[b, 1]
-            wx = points[a, 0] - points[b, 0]
-            wy = points[a, 1] - points[b, 1]
-            den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
-            s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
+            s = _corner_sine(points, a, b, d)
             if s < bound:
                 return False
     return True
