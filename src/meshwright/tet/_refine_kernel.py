@@ -45,6 +45,7 @@ from numba import njit
 from meshwright.core.bucket_queue import Q_N, bq_pop, bq_push
 from meshwright.core.flat import TET_FACES
 from meshwright.core.predicates import orient3d
+from meshwright.core.rng import xorshift32
 from meshwright.tet._kernel3d import (
     BROKEN,
     DELETED,
@@ -273,7 +274,7 @@ def refine_queue(s, bar, sol, vbound, head, nxt, qval, hdr, enc, out, re2, rmax2
         tet not yet handled (the entry being handled is pushed back first).
     """
     pts, tet, nbr, sph, rank, meta, cav, bnd, twin, vloc, etab, vmark, free = s
-    state = np.uint32(rng_state)
+    state = np.int64(rng_state) & 0xFFFFFFFF
     ccap = cav.shape[0]
     fcap = bnd.shape[0] // 4
     qcap = qval.shape[0]
@@ -298,10 +299,8 @@ def refine_queue(s, bar, sol, vbound, head, nxt, qval, hdr, enc, out, re2, rmax2
         hit = -1
         arrived = False
         for _ in range(WALK_CAP):
-            state ^= state << np.uint32(13)
-            state ^= state >> np.uint32(17)
-            state ^= state << np.uint32(5)
-            k0 = int(state & np.uint32(3))
+            state = xorshift32(state)
+            k0 = state & 3
             moved = False
             for j in range(4):
                 k = (k0 + j) & 3

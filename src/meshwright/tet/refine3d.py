@@ -48,6 +48,7 @@ from numba import njit
 
 from meshwright.core.flat import TET_FACES
 from meshwright.core.predicates import orient3d
+from meshwright.core.rng import xorshift32
 from meshwright.tet._refine_kernel import _in_diametral_ball as in_face_ball
 
 __all__ = ["SIZE_FACTOR", "WALK_CAP", "circumspheres", "crease_caps", "refine_in_queue", "select_points"]
@@ -171,7 +172,7 @@ def select_points(pts, tets, nbr, barrier, cc, r2, bad, target, close, rng_state
     owner = np.full(nt, -1, dtype=np.int32)
     stamp = np.zeros(nt, dtype=np.int32)
     queue = np.empty(nt, dtype=np.int32)
-    state = np.uint32(rng_state)
+    state = np.int64(rng_state) & 0xFFFFFFFF
     for i in range(b):
         t = bad[i]
         cx = target[i, 0]
@@ -183,10 +184,8 @@ def select_points(pts, tets, nbr, barrier, cc, r2, bad, target, close, rng_state
         u = t
         ok = False
         for _ in range(WALK_CAP):
-            state ^= state << np.uint32(13)
-            state ^= state >> np.uint32(17)
-            state ^= state << np.uint32(5)
-            k0 = int(state & np.uint32(3))
+            state = xorshift32(state)
+            k0 = state & 3
             moved = False
             for j in range(4):
                 k = (k0 + j) & 3
