@@ -532,8 +532,8 @@ def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax, floor: float, guard: 
     hard_c = vol[cand] > vmax[cand]
     reach_c = np.where(hard_c, guard, np.inf)
     if job.field is not None:
-        centroid = pts[tets[cand]].mean(axis=1)
-        h = job.field(centroid)
+        # a constant size needs no centroids (their gather was most of this function's time)
+        h = job.field.constant if job.field.constant is not None else job.field(pts[tets[cand]].mean(axis=1))
         big = r > SIZE_FACTOR * h
         hard_c |= big
         reach_c = np.where(big & ~np.isfinite(reach_c), np.maximum(guard, SIZE_SPLIT * h), reach_c)
@@ -577,8 +577,14 @@ def _to_mesh(job: _Job, tz, faces, parent, where) -> Mesh:
     )
     if job.slivers == "remove":
         # the sliver stage validates its result before returning (validating its input too,
-        # as remove_slivers does, cost 16 % of the level-4 sphere)
-        mesh = _remove_slivers(mesh, job.min_dihedral, job.radius_edge, _exempt_edge(job))
+        # as remove_slivers does, cost 16 % of the level-4 sphere); it gets the solid tets'
+        # neighbours and subfaces from the tetrahedralization instead of sorting faces again
+        newt = np.cumsum(solid, dtype=np.int64) - 1
+        nb = nbr[solid]
+        inside = nb >= 0
+        inside[inside] = solid[nb[inside]]
+        nb = np.where(inside, newt[np.maximum(nb, 0)], -1).astype(np.int32)
+        mesh = _remove_slivers(mesh, job.min_dihedral, job.radius_edge, _exempt_edge(job), nb, barrier[solid])
     else:
         mesh.validate()
     if job.smooth:
@@ -597,14 +603,15 @@ def _exempt_edge(job: _Job) -> float:
     return EXEMPT * float(np.linalg.norm(fp - fp[:, [1, 2, 0]], axis=2).min())
 
 
-def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float | None, exempt: float) -> Mesh:
+def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float | None, exempt: float, neighbors, locked) -> Mesh:
     """Flips and interior vertex moves (tet/slivers.py) until the dihedral target is met.
 
     The sliver ratio a = r_in / R threshold starts at :data:`SLIVER_RATIO` (measured: the
     smallest dihedral angle then reaches 10-14 degrees on the test surfaces, where the
     chapter's a < 0.01 leaves 1-3 degrees) and rises while a requested ``min_dihedral`` is
     not met, up to :data:`SLIVER_RATIO_MAX`; a target still unmet raises
-    :class:`MeshingError` naming the smallest angle reached.
+    :class:`MeshingError` naming the smallest angle reached.  ``neighbors`` (m, 4) int32 and
+    ``locked`` (m, 4) bool (subfaces) describe ``mesh``'s tetra block for the first pass.
     """
     from meshwright.core.quality import tetra_quality
     from meshwright.tet.slivers import remove_slivers_of_valid
@@ -612,7 +619,8 @@ def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float |
     threshold = SLIVER_RATIO
     while True:
         # the mesh is valid by construction (and each result is validated before returning)
-        out, _ = remove_slivers_of_valid(mesh, threshold, True, None, SLIVER_PASSES, radius_edge or 0.0, exempt)
+        out, _ = remove_slivers_of_valid(mesh, threshold, True, None, SLIVER_PASSES, radius_edge or 0.0, exempt, neighbors, locked)
+        neighbors = locked = None  # they describe the first pass's input only
         if min_dihedral is None:
             return out
         worst = float(tetra_quality(out.points, out.cells["tetra"])["min_dihedral"].min())
