@@ -549,7 +549,7 @@ def test_sliding_smoother_keeps_quads_convex_on_the_curve_and_the_minimum():
     xy, quads, lines = fill.points, fill.quads, fill.lines
     fixed = np.zeros(len(xy), dtype=bool)
     fixed[lines[0, 0]] = True
-    def onto_circle(nodes, p):
+    def onto_circle(nodes, p, at):
         return p / np.hypot(*p.T)[:, None]
 
     moved = smooth_sliding(xy, quads, np.zeros((0, 3), np.int32), lines, fixed, onto_circle, 5)

@@ -64,6 +64,8 @@ __all__ = [
     "loop_angles",
     "min_sine",
     "polish",
+    "shift_next",
+    "shift_prev",
     "signed_area",
     "star_quads",
 ]
@@ -75,11 +77,22 @@ VOID_SMOOTH = 8  # guarded Laplacian sweeps of the void fill before non-convex p
 STAR_MAX = 12  # a part of up to this many nodes no chord can cut is closed around a centre node  # best-scored chords tested for crossings before giving up on a part
 
 
+def shift_next(a: np.ndarray) -> np.ndarray:
+    """``a`` with row i holding row i + 1 (cyclic): ``np.roll(a, -1, axis=0)`` without its
+    per-call overhead, which the per-row paving calls thousands of times."""
+    return np.concatenate((a[1:], a[:1]))
+
+
+def shift_prev(a: np.ndarray) -> np.ndarray:
+    """``a`` with row i holding row i - 1 (cyclic): ``np.roll(a, 1, axis=0)``."""
+    return np.concatenate((a[-1:], a[:-1]))
+
+
 def loop_angles(xy: np.ndarray) -> np.ndarray:
     """Interior angles (radians, in (0, 2 pi]) of a closed node sequence with the region on
     its left: from the edge to the next node counter-clockwise to the edge to the previous."""
-    en = np.roll(xy, -1, axis=0) - xy
-    ep = np.roll(xy, 1, axis=0) - xy
+    en = shift_next(xy) - xy
+    ep = shift_prev(xy) - xy
     a = np.arctan2(en[:, 0] * ep[:, 1] - en[:, 1] * ep[:, 0], (en * ep).sum(axis=1))
     return np.where(a <= 0.0, a + 2.0 * np.pi, a)
 
@@ -87,7 +100,7 @@ def loop_angles(xy: np.ndarray) -> np.ndarray:
 def signed_area(xy: np.ndarray) -> float:
     """Shoelace area of a closed node sequence (positive counter-clockwise)."""
     x, y = xy[:, 0], xy[:, 1]
-    return 0.5 * float((x * np.roll(y, -1) - np.roll(x, -1) * y).sum())
+    return 0.5 * float((x * shift_next(y) - shift_next(x) * y).sum())
 
 
 def min_sine(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
@@ -118,7 +131,7 @@ def edges_of(fronts) -> tuple[np.ndarray, np.ndarray]:
     if not fronts:
         z = np.zeros(0, dtype=np.int64)
         return z, z
-    return np.concatenate(fronts), np.concatenate([np.roll(f, -1) for f in fronts])
+    return np.concatenate(fronts), np.concatenate([shift_next(f) for f in fronts])
 
 
 def closure_quads(xy, loop):
@@ -181,15 +194,15 @@ def star_quads(xy, loop):
     a = signed_area(p)
     if a <= 0.0:
         return None, None
-    cross = p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]
-    centroid = ((p + np.roll(p, -1, axis=0)) * cross[:, None]).sum(axis=0) / (6.0 * a)
+    cross = p[:, 0] * shift_next(p[:, 1]) - shift_next(p[:, 0]) * p[:, 1]
+    centroid = ((p + shift_next(p)) * cross[:, None]).sum(axis=0) / (6.0 * a)
     g = len(xy)
     best, pick = -np.inf, (None, None)
     for c in (p.mean(axis=0), centroid):
         trial = np.vstack([xy, c])
         for s in range(2):
             r = np.roll(f, -s)
-            q = np.column_stack([np.full(len(f) // 2, g), r[0::2], r[1::2], np.roll(r[0::2], -1)])
+            q = np.column_stack([np.full(len(f) // 2, g), r[0::2], r[1::2], shift_next(r[0::2])])
             if convex(trial, q).all():
                 w = float(min_sine(trial, q).min())
                 if w > best:
@@ -250,7 +263,7 @@ def _ranked(split, length, h, k):
 def _geometry(xy, g):
     p = xy[g]
     ang = np.degrees(loop_angles(p))
-    th = np.degrees(np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T))
+    th = np.degrees(np.arctan2(*(shift_next(p) - p)[:, ::-1].T))
     return p, ang, th
 
 
@@ -269,7 +282,7 @@ def _best_chord(xy, g, field, oa, ob):
     order = _ranked(split, length, h, k)
     if order is None:
         return None
-    hit = _first_clear(xy, p[i], p[j], g[i], g[j], k, order, np.concatenate([oa, g]), np.concatenate([ob, np.roll(g, -1)]))
+    hit = _first_clear(xy, p[i], p[j], g[i], g[j], k, order, np.concatenate([oa, g]), np.concatenate([ob, shift_next(g)]))
     if hit is None:
         return None
     c, pts, ids = hit
@@ -398,7 +411,7 @@ def fill_voids(xy, voids, field, seed):
 
     nodes = np.unique(np.concatenate(voids))
     local = {int(v): i for i, v in enumerate(nodes.tolist())}
-    seg = np.array([[local[int(a)], local[int(b)]] for f in voids for a, b in zip(f, np.roll(f, -1))], dtype=np.int64)
+    seg = np.array([[local[int(a)], local[int(b)]] for f in voids for a, b in zip(f, shift_next(f))], dtype=np.int64)
     # An edge a paving boundary runs both ways (a slit left by joints and seams) has the
     # region on both sides: one copy, as a constraint with no side.
     n = len(nodes)
@@ -413,7 +426,7 @@ def fill_voids(xy, voids, field, seed):
     # edges, which no pairing takes.  The spacing of the void's own boundary nodes
     # (chapter 18.3's background), where smaller, lets the front grow from it instead.
     bg = BackgroundGrid.from_boundary(ct.points, ct.segments()[0], ct.triangles(False))
-    pts, tris = advancing_front(ct, as_size_field(lambda p: np.minimum(field(p), bg(p))))
+    pts, tris = advancing_front(ct, as_size_field(lambda p: np.minimum(field(p), bg(p))), finish=False)
     # Back to global ids: the triangulation's own vertices, then the front's new nodes.
     n_ct = ct.n_points
     glob = np.empty(n_ct, dtype=np.int64)
@@ -438,7 +451,7 @@ def encloses(xy, f, others) -> bool:
     """Whether the first node of another paving boundary lies inside the polygon ``f``
     (crossing count; then ``f`` alone does not bound its region)."""
     p = xy[f]
-    q = np.roll(p, -1, axis=0)
+    q = shift_next(p)
     for g in others:
         x, y = xy[g[0]]
         up = (p[:, 1] <= y) != (q[:, 1] <= y)
@@ -515,7 +528,7 @@ def consistent(fronts) -> bool:
     if not fronts:
         return True
     a = np.concatenate(fronts)
-    b = np.concatenate([np.roll(f, -1) for f in fronts])
+    b = np.concatenate([shift_next(f) for f in fronts])
     key = a * (int(max(a.max(), b.max())) + 1) + b
     return bool((a != b).all() and len(np.unique(key)) == len(key))
 
@@ -528,7 +541,7 @@ def despike(front: np.ndarray) -> np.ndarray:
     for _ in range(len(front)):
         if len(f) <= 2:
             return f
-        hit = np.flatnonzero(np.roll(f, 1) == np.roll(f, -1))
+        hit = np.flatnonzero(shift_prev(f) == shift_next(f))
         if not len(hit):
             return f
         i = int(hit[0])
@@ -543,7 +556,7 @@ def front_slots(pts, fronts):
     fid = np.concatenate([np.full(len(f), k, dtype=np.int64) for k, f in enumerate(fronts)])
     pos = np.concatenate([np.arange(len(f), dtype=np.int64) for f in fronts])
     th = np.concatenate([
-        np.arctan2(*(np.roll(pts[f], -1, axis=0) - pts[f])[:, ::-1].T) + 0.5 * loop_angles(pts[f]) for f in fronts
+        np.arctan2(*(shift_next(pts[f]) - pts[f])[:, ::-1].T) + 0.5 * loop_angles(pts[f]) for f in fronts
     ])
     return ids, fid, pos, np.column_stack([np.cos(th), np.sin(th)])
 

@@ -25,7 +25,7 @@ import numpy as np
 from meshwright.core.errors import InputError, MeshingError, fmt_point
 from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import as_cells, as_points, check_count
-from meshwright.geometry.curves import Line, Polyline
+from meshwright.geometry.curves import Line, Parametric, Polyline
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.smoothing import smooth_sliding
@@ -222,7 +222,72 @@ def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, 
     if not sliding:
         fixed[lines.ravel()] = True
 
-    def project(nodes, p):
-        return domain.project(vcurve[nodes], p)[1]
-
+    project = _CurveSlider(domain, vcurve)
     return smooth_sliding(xy, quads, np.asarray(tris).reshape(-1, 3), lines, fixed, project, passes)
+
+
+class _CurveSlider:
+    """``project(nodes, xy, at)`` for :func:`~meshwright.quad.smoothing.smooth_sliding`:
+    trial positions ``xy`` of sliding nodes now at ``at``, put on the nodes' curves.
+
+    On lines, arcs and polylines it is the curve's own closest point.  On parametric
+    curves (splines, airfoil sections) that is a golden-section search of some forty
+    curve evaluations per call; here a node's parameter is found that way once, and each
+    trial is then one Newton step of the same minimisation from it,
+    ``t' = t + (xy - at) . C'(t) / |C'(t)|^2`` (``C'`` by a central difference), placed
+    at ``C(t')``: exactly on the curve, three evaluations per call.  The parameters of
+    the last call's trials are remembered, so the node's next position is recognised
+    (exact coordinates) and needs no search.  A step that would leave ``[t0, t1]`` (the
+    seam of a closed curve) keeps the node where it is.
+    """
+
+    SLOTS = 3  # remembered (parameter, point) pairs per node: where it is, and two trials
+
+    def __init__(self, domain: Domain, vcurve: np.ndarray):
+        self.domain = domain
+        self.vcurve = vcurve
+        self.param = np.array([isinstance(c, Parametric) for c in domain.curves], dtype=bool)
+        self.memo_t = np.full((len(vcurve), self.SLOTS), np.nan)
+        self.memo_xy = np.full((len(vcurve), self.SLOTS, 2), np.nan)
+
+    def __call__(self, nodes, xy, at):
+        nodes = np.asarray(nodes, dtype=np.int64)
+        cid = self.vcurve[nodes]
+        out = np.empty_like(xy)
+        par = self.param[cid]
+        if (~par).any():
+            out[~par] = self.domain.project(cid[~par], xy[~par])[1]
+        for c in np.unique(cid[par]).tolist():
+            m = np.flatnonzero(cid == c)
+            out[m] = self._slide(self.domain.curves[c], nodes[m], xy[m], at[m])
+        return out
+
+    def _slide(self, curve, v, xy, at):
+        hit = (self.memo_xy[v] == at[:, None, :]).all(axis=2)
+        t = np.where(hit.any(axis=1), self.memo_t[v, np.argmax(hit, axis=1)], np.nan)
+        miss = np.isnan(t)
+        if miss.any():
+            t[miss] = curve.project(at[miss])
+        lo, hi = curve.t0, curve.t1
+        h = 1e-7 * (hi - lo)
+        ta, tb = np.maximum(t - h, lo), np.minimum(t + h, hi)
+        ends = curve.evaluate(np.concatenate([ta, tb]))
+        dc = (ends[len(t):] - ends[: len(t)]) / (tb - ta)[:, None]
+        step = ((xy - at) * dc).sum(axis=1) / np.maximum((dc * dc).sum(axis=1), 1e-300)
+        t_new = t + step
+        inside = (t_new >= lo) & (t_new <= hi)
+        t_new = np.where(inside, t_new, t)
+        out = curve.evaluate(t_new)
+        out[~inside] = at[~inside]
+        # Remember where each node is and its trials, in the order the caller gives them.
+        order = np.argsort(v, kind="stable")
+        first = np.ones(len(v), dtype=bool)
+        first[1:] = v[order][1:] != v[order][:-1]
+        start = np.maximum.accumulate(np.where(first, np.arange(len(v)), 0))
+        rank = np.empty(len(v), dtype=np.int64)
+        rank[order] = np.arange(len(v)) - start
+        self.memo_t[v, 0], self.memo_xy[v, 0] = t, at
+        keep = rank + 1 < self.SLOTS
+        self.memo_t[v[keep], rank[keep] + 1] = t_new[keep]
+        self.memo_xy[v[keep], rank[keep] + 1] = out[keep]
+        return out

@@ -123,7 +123,7 @@ __all__ = [
     "ParityError", "PairingReport", "pair_domain", "pairing_fill", "make_loops_even",
     "pair_triangles", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS", "DOMAIN_STALE_WALKS",
     "CENTRE_ROUNDS",
-    "CENTRE_KEEP", "FLAT_ANGLE", "RESPACE",
+    "CENTRE_KEEP", "FLAT_ANGLE", "RESPACE", "CHORD_RINGS",
 ]
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
@@ -140,6 +140,7 @@ CENTRE_ROUNDS = 2  # rounds of splitting the still unpaired triangles at their c
 CENTRE_KEEP = 0.3  # ... kept only if it pairs everything with a scaled Jacobian of at least this
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
 RESPACE = 6  # segments on each side of a parity split spaced evenly again
+CHORD_RINGS = 2  # rings of nodes around a chord refinement's new nodes smoothed again
 
 
 class ParityError(GeometryError):
@@ -636,7 +637,7 @@ def pair_domain(
         # Chapter 18.3's background, as triangulate's front takes it: the triangulated
         # boundary nodes with their point distribution function.
         field = BackgroundGrid.from_boundary(ct.points, ct.segments()[0], ct.triangles(False))
-    pts, tris = advancing_front(ct, field, max_points=cap)
+    pts, tris = advancing_front(ct, field, max_points=cap, finish=False)
     base = ct.to_mesh(segment_markers=disc.segment_markers, fill=(pts, tris))
     # The mesh keeps the front's triangle order; recover each line's curve.
     used = np.zeros(len(pts), dtype=bool)
@@ -695,11 +696,18 @@ def pair_domain(
     fill = QuadFill(xy, quads, lt, lines, line_marker, line_curve)
     split = bool(all_quad and len(lt))
     if split:
+        n_before = len(fill.points)
         fill = chord_split(fill, domain, cap)
-        # The refinement appends its nodes: the old indices, interior points included, stay valid.
+        # The refinement appends its nodes: the old indices, interior points included, stay
+        # valid.  Only the quads on the chords changed; the rest was smoothed already, so
+        # the new nodes and two rings of nodes around them move, the others stay.
+        near = np.zeros(len(fill.points), dtype=bool)
+        near[n_before:] = True
+        for _ in range(CHORD_RINGS):
+            near[fill.quads[near[fill.quads].any(axis=1)].ravel()] = True
         moved = smooth_quads(
-            fill.points, fill.quads, fill.triangles, fill.lines, fill.line_curves, domain, fixed_pts, passes,
-            smooth_boundary,
+            fill.points, fill.quads, fill.triangles, fill.lines, fill.line_curves, domain,
+            np.concatenate([fixed_pts, np.flatnonzero(~near)]), passes, smooth_boundary,
         )
         fill = fill._replace(points=np.ascontiguousarray(moved))
     _check(fill.points, fill.quads, fill.triangles)

@@ -61,7 +61,8 @@ Steps, as the chapter numbers them
    rows; :class:`PavingReport` counts those quads.
 8. **Cleanup.**  Triangles the pairing of a void could not pair are finished by chord
    refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split);
-   then :data:`FINAL_SMOOTH` sweeps of the guarded Laplacian, and a max-min pattern
+   then :data:`FINAL_SMOOTH` sweeps of the guarded Laplacian (after the first, only
+   where nodes still move: :data:`FINAL_SETTLE`), and a max-min pattern
    search (``_paving_close.polish``) moves the free nodes of every quad with a corner sine
    below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles).
 
@@ -110,6 +111,8 @@ from meshwright.quad._paving_close import (
     front_slots,
     loop_angles,
     polish,
+    shift_next,
+    shift_prev,
     signed_area,
 )
 from meshwright.quad.pairing import make_loops_even
@@ -120,6 +123,7 @@ __all__ = [
     "CONNECT",
     "CORNER_ANGLE",
     "END_ANGLE",
+    "FINAL_SETTLE",
     "FINAL_SMOOTH",
     "MAX_ROUNDS",
     "REVERSAL_ANGLE",
@@ -148,7 +152,8 @@ SPLIT_MAX = 80  # paving boundaries up to this many nodes may be closed by chord
 MAX_ROUNDS = 64  # rounds of rows beyond the bound from the domain's extent
 POLISH_BELOW = 0.8  # quads with a corner sine below this (about 53 degrees) get the max-min cleanup ...
 POLISH_ROUNDS = 8  # ... this many passes
-FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end
+FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end ...
+FINAL_SETTLE = 1e-2  # ... after the first, only where a node moved more than this times an edge
 ROW_SMOOTH = 4  # ... over the two previous rows after each row
 
 
@@ -227,6 +232,10 @@ class _Paver:
         self.field = field
         self.cap = cap
         self.round_of = np.full(len(xy), -1, dtype=np.int64)
+        # The size field at each node, NaN until asked and again once the node moves: a
+        # graded field costs a search per point, and every row and joint asks it at the
+        # paving nodes, which stay where they are until they leave the front.
+        self.h = np.full(len(xy), np.nan)
         self.quads: list[np.ndarray] = []
         self.quad_round: list[int] = []
         self.tucks = self.wedges = self.seams = self.closures = self.rows = 0
@@ -242,7 +251,9 @@ class _Paver:
             grow[: self.n] = self.pts[: self.n]
             self.pts = grow
             self.round_of = np.concatenate([self.round_of, np.full(len(grow) - len(self.round_of), -1)])
+            self.h = np.concatenate([self.h, np.full(len(grow) - len(self.h), np.nan)])
         self.pts[self.n : self.n + k] = p
+        self.h[self.n : self.n + k] = np.nan
         self.round_of[self.n : self.n + k] = rnd
         ids = np.arange(self.n, self.n + k, dtype=np.int64)
         self.n += k
@@ -252,6 +263,15 @@ class _Paver:
     def xy(self) -> np.ndarray:
         return self.pts[: self.n]
 
+    def size_at(self, ids: np.ndarray) -> np.ndarray:
+        """The size field at nodes ``ids`` (evaluated only where not known yet)."""
+        h = self.h[ids]
+        miss = np.isnan(h)
+        if miss.any():
+            h[miss] = self.field(self.pts[ids[miss]])
+            self.h[ids[miss]] = h[miss]
+        return h
+
     def add_quads(self, q: np.ndarray, rnd: int) -> None:
         self.quads.append(np.asarray(q, dtype=np.int64).reshape(-1, 4))
         self.quad_round.append(rnd)
@@ -259,19 +279,19 @@ class _Paver:
     # -- step 1, 3, 6: one row --------------------------------------------------------
     def _depth(self, f: np.ndarray) -> np.ndarray:
         p = self.pts[f]
-        le = np.hypot(*(np.roll(p, -1, axis=0) - p).T)
-        lm = 0.5 * (le + np.roll(le, 1))
-        d = np.clip(self.field(p), 0.5 * lm, 2.0 * lm)
-        return 0.25 * (np.roll(d, 1) + 2.0 * d + np.roll(d, -1))
+        le = np.hypot(*(shift_next(p) - p).T)
+        lm = 0.5 * (le + shift_prev(le))
+        d = np.clip(self.size_at(f), 0.5 * lm, 2.0 * lm)
+        return 0.25 * (shift_prev(d) + 2.0 * d + shift_next(d))
 
     def _adjust(self, f, ang, m, depth, calm_only):
         """Tucks and wedges from the running surplus of predicted edge lengths (step 6,
         :func:`~meshwright.quad._paving_kernel.adjust_row`)."""
         p = self.pts[f]
-        th = np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T) + 0.5 * ang
+        th = np.arctan2(*(shift_next(p) - p)[:, ::-1].T) + 0.5 * ang
         dist = depth / np.maximum(np.sin(0.5 * ang), 0.5)
         prov = p + dist[:, None] * np.column_stack([np.cos(th), np.sin(th)])
-        nxt = np.roll(prov, -1, axis=0)
+        nxt = shift_next(prov)
         rho = np.hypot(*(nxt - prov).T) / self.field(0.5 * (prov + nxt))
         tucks, wedges = pk.adjust_row(
             m, rho, calm_only, f >= self.n_fixed, np.degrees(ang), ADJUST_GAP, TUCK_AT, TUCK_MAX_ANGLE,
@@ -290,11 +310,11 @@ class _Paver:
         m = node_classes(np.degrees(ang))
         depth = self._depth(f) * scale
         m = self._adjust(f, ang, m, depth, calm_only)
-        th0 = np.arctan2(*(np.roll(p, -1, axis=0) - p)[:, ::-1].T)
+        th0 = np.arctan2(*(shift_next(p) - p)[:, ::-1].T)
         ok, new_xy, q, front, owner = pk.row_nodes(p, f.astype(np.int64), ang, m, depth, th0, self.n)
         if not ok:
             return None
-        front = front[front != np.roll(front, 1)] if len(front) > 1 else front
+        front = front[front != shift_prev(front)] if len(front) > 1 else front
         if len(front) < 2 or len(front) % 2 or (np.sort(q, axis=1)[:, 1:] == np.sort(q, axis=1)[:, :-1]).any():
             return None
         if len(front) > 6:
@@ -303,9 +323,9 @@ class _Paver:
             loc = front - self.n
             for _ in range(ROW_RELAX):
                 c = new_xy[loc]
-                t = np.roll(c, -1, axis=0) - np.roll(c, 1, axis=0)
+                t = shift_next(c) - shift_prev(c)
                 t /= np.maximum(np.hypot(*t.T), 1e-300)[:, None]
-                lap = 0.25 * (np.roll(c, 1, axis=0) + np.roll(c, -1, axis=0) - 2.0 * c)
+                lap = 0.25 * (shift_prev(c) + shift_next(c) - 2.0 * c)
                 # Along the row only: corners keep their place, the row its depth.
                 new_xy[loc] = c + (lap * t).sum(axis=1)[:, None] * t
         return new_xy, q, front, depth, owner
@@ -316,7 +336,7 @@ class _Paver:
         nodes whose new quads fail)."""
         n_old = self.n
         e = np.concatenate([quads[:, [k, (k + 1) % 4]] for k in range(4)])
-        old = np.sort(np.column_stack([f, np.roll(f, -1)]), axis=1)
+        old = np.sort(np.column_stack([f, shift_next(f)]), axis=1)
         key = np.sort(e, axis=1)
         n = len(xy)
         # Edges as one int64 key each: a 1-D unique, not the row-wise one (a lexsort).
@@ -403,6 +423,7 @@ class _Paver:
         q[q == b] = a
         old = self.pts[a].copy()
         self.pts[a] = 0.5 * (self.pts[a] + self.pts[b]) if at is None else at
+        self.h[a] = np.nan
         ok = all(len(set(r)) == 4 for r in q.tolist()) and convex(self.xy, q).all()
         if not ok:
             self.pts[a] = old
@@ -424,7 +445,7 @@ class _Paver:
                 break
             ids, fid, pos, nrm = front_slots(self.pts, fronts)
             p = self.pts[ids]
-            h = self.field(p)
+            h = self.size_at(ids)
             pair = closest_facing(ids, fid, pos, p, nrm, CONNECT * h, [len(f) for f in fronts], tried)
             if pair is None:
                 break
@@ -511,7 +532,7 @@ class _Paver:
                     self.add_points(pts, rnd)
             if joined is not None:
                 p = self.pts[joined]
-                perimeter = float(np.hypot(*(np.roll(p, -1, axis=0) - p).T).sum())
+                perimeter = float(np.hypot(*(shift_next(p) - p).T).sum())
                 size = float(np.mean(self.field(p)))
                 thin = signed_area(p) < THIN * perimeter * size
                 if (thin or len(joined) <= SPLIT_MAX) and self.close(joined, rest, rnd, limit=len(joined)):
@@ -536,6 +557,7 @@ class _Paver:
         local = (np.cumsum(mark) - 1)[q]
         moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH)
         self.pts[used] = moved
+        self.h[used[free]] = np.nan
 
 
 def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary: bool = False, seed=0,
@@ -689,7 +711,7 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
         fill = chord_split(fill, domain, cap)
     fixed = np.zeros(len(fill.points), dtype=bool)
     fixed[fill.lines.ravel()] = True
-    moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH)
+    moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH, FINAL_SETTLE)
     if not len(fill.triangles):
         moved = polish(moved, fill.quads, fixed, POLISH_BELOW, POLISH_ROUNDS)
     fill = fill._replace(points=np.ascontiguousarray(moved))

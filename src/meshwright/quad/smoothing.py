@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.errors import InputError
 from meshwright.core.predicates import orient2d
 from meshwright.core.validate_input import check_count
 
@@ -99,13 +100,30 @@ def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
 
 
 @njit(cache=True)
-def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes):
-    """Gauss-Seidel guarded Laplacian sweeps in place; returns the moves kept."""
+def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, settle):
+    """Gauss-Seidel guarded Laplacian sweeps in place; returns the moves kept.
+
+    With ``settle > 0`` a vertex is visited again only while it or an edge neighbour
+    moved, in this sweep or the last, by more than ``settle`` times the vertex's distance
+    to its first neighbour; 0 visits every free vertex in every sweep.
+    """
+    n = points.shape[0]
     kept = 0
-    for _ in range(passes):
-        for v in range(points.shape[0]):
+    last = np.ones(n, np.int8)
+    now = np.zeros(n, np.int8)
+    for sweep in range(passes):
+        for v in range(n):
             if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
                 continue
+            if settle > 0.0 and sweep > 0 and last[v] == 0 and now[v] == 0:
+                stirred = False
+                for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
+                    w = nbr_idx[t]
+                    if last[w] != 0 or now[w] != 0:
+                        stirred = True
+                        break
+                if not stirred:
+                    continue
             tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
             x0 = points[v, 0]
             y0 = points[v, 1]
@@ -115,9 +133,17 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes):
                 points[v, 1] = y0 + step * (ty - y0)
                 if _moved_ok(points, cells, cell_ptr, cell_idx, v, before):
                     kept += 1
+                    if settle > 0.0:
+                        w = nbr_idx[nbr_ptr[v]]
+                        ref = (points[w, 0] - x0) ** 2 + (points[w, 1] - y0) ** 2
+                        shift = (points[v, 0] - x0) ** 2 + (points[v, 1] - y0) ** 2
+                        if shift > settle * settle * ref:
+                            now[v] = 1
                     break
                 points[v, 0] = x0
                 points[v, 1] = y0
+        last, now = now, last
+        now[:] = 0
     return kept
 
 
@@ -268,7 +294,7 @@ def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half):
     return kept
 
 
-def smooth_cells(points, quads, triangles, fixed, passes: int) -> np.ndarray:
+def smooth_cells(points, quads, triangles, fixed, passes: int, settle: float = 0.0) -> np.ndarray:
     """Guarded Laplacian smoothing (module docstring).
 
     Parameters
@@ -281,17 +307,32 @@ def smooth_cells(points, quads, triangles, fixed, passes: int) -> np.ndarray:
         Vertices that never move (boundary and interior-segment vertices).
     passes : int
         Gauss-Seidel sweeps (>= 0).
+    settle : float
+        After the first sweep, skip vertices whose neighbourhood has settled: neither
+        the vertex nor an edge neighbour moved by more than ``settle`` times its
+        distance to a neighbour in the last sweep (0: every sweep visits every vertex).
 
     Returns
     -------
     (n, 2) float64
         New coordinates (the input is not modified).
+
+    Raises
+    ------
+    InputError
+        ``passes`` not a count, ``settle`` negative or not finite.
     """
     passes = check_count(passes, "passes")
+    try:
+        settle = float(settle)
+    except (TypeError, ValueError):
+        raise InputError(f"settle must be a number, got {settle!r}") from None
+    if not (np.isfinite(settle) and settle >= 0.0):
+        raise InputError(f"settle must be finite and >= 0, got {settle!r}")
     pts = np.array(points, dtype=np.float64, order="C")
     cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx = cell_tables(pts, quads, triangles)
     free = ~np.asarray(fixed, dtype=bool)
-    _sweeps(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes)
+    _sweeps(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, settle)
     return pts
 
 
@@ -311,8 +352,9 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int)
     fixed : (n,) bool
         Vertices that never move (curve joints, polygon corners, given points).
     project : callable
-        ``project(nodes (j,) int64, xy (j, 2)) -> (j, 2)``: the closest points on the
-        nodes' curves.
+        ``project(nodes (j,) int64, xy (j, 2), at (j, 2)) -> (j, 2)``: trial positions
+        ``xy`` of nodes now at ``at`` put on the nodes' curves (the closest points, or a
+        step along the curve towards them).
     passes : int
         Sweeps: all free interior vertices (Gauss-Seidel), then all sliding ones.
 
@@ -349,7 +391,8 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int)
         # One projection call for both trial steps: on curves given as functions its cost
         # is per call (a vectorised golden-section search), a third of the pairing's time
         # on the three-element airfoil when made twice.
-        both = project(np.concatenate([nodes, nodes]), np.vstack([pts[nodes] + step, pts[nodes] + 0.5 * step]))
+        at = pts[nodes]
+        both = project(np.concatenate([nodes, nodes]), np.vstack([at + step, at + 0.5 * step]), np.vstack([at, at]))
         full = np.ascontiguousarray(both[: len(nodes)], dtype=np.float64)
         half = np.ascontiguousarray(both[len(nodes) :], dtype=np.float64)
         _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half)

@@ -69,6 +69,7 @@ import numpy as np
 from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.core.flat import grown_rows
 from meshwright.core.spatial.loose_quadtree import Q_NODES, qt_new
+from meshwright.core.validate_input import check_flag
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
 from meshwright.tri._kernel2d import M_NTRI
@@ -291,7 +292,7 @@ def split_long_segments(ct, cap, max_rounds: int = 64) -> int:
 
 def advancing_front(
     ct, size, *, max_area: float | None = None, max_points: int | None = None, max_backoff: int | None = None,
-    progress=None,
+    progress=None, finish: bool = True,
 ):
     """Mesh the inside of a classified constrained triangulation by the advancing front.
 
@@ -314,6 +315,10 @@ def advancing_front(
         Cap on back-offs in all (default: 100 plus one per 1000 estimated triangles).
     progress : callable, optional
         Called with the number of nodes after every batch.
+    finish : bool
+        Swap diagonals and smooth the nodes after closing (the default); False returns the
+        triangles as the front closed them, for a caller that reshapes the mesh itself
+        (the quad pairing combines them and smooths the quads).
 
     Returns
     -------
@@ -328,6 +333,7 @@ def advancing_front(
         A face could not be advanced even after backing off (its ends are named), or a cap
         was hit.
     """
+    finish = check_flag(finish, "finish")
     field = as_size_field(size)
     cap = area_cap(ct, max_area)
     if cap is not None:
@@ -382,10 +388,11 @@ def advancing_front(
     fs = fr.fs
     nt = int(fs.meta[fk.M_NT])
     tris = np.ascontiguousarray(fs.tri[:nt][fs.talive[:nt] == 1])
-    nbr, locked = _adjacency(tris, int(fs.meta[fk.M_NP]), ct.segments()[0])
-    fk.swap_edges(fs.pts, fs.met, tris, nbr, locked, SWAP_PASSES, SWAP_GAIN)
     npts = int(fs.meta[fk.M_NP])
-    if _is_isotropic(field):
+    if finish:
+        nbr, locked = _adjacency(tris, npts, ct.segments()[0])
+        fk.swap_edges(fs.pts, fs.met, tris, nbr, locked, SWAP_PASSES, SWAP_GAIN)
+    if finish and _is_isotropic(field):
         fixed = np.zeros(npts, dtype=bool)
         fixed[: len(pts0)] = True
         fs.pts[:npts] = smooth(fs.pts[:npts], tris, ct.segments()[0], passes=SMOOTH_PASSES, fixed=fixed)
