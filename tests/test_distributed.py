@@ -236,6 +236,85 @@ def test_curved_domain_with_a_hole(clients, tmp_path):
     assert np.all(np.isclose(r_out, 1.0, atol=1e-12) | np.isclose(r_in, 0.15, atol=1e-12))
 
 
+def _junction_angles(dec) -> list:
+    """Angles (degrees, as lines) between an interface segment and every other skeleton
+    segment at its ends, from the segments' coordinates alone."""
+    ends = {}
+    for s, (a, b) in enumerate(dec.segments.tolist()):
+        ends.setdefault(a, []).append(s)
+        ends.setdefault(b, []).append(s)
+    out = []
+    for segs in ends.values():
+        for s in segs:
+            if dec.kind[s] != 2:
+                continue
+            u = np.diff(dec.points[dec.segments[s]], axis=0)[0]
+            for r in segs:
+                v = np.diff(dec.points[dec.segments[r]], axis=0)[0]
+                cos = abs(float(u @ v)) / (math.hypot(*u) * math.hypot(*v))
+                if r != s and cos < 1.0 - 1e-12:  # collinear pieces of one cut are no junction
+                    out.append(math.degrees(math.acos(min(cos, 1.0))))
+    return out
+
+
+def test_oblique_cuts_balance_the_rim_and_mesh_a_valid_disk(clients, tmp_path):
+    # At 8 parts the balanced positions near the rim lie where no axis-parallel line meets the
+    # circle at 60 degrees (a line does so only within 0.5 of the centre): some cuts turn.
+    dec = decompose(_disk_with_hole(), _graded, 8)
+    oblique = (dec.cuts[:, 0] != 0.0) & (dec.cuts[:, 1] != 0.0)
+    assert oblique.any()
+    assert dec.imbalance <= 1.10 and dec.min_cut_angle >= 60.0
+    # Every angle an interface makes at its ends (boundary crossings, cut/cut junctions) is an
+    # input angle of the parts: at least 60 degrees (chords of curves bend a little).
+    assert min(_junction_angles(dec)) >= 59.0
+    dm = triangulate(_disk_with_hole(), _graded, client=clients[2], parts=8, out=tmp_path / "o.xdmf")
+    mesh = dm.to_mesh()
+    area = _check_mesh(mesh, holes=1)
+    assert 0.99 * math.pi * (1 - 0.0225) < float(area) <= math.pi * (1 - 0.0225)
+    assert _min_angle_deg(mesh.points, mesh.cells["triangle"]) >= 30.0 - 1e-9
+    assert dm.stats["imbalance"] <= 1.15  # 540 triangles a part: boundary layers weigh more than at scale
+
+
+def test_clipping_a_cell_by_an_oblique_line_keeps_its_area():
+    from meshwright.distributed.cells import box, clip, direction
+
+    poly, labels = box(0.0, 0.0, 2.0, 1.0)
+    d = direction(-1, math.radians(30.0))
+    (lo, lo_lab), (hi, hi_lab), ends = clip(poly, labels, d, 1.0, 7)
+
+    def area(p):
+        q = [tuple(map(Fraction, v)) for v in p.tolist()]
+        return sum(a[0] * b[1] - b[0] * a[1] for a, b in zip(q, q[1:] + q[:1])) / 2
+
+    assert area(lo) > 0 and area(hi) > 0
+    assert abs(float(area(lo) + area(hi)) - 2.0) < 1e-12
+    # The new edge along the cut is labelled in both halves; the two ends lie on the box.
+    assert (lo_lab == 7).sum() == 1 and (hi_lab == 7).sum() == 1
+    assert len(ends) == 2 and all(lab == -1 for _, lab in ends)
+    for xy, _ in ends:
+        assert abs(xy[0] * math.cos(math.radians(30)) + xy[1] * math.sin(math.radians(30)) - 1.0) < 1e-12
+
+
+def test_cost_model_reproduces_a_hand_schedule():
+    from meshwright.distributed.simulate import fit_costs, model_time
+
+    # One worker ran 4 parts of 1 s (1000 triangles each, 1000 predicted) in rounds lasting
+    # 4.5 s, and numbering tasks of 0.1 s each in 0.5 s.
+    stats = {
+        "workers": 1, "part_seconds": [[(i, 1.0) for i in range(4)]], "part_cpu_seconds": [[(i, 0.5) for i in range(4)]],
+        "round_seconds": [4.5], "write_seconds": [0.1] * 4, "resolve_seconds": 0.5,
+        "triangles": [1000] * 4, "predicted": [1000.0] * 4,
+    }
+    k = fit_costs(stats)
+    assert k.seconds_per_triangle == pytest.approx(1e-3) and k.cpu_per_triangle == pytest.approx(5e-4)
+    assert k.round_overhead == pytest.approx(0.5) and k.resolve_overhead == pytest.approx(0.1)
+    # 8 parts of 1000 on 2 workers: 4 s of parts, 0.4 s numbering, overheads and the client's 0.3 s.
+    m = model_time(k, [1000.0] * 8, 2, 0.2, 0.3)
+    assert m["parts"] == pytest.approx(4.0) and m["total"] == pytest.approx(0.2 + 4.0 + 0.5 + 0.1 + 0.4 + 0.3)
+    with pytest.raises(InputError, match="stats"):
+        fit_costs({"workers": 1})
+
+
 def test_to_mesh_refuses_more_cells_than_allowed(clients, tmp_path):
     dm = triangulate(_rect(), 0.2, client=clients[1], parts=2, out=tmp_path / "s.xdmf")
     with pytest.raises(MeshingError, match="max_cells = 10"):

@@ -15,29 +15,37 @@ Algorithm
 2. The cost of a region is ``kappa * 4 / sqrt(3) * integral(1 / h^2)`` triangles (``kappa`` =
    :data:`KAPPA`, measured for ``method="delaunay"``), integrated on a grid of samples of the
    bounding box.
-3. Recursive bisection (an explicit stack, no recursion): a cell holding ``k`` parts is cut by an
-   axis-parallel line into cells of ``k // 2`` and ``k - k // 2`` parts.  Candidate positions lie
-   within the first of :data:`BALANCE_WINDOWS` of the balanced cost that holds one; a candidate is admissible when every
-   crossing with a boundary chord makes an angle of at least :data:`MIN_CUT_ANGLE` with it and
-   no boundary vertex (nor interior point, nor end of an earlier cut) lies closer than the
-   first of :data:`VERTEX_CLEARANCES` (times ``h``) to the line; in each window the preferred
-   clearance is tried before the accepted one.  The admissible candidate nearest the balance wins, on the longer axis first;
-   without one the best-scoring candidate of both axes is taken and its angle reported.  The
-   sides of a cut that ended off balance get the part counts nearest their costs.
-   Cut/cut junctions are right angles by construction.
-4. Crossings split boundary chords: on straight curves at the exact line coordinate, on curved
-   ones at the curve parameter found by bisection, so every skeleton point lies on its true
-   curve (its coordinate along the cut axis is set to the cut's, exactly).
-5. Each cut is broken at its crossings and at the ends of the cuts that meet it (T-junctions);
-   the pieces inside the domain are discretised by the boundary's own 1-D placer
-   (:func:`meshwright.geometry._discretize.place_params`) and become *interface* segments with
-   global ids, oriented with the part on their left.
+3. Recursive bisection (an explicit stack, no recursion): a convex cell (:mod:`.cells`) holding
+   ``k`` parts is cut by a line into cells of ``j`` and ``k - j`` parts (the :data:`_SPLITS`
+   splits nearest halves).  Candidate positions lie within the first of
+   :data:`BALANCE_WINDOWS` of the balanced cost that holds one (the cumulative cost of a
+   column of samples counted at its far edge); a candidate is admissible when every crossing
+   with a boundary chord makes an angle of at least :data:`MIN_CUT_ANGLE` with it, no boundary
+   vertex (nor interior point, nor end of an earlier cut) lies closer than the first of
+   :data:`VERTEX_CLEARANCES` (times ``h``) to the line, and each end inside the domain meets
+   the earlier cut it ends on at :data:`MIN_CUT_ANGLE` or more; in each window the preferred
+   clearance is tried before the accepted one.  Axis-parallel lines are tried first (the
+   longer axis first); when none lies within :data:`_OBLIQUE_TRIGGER` of its balance, lines
+   at every 15 degrees are tried too and the better-balanced admissible cut wins (a line
+   crosses a circle at >= 60 degrees only within half its radius of the centre, so the rim
+   between the axes needs radial-ish cuts).  Without any admissible cut the best-scoring
+   axis-parallel candidate is taken and its angle reported.  The sides of a cut that ended
+   off balance get the part counts nearest their costs.
+4. Crossings split boundary chords: on straight curves on the line, on curved ones at the
+   curve parameter found by bisection, so every skeleton point lies on its true curve (an
+   axis-parallel cut's coordinate is set exactly).
+5. Each cut is broken at its crossings and at the ends of the later cuts that meet it
+   (junctions, recorded when they are made); the pieces inside the domain are discretised by
+   the boundary's own 1-D placer (:func:`meshwright.geometry._discretize.place_params`) and
+   become *interface* segments with global ids, oriented with the part on their left.
 
 Layout of the result (:class:`Decomposition`): skeleton points ``(n, 2)`` float64 and their
 markers; skeleton segments ``(m, 2)`` int64 with ``kind`` (0 loop, 1 interior constraint, 2
 interface), ``left``/``right`` parts (-1 where none), markers, curve ids (-1 for interfaces)
-and curve parameters; cells ``(p, 4)`` float64 ``(x0, y0, x1, y1)``, predicted triangles per
-part, cuts ``(c, 5)`` ``(axis, coordinate, lo, hi, smallest crossing angle)``.
+and curve parameters; cells ``(p, 4)`` float64, the bounding box ``(x0, y0, x1, y1)`` of each
+part's convex cell; predicted triangles per part; cuts ``(c, 8)`` ``(nx, ny, c, xa, ya, xb,
+yb, smallest crossing angle)``: the line ``xy . (nx, ny) == c`` from ``(xa, ya)`` to ``(xb,
+yb)``.
 
 Invariants: every skeleton segment lies in exactly one part (kind 0, 1) or on the common edge of
 two parts (kind 2); segments of kind 0 and 2 run with their ``left`` part on their left; no two
@@ -53,6 +61,17 @@ from typing import NamedTuple
 import numpy as np
 
 from meshwright.core.errors import InputError, MeshingError
+from meshwright.distributed.cells import (
+    AXES,
+    along,
+    box,
+    clip,
+    contains,
+    direction,
+    line_ends,
+    proj,
+    segment_angle,
+)
 from meshwright.geometry._discretize import place_params
 from meshwright.geometry._kernels import INSIDE, classify_points
 from meshwright.geometry.curves import Line, Polyline
@@ -72,6 +91,8 @@ _CANDIDATES = 81
 _QUERY_BLOCK = 256  # size queries per block of the interface spacing (consecutive: near each other)
 _GOOD_ENOUGH = 0.005  # a cut this near its balance (fraction of the cell's cost) is taken at once
 _SPLITS = 5  # splits k = j + (k - j) of a cell tried, nearest halves first
+_OBLIQUE_TRIGGER = 0.01  # an axis-parallel cut further than this from its balance: try oblique lines too
+_OBLIQUE = tuple(direction(-1, math.radians(a)) for a in range(15, 180, 15) if a != 90)
 _BISECTIONS = 80
 _EQUILATERAL = 4.0 / math.sqrt(3.0)
 
@@ -103,11 +124,12 @@ class Decomposition(NamedTuple):
         Skeleton ids of the domain's interior points.
     interior_part : (q,) int32
     cells : (p, 4) float64
-        ``(x0, y0, x1, y1)`` of each part's cell.
+        ``(x0, y0, x1, y1)``: bounding box of each part's convex cell.
     predicted : (p,) float64
         Predicted triangles per part.
-    cuts : (c, 5) float64
-        ``(axis, coordinate, lo, hi, smallest crossing angle in degrees)`` (180 without crossings).
+    cuts : (c, 8) float64
+        ``(nx, ny, c, xa, ya, xb, yb, smallest crossing angle in degrees)`` (180 without
+        crossings): the line ``xy . (nx, ny) == c`` between its ends in its cell.
     """
 
     points: np.ndarray
@@ -132,7 +154,7 @@ class Decomposition(NamedTuple):
     @property
     def min_cut_angle(self) -> float:
         """Smallest angle between a cut and a boundary chord it crosses (degrees)."""
-        return float(self.cuts[:, 4].min()) if len(self.cuts) else 180.0
+        return float(self.cuts[:, 7].min()) if len(self.cuts) else 180.0
 
     @property
     def imbalance(self) -> float:
@@ -191,22 +213,23 @@ def _sample_grid(dom_segments, bbox, field, n_samples: int):
     return xy, (w / nx) * (h / ny) / (hv * hv), ij, (xs, ys)
 
 
-def _crossing(curves, pts, seg, curve, params, s: int, axis: int, c: float):
-    """The point where skeleton segment ``s`` crosses the line ``xy[axis] == c`` and its curve parameter."""
+def _crossing(curves, pts, seg, curve, params, s: int, d, c: float):
+    """The point where skeleton segment ``s`` crosses the cut ``(d, c)`` and its curve parameter."""
     a, b = pts[seg[s, 0]], pts[seg[s, 1]]
     ta, tb = params[s]
     cv = curves[curve[s]]
-    f = (c - a[axis]) / (b[axis] - a[axis])
+    pa, pb = float(proj(a, d)), float(proj(b, d))
+    f = (c - pa) / (pb - pa)
     if isinstance(cv, (Line, Polyline)):
         p = a + f * (b - a)
         t = ta + f * (tb - ta)
     else:
         # Bisection on the curve parameter: the chord's ends straddle the line, so does the curve.
         lo, hi = ta, tb
-        slo = a[axis] - c
+        slo = pa - c
         for _ in range(_BISECTIONS):
             mid = 0.5 * (lo + hi)
-            v = float(cv.evaluate(np.array([mid]))[0, axis]) - c
+            v = float(proj(cv.evaluate(np.array([mid]))[0], d)) - c
             if v == 0.0:
                 lo = hi = mid
                 break
@@ -217,12 +240,13 @@ def _crossing(curves, pts, seg, curve, params, s: int, axis: int, c: float):
         t = 0.5 * (lo + hi)
         p = cv.evaluate(np.array([t]))[0]
     p = np.array(p, dtype=np.float64)
-    p[axis] = c
+    if d[0] >= 0:
+        p[d[0]] = c
     return p, t
 
 
-def _scores(pts, seg, segs_in, verts, vh, clearance, exy, eh, axis: int, cs: np.ndarray):
-    """``(scores, smallest angles)`` (each (k,)) of the cuts ``xy[axis] == cs[j]``: a score
+def _scores(pts, seg, segs_in, verts, vh, clearance, exy, eh, d, cs: np.ndarray):
+    """``(scores, smallest angles)`` (each (k,)) of the cuts ``(d, cs[j])``: a score
     >= 1 is admissible.
 
     ``verts`` (v,) sorted are the skeleton points the cut must keep clear of (the ends of the
@@ -238,15 +262,14 @@ def _scores(pts, seg, segs_in, verts, vh, clearance, exy, eh, axis: int, cs: np.
     k = len(cs)
     lo, hi = cs.min(), cs.max()
     ends = seg[segs_in]
-    a, b = pts[ends[:, 0], axis], pts[ends[:, 1], axis]
+    a, b = proj(pts[ends[:, 0]], d), proj(pts[ends[:, 1]], d)
     near = (np.maximum(a, b) > lo) & (np.minimum(a, b) < hi)
     segs_in, ends, a, b = segs_in[near], ends[near], a[near], b[near]
     cross = (a[None, :] - cs[:, None]) * (b[None, :] - cs[:, None]) < 0.0
-    d = pts[ends[:, 1]] - pts[ends[:, 0]]
-    seg_angle = np.degrees(np.arccos(np.clip(np.abs(d[:, 1 - axis]) / np.hypot(d[:, 0], d[:, 1]), 0.0, 1.0)))
+    seg_angle = segment_angle(pts[ends[:, 1]] - pts[ends[:, 0]], d[2])
     angle = np.where(cross, seg_angle[None, :], 180.0).min(axis=1) if len(segs_in) else np.full(k, 180.0)
     clear = np.full(k, np.inf)
-    coord = pts[verts, axis]
+    coord = proj(pts[verts], d)
     reach = max(TANGENT_CLEARANCE, *VERTEX_CLEARANCES) * vh
     keep = (coord > lo - reach) & (coord < hi + reach)
     if keep.any():
@@ -260,7 +283,7 @@ def _scores(pts, seg, segs_in, verts, vh, clearance, exy, eh, axis: int, cs: np.
         factor = np.where(crossed[:, :-1], clearance, TANGENT_CLEARANCE) * vh[keep][None, :]
         clear = (np.abs(coord[keep][None, :] - cs[:, None]) / factor).min(axis=1)
     if len(exy):
-        de = np.abs(exy[:, axis][None, :] - cs[:, None])
+        de = np.abs(proj(exy, d)[None, :] - cs[:, None])
         clear = np.minimum(clear, np.where(de == 0.0, np.inf, de / (JUNCTION_CLEARANCE * eh[None, :])).min(axis=1))
     return np.minimum(clear, angle / MIN_CUT_ANGLE), angle
 
@@ -276,11 +299,11 @@ class _Skeleton:
         self.params = disc.segment_params.copy()
         self.kind = np.where(dom.curve_loop[self.curve] >= 0, KIND_LOOP, KIND_CONSTRAINT).astype(np.int8)
 
-    def split(self, curves, segs, axis: int, c: float) -> tuple[np.ndarray, np.ndarray]:
-        """Split segments ``segs`` at the line; returns the new point ids and the new segment ids."""
+    def split(self, curves, segs, d, c: float) -> tuple[np.ndarray, np.ndarray]:
+        """Split segments ``segs`` at the cut ``(d, c)``; returns the new point ids and segment ids."""
         new_p, new_s = [], []
         for s in segs.tolist():
-            p, t = _crossing(curves, self.pts, self.seg, self.curve, self.params, s, axis, c)
+            p, t = _crossing(curves, self.pts, self.seg, self.curve, self.params, s, d, c)
             pid = len(self.pts)
             self.pts = np.vstack([self.pts, p[None]])
             b = int(self.seg[s, 1])
@@ -298,30 +321,68 @@ class _Skeleton:
         return np.array(new_p, dtype=np.int64), np.array(new_s, dtype=np.int64)
 
 
-def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, windows=BALANCE_WINDOWS):
-    """Best cut of a cell: ``(axis, c, angle)`` (see the module docstring, step 3); ``grid``
-    is ``(indices (n, 2), (xs, ys))`` of the cell's samples (:func:`_sample_grid`).  With
-    ``windows`` shorter than :data:`BALANCE_WINDOWS`, None when no candidate is admissible."""
-    x0, y0, x1, y1 = cell
-    axes = (0, 1) if (x1 - x0) >= (y1 - y0) else (1, 0)
+def _junction_scores(cell, cut_dirs, dom_segments, d, cs: np.ndarray) -> np.ndarray:
+    """Scores (k,) of the cuts ``(d, cs[j])`` at their ends: an end inside the domain on an
+    earlier cut must meet it at :data:`MIN_CUT_ANGLE` or more (a cut/cut junction is an input
+    angle of both parts); infinite where no end needs it."""
+    poly, labels = cell
+    out = np.full(len(cs), np.inf)
+    xy, lab = line_ends(poly, labels, d, cs)
+    need = lab >= 0
+    if not need.any():
+        return out
+    rows, cols = np.nonzero(need)
+    inside = classify_points(np.ascontiguousarray(xy[rows, cols]), *dom_segments) == INSIDE
+    t_other = np.array([cut_dirs[e][2] for e in lab[rows, cols].tolist()]).reshape(-1, 2)
+    ang = np.degrees(np.arccos(np.clip(np.abs(t_other @ d[2]), 0.0, 1.0)))
+    np.minimum.at(out, rows[inside], ang[inside] / MIN_CUT_ANGLE)
+    return out
+
+
+def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, windows=BALANCE_WINDOWS, dirs=None,
+                ctx=None):
+    """Best cut of a cell: ``(direction, c, angle)`` (see the module docstring, step 3).
+
+    ``cell`` is ``(polygon, labels)`` (:mod:`.cells`); ``grid`` is ``(indices (n, 2), (xs,
+    ys), xy (n, 2))`` of the cell's samples (:func:`_sample_grid`).  ``dirs``: the directions
+    tried, default the two axes, the longer extent first.  ``ctx`` is ``(cut directions,
+    dom_segments)``: where the cell has an oblique edge or ``dirs`` an oblique direction, the
+    cut's ends are scored by :func:`_junction_scores`.  With ``windows`` shorter than
+    :data:`BALANCE_WINDOWS`, None when no candidate is admissible."""
+    poly, labels = cell
+    x0, y0 = poly.min(axis=0)
+    x1, y1 = poly.max(axis=0)
+    if dirs is None:
+        dirs = AXES if (x1 - x0) >= (y1 - y0) else AXES[::-1]
+    cut_dirs, dom_segments = ctx
+    oblique_cell = any(cut_dirs[e][0] < 0 for e in labels[labels >= 0].tolist())
     total = weights.sum()
     best = None
-    sorted_axes = []
-    for axis in axes:
-        # Cumulative cost at each distinct sample coordinate, interpolated in between, so
-        # that candidates are not tied to the sample grid (gaps between boundary vertices
-        # are finer than it where h is small).
-        ij, axes_xy = grid
-        n_axis = len(axes_xy[axis])
-        present = np.bincount(ij[:, axis], minlength=n_axis) > 0
-        coord = axes_xy[axis][present]
-        cum = np.cumsum(np.bincount(ij[:, axis], weights, minlength=n_axis)[present])
-        sorted_axes.append((axis, coord, cum))
+    sorted_dirs = []
+    ij, axes_xy, xy = grid
+    for d in dirs:
+        axis = d[0]
+        if axis >= 0:
+            # Cumulative cost at each distinct sample coordinate, interpolated in between, so
+            # that candidates are not tied to the sample grid (gaps between boundary vertices
+            # are finer than it where h is small).
+            # The cumulative cost of a column is reached at its far edge, not at its centre (at
+            # the centre, every cut would leave up to a column's cost off its lower side).
+            n_axis = len(axes_xy[axis])
+            present = np.bincount(ij[:, axis], minlength=n_axis) > 0
+            coord = axes_xy[axis][present] + 0.5 * (axes_xy[axis][1] - axes_xy[axis][0])
+            cum = np.cumsum(np.bincount(ij[:, axis], weights, minlength=n_axis)[present])
+        else:
+            s = proj(xy, d)
+            order = np.argsort(s, kind="stable")
+            coord, cum = s[order], np.cumsum(weights[order])
+        sorted_dirs.append((d, coord, cum))
     strict = len(windows) < len(BALANCE_WINDOWS)
-    found = None  # strict: (relative deviation from the balance, axis, c, angle) of the best admissible
+    found = None  # strict: (relative deviation from the balance, direction, c, angle) of the best admissible
     for clearance, window in [(q, w) for w in windows for q in VERTEX_CLEARANCES]:
-        for axis, coord, cum in sorted_axes:
-            lo_cell, hi_cell = cell[axis], cell[axis + 2]
+        for d, coord, cum in sorted_dirs:
+            extent = proj(poly, d)
+            lo_cell, hi_cell = extent.min(), extent.max()
             targets = frac * total + np.linspace(-window, window, _CANDIDATES) * total
             # Nearest the balance first.
             targets = targets[np.argsort(np.abs(targets - frac * total), kind="stable")]
@@ -329,7 +390,7 @@ def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, wind
             dev = np.abs(targets - frac * total)
             if len(exy) and len(coord) > 1:
                 # Cross junctions first: the coordinates of earlier cut ends within the window.
-                at = np.unique(exy[:, axis])
+                at = np.unique(proj(exy, d))
                 cost = np.abs(np.interp(at, coord, cum) - frac * total)
                 at = at[cost <= window * total]
                 order = np.argsort(cost[cost <= window * total], kind="stable")
@@ -339,28 +400,30 @@ def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, wind
             cs, dev = cs[inside], dev[inside]
             if not len(cs):
                 continue
-            score, angle = _scores(sk.pts, sk.seg, segs_in, verts, vh, clearance, exy, eh, axis, cs)
+            score, angle = _scores(sk.pts, sk.seg, segs_in, verts, vh, clearance, exy, eh, d, cs)
+            if d[0] < 0 or oblique_cell:
+                score = np.minimum(score, _junction_scores(cell, cut_dirs, dom_segments, d, cs))
             ok = np.flatnonzero(score >= 1.0)
             if len(ok) and strict:
                 j = ok[np.argmin(dev[ok])]
-                d = float(dev[j] / total)
-                if d <= _GOOD_ENOUGH:
+                dv = float(dev[j] / total)
+                if dv <= _GOOD_ENOUGH:
                     # In the usual order (longer axis, preferred clearance, junctions) when balanced.
                     j = ok[0] if dev[ok[0]] <= _GOOD_ENOUGH * total else j
-                    return float(dev[j] / total), axis, float(cs[j]), float(angle[j])
-                if found is None or d < found[0]:
-                    found = (d, axis, float(cs[j]), float(angle[j]))
+                    return float(dev[j] / total), d, float(cs[j]), float(angle[j])
+                if found is None or dv < found[0]:
+                    found = (dv, d, float(cs[j]), float(angle[j]))
                 continue
             if len(ok):
-                return axis, float(cs[ok[0]]), float(angle[ok[0]])
+                return d, float(cs[ok[0]]), float(angle[ok[0]])
             j = int(np.argmax(score))
             if best is None or score[j] > best[0]:
-                best = (float(score[j]), axis, float(cs[j]), float(angle[j]))
+                best = (float(score[j]), d, float(cs[j]), float(angle[j]))
     if strict:
         return found
     if best is None or best[0] <= 0.0:
         raise MeshingError(
-            f"cannot place a cut in the cell ({cell[0]:.6g}, {cell[1]:.6g}) - ({cell[2]:.6g}, {cell[3]:.6g}): "
+            f"cannot place a cut in the cell ({x0:.6g}, {y0:.6g}) - ({x1:.6g}, {y1:.6g}): "
             "every candidate passes through a boundary vertex; use fewer parts"
         )
     return best[1], best[2], best[3]
@@ -405,12 +468,16 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
     cost = np.zeros(parts)
     seg_part = np.full(len(sk.seg), -1, dtype=np.int64)
     interior_part = np.zeros(n_interior, dtype=np.int32)
-    cuts, tree, ends = [], [], []  # tree rows: (axis, c, node_lo_child, node_hi_child); leaves are -1 - part
-    stack = [(root, parts, 0, np.arange(len(samples)), np.arange(len(sk.seg)), np.arange(n_interior), -1, 0)]
+    # tree rows: (axis, nx, ny, c, node_lo_child, node_hi_child); leaves are -1 - part.
+    cuts, dirs, tree, ends = [], [], [], []
+    cut_points, junctions = [], []  # per cut: its boundary crossings (ids), the ends of later cuts on it
+    ctx = (dirs, dom_segments)
+    stack = [(box(*root), parts, 0, np.arange(len(samples)), np.arange(len(sk.seg)), np.arange(n_interior), -1, 0)]
     while stack:
         cell, k, first, smp, segs_in, ints_in, parent, side = stack.pop()
+        poly, labels = cell
         if k == 1:
-            cells[first] = cell
+            cells[first] = (*poly.min(axis=0), *poly.max(axis=0))
             cost[first] = weights[smp].sum()
             seg_part[segs_in] = first
             interior_part[ints_in] = first
@@ -420,67 +487,84 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
             vh = field(sk.pts[verts]) if len(verts) else np.zeros(0)
             exy = np.array(ends, dtype=np.float64).reshape(-1, 2)
             # Ends of cuts in cells already done that lie on this cell's edges, inside the domain.
-            on = (exy[:, 0] >= cell[0]) & (exy[:, 0] <= cell[2]) & (exy[:, 1] >= cell[1]) & (exy[:, 1] <= cell[3])
-            exy = exy[on]
+            exy = exy[contains(poly, exy)] if len(exy) else exy
             if len(exy):
                 exy = exy[classify_points(np.ascontiguousarray(exy), *dom_segments) == INSIDE]
             eh = field(exy) if len(exy) else np.zeros(0)
-            grid = (ij[smp], axes_xy)
-            # Halves first, then the other splits of k by distance from halves: an admissible
-            # cut within the tightest window at 1 : 3 beats one pushed 10 % off balance at 1 : 1
-            # (cuts meet a circle at >= 60 degrees only within half its radius of the centre).
-            # Scored by the heavier side's cost per part over the mean.
-            # Wider windows only when no split has an admissible cut in a narrower one.
-            cut, excess = None, np.inf
-            for window in BALANCE_WINDOWS:
-                for j in sorted(range(1, k), key=lambda j: (abs(2 * j - k), j))[:_SPLITS]:
-                    got = _choose_cut(sk, cell, grid, weights[smp], segs_in, verts, vh, exy, eh, j / k, (window,))
-                    if got is not None:
-                        d = got[0] / min(j / k, 1.0 - j / k)
-                        if d < excess:
-                            cut, excess, kl = got[1:], d, j
-                        if excess <= _GOOD_ENOUGH:
-                            break
-                if cut is not None:
-                    break
+            grid = (ij[smp], axes_xy, samples[smp])
+            w = weights[smp]
+            cut, excess, kl = _best_split(sk, cell, grid, w, segs_in, verts, vh, exy, eh, k, None, ctx)
+            if cut is None or excess > _OBLIQUE_TRIGGER:
+                # No axis-parallel cut near its balance (a curved boundary met below 60 degrees
+                # wherever the balance puts the line): lines at other angles.
+                got = _best_split(sk, cell, grid, w, segs_in, verts, vh, exy, eh, k, _OBLIQUE, ctx)
+                if got[0] is not None and got[1] < excess:
+                    cut, excess, kl = got
             if cut is None:
                 kl = k // 2
-                cut = _choose_cut(sk, cell, grid, weights[smp], segs_in, verts, vh, exy, eh, kl / k)
-            axis, c, angle = cut
-            below = samples[smp, axis] < c
+                cut = _choose_cut(sk, cell, grid, w, segs_in, verts, vh, exy, eh, kl / k, ctx=ctx)
+            d, c, angle = cut
+            below = proj(samples[smp], d) < c
             # A cut pushed off balance by the angle and clearance rules: hand its sides the
             # part counts nearest their costs (the leaves then balance again).
-            share = float(weights[smp][below].sum() / weights[smp].sum())
+            share = float(w[below].sum() / w.sum())
             if abs(share - kl / k) > BALANCE_WINDOWS[0]:
                 kl = int(np.clip(round(share * k), 1, k - 1))
-            a, b = sk.pts[sk.seg[segs_in, 0], axis], sk.pts[sk.seg[segs_in, 1], axis]
+            a, b = proj(sk.pts[sk.seg[segs_in, 0]], d), proj(sk.pts[sk.seg[segs_in, 1]], d)
             crossing = segs_in[(a - c) * (b - c) < 0.0]
-            _, new_s = sk.split(curves, crossing, axis, c)
+            new_p, new_s = sk.split(curves, crossing, d, c)
             segs_in = np.concatenate([segs_in, new_s])
             seg_part = np.append(seg_part, np.full(len(new_s), -1))
-            mid = 0.5 * (sk.pts[sk.seg[segs_in, 0], axis] + sk.pts[sk.seg[segs_in, 1], axis])
-            lo_cell = list(cell)
-            hi_cell = list(cell)
-            lo_cell[axis + 2] = c
-            hi_cell[axis] = c
+            mid = 0.5 * (proj(sk.pts[sk.seg[segs_in, 0]], d) + proj(sk.pts[sk.seg[segs_in, 1]], d))
             node = len(tree)
-            tree.append([axis, c, 0, 0])
-            cuts.append((axis, c, cell[1 - axis], cell[3 - axis], angle))
-            for end in (cell[1 - axis], cell[3 - axis]):
-                xy = [0.0, 0.0]
-                xy[axis], xy[1 - axis] = c, end
+            lo_cell, hi_cell, cut_ends = clip(poly, labels, d, c, node)
+            tree.append([d[0], d[1][0], d[1][1], c, 0, 0])
+            (pa, _), (pb, _) = cut_ends
+            cuts.append((d[1][0], d[1][1], c, *pa, *pb, angle))
+            dirs.append(d)
+            cut_points.append(new_p)
+            junctions.append([])
+            for xy, lab in cut_ends:
                 ends.append(xy)
-            ib = sk.pts[interior[ints_in], axis] < c
-            stack.append((tuple(hi_cell), k - kl, first + kl, smp[~below], segs_in[mid > c], ints_in[~ib], node, 1))
-            stack.append((tuple(lo_cell), kl, first, smp[below], segs_in[mid < c], ints_in[ib], node, 0))
+                if lab >= 0:
+                    junctions[lab].append(xy)
+            ib = proj(sk.pts[interior[ints_in]], d) < c
+            stack.append((hi_cell, k - kl, first + kl, smp[~below], segs_in[mid > c], ints_in[~ib], node, 1))
+            stack.append((lo_cell, kl, first, smp[below], segs_in[mid < c], ints_in[ib], node, 0))
         if parent >= 0:
-            tree[parent][2 + side] = node
-    tree = np.array(tree, dtype=np.float64).reshape(-1, 4)
-    cuts = np.array(cuts, dtype=np.float64).reshape(-1, 5)
+            tree[parent][4 + side] = node
+    tree = np.array(tree, dtype=np.float64).reshape(-1, 6)
+    cuts = np.array(cuts, dtype=np.float64).reshape(-1, 8)
     if len(sk.seg) and (seg_part < 0).any():
         s = int(np.flatnonzero(seg_part < 0)[0])
         raise MeshingError(f"skeleton segment {s} fell in no part (a cut along it)")
-    return _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, interior_part, dom_segments)
+    cut_lines = (dirs, cut_points, junctions)
+    return _interfaces(dom, field, sk, seg_part, cells, cost, cuts, cut_lines, tree, interior, interior_part,
+                       dom_segments)
+
+
+def _best_split(sk, cell, grid, w, segs_in, verts, vh, exy, eh, k: int, dirs, ctx):
+    """``(cut, excess, parts on the lower side)`` of the best admissible cut of a cell of ``k``
+    parts in ``dirs`` (:func:`_choose_cut`), or ``(None, inf, None)``.
+
+    Halves first, then the other splits of k by distance from halves: an admissible cut
+    within the tightest window at 1 : 3 beats one pushed 10 % off balance at 1 : 1 (cuts meet a
+    circle at >= 60 degrees only within half its radius of the centre).  Scored by the heavier
+    side's cost per part over the mean; wider windows only when no split has an admissible
+    cut in a narrower one."""
+    cut, excess, kl = None, np.inf, None
+    for window in BALANCE_WINDOWS:
+        for j in sorted(range(1, k), key=lambda j: (abs(2 * j - k), j))[:_SPLITS]:
+            got = _choose_cut(sk, cell, grid, w, segs_in, verts, vh, exy, eh, j / k, (window,), dirs, ctx)
+            if got is not None:
+                ex = got[0] / min(j / k, 1.0 - j / k)
+                if ex < excess:
+                    cut, excess, kl = got[1:], ex, j
+                if excess <= _GOOD_ENOUGH:
+                    break
+        if cut is not None:
+            break
+    return cut, excess, kl
 
 
 def _interface_size(field, ends: np.ndarray, end_sizes: np.ndarray) -> SizeField:
@@ -517,16 +601,17 @@ def _leaf(tree: np.ndarray, xy: np.ndarray, on_cut: int, side: int) -> int:
         return 0
     node = 0
     while node >= 0:
-        axis, c, lo, hi = tree[node]
+        axis, nx, ny, c, lo, hi = tree[node]
         if node == on_cut:
             up = side == 1
         else:
-            up = xy[int(axis)] > c
+            up = float(proj(xy, (int(axis), (nx, ny), None))) > c
         node = int(hi if up else lo)
     return -1 - node
 
 
-def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, interior_part, dom_segments):
+def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, cut_lines, tree, interior, interior_part,
+                dom_segments):
     """Break the cuts at crossings and junctions and discretise their inside pieces (step 5)."""
     n_b = len(sk.seg)
     key = {}
@@ -550,28 +635,27 @@ def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, int
     np.minimum.at(chord, sk.seg[:, 0], length)
     np.minimum.at(chord, sk.seg[:, 1], length)
 
-    pieces = []  # (cut, axis, c, u, v): the cuts broken at crossings and junctions
-    for ci, (axis, c, lo, hi, _) in enumerate(cuts):
-        axis = int(axis)
-        breaks = [lo, hi]
-        # Crossings: skeleton points on this line within the cut's range.
-        hits = np.flatnonzero((sk.pts[:, axis] == c) & (sk.pts[:, 1 - axis] > lo) & (sk.pts[:, 1 - axis] < hi))
-        breaks += sk.pts[hits, 1 - axis].tolist()
-        # Junctions: perpendicular cuts ending on this one.
-        for axis2, c2, lo2, hi2, _ in cuts:
-            if int(axis2) != axis and lo < c2 < hi and (lo2 == c or hi2 == c):
-                breaks.append(c2)
-        breaks = np.unique(np.array(breaks))
-        pieces += [(ci, axis, c, u, v) for u, v in itertools.pairwise(breaks.tolist())]
-    mids = np.array([[c, 0.5 * (u + v)] if axis == 0 else [0.5 * (u + v), c] for _, axis, c, u, v in pieces])
-    inside = classify_points(np.ascontiguousarray(mids.reshape(-1, 2)), *dom_segments) == INSIDE
+    dirs, cut_points, junctions = cut_lines
+    pieces = []  # (cut, pa, pb): the cuts broken at crossings and junctions, in order along t
+    for ci in range(len(cuts)):
+        d = dirs[ci]
+        pa, pb = cuts[ci, 3:5], cuts[ci, 5:7]
+        lo, hi = float(along(pa, d)), float(along(pb, d))
+        # Crossings with the boundary, and the ends of later cuts that meet this one.
+        inner = [sk.pts[q] for q in cut_points[ci].tolist()] + [xy for xy in junctions[ci]]
+        pos = {lo: pa, hi: pb}
+        for xy in inner:
+            u = float(along(xy, d))
+            if lo < u < hi:
+                pos.setdefault(u, xy)
+        brk = sorted(pos)
+        pieces += [(ci, pos[u], pos[v]) for u, v in itertools.pairwise(brk)]
+    mids = np.array([0.5 * (pa + pb) for _, pa, pb in pieces]).reshape(-1, 2)
+    inside = classify_points(np.ascontiguousarray(mids), *dom_segments) == INSIDE
     kept = [(piece, mid) for piece, mid, keep in zip(pieces, mids, inside) if keep]
     lines, ends = [], []
-    for (ci, axis, c, u, v), _ in kept:
-        pa, pb = np.zeros(2), np.zeros(2)
-        pa[axis] = pb[axis] = c
-        pa[1 - axis], pb[1 - axis] = u, v
-        lines.append(Line(pa, pb))
+    for (ci, pa, pb), _ in kept:
+        lines.append(Line(np.array(pa, dtype=np.float64), np.array(pb, dtype=np.float64)))
         ends += [pa, pb]
     ends = np.array(ends, dtype=np.float64).reshape(-1, 2)
     # Boundary crossings among the piece ends: skeleton points with a boundary chord.
@@ -583,9 +667,11 @@ def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, int
     size_i = _interface_size(field, ends_c, end_sizes[finite][key_c])
     params = place_params(lines, size_i, np.ones(len(lines), dtype=np.int64)) if lines else []
     iseg, ileft, iright = [], [], []
-    for ((ci, axis, c, u, v), mid), line, t in zip(kept, lines, params):
+    for ((ci, _, _), mid), line, t in zip(kept, lines, params):
+        d = dirs[ci]
         xy = line.evaluate(t)
-        xy[:, axis] = c
+        if d[0] >= 0:
+            xy[:, d[0]] = cuts[ci, 2]
         xy[0], xy[-1] = line.p0, line.p1
         # Inner points are new (a skeleton point on a cut is a break); only the ends are shared.
         inner = np.arange(n_pts, n_pts + len(xy) - 2)
@@ -594,9 +680,11 @@ def _interfaces(dom, field, sk, seg_part, cells, cost, cuts, tree, interior, int
         ids = [point_id(xy[0]), *inner.tolist(), point_id(xy[-1])]
         lower = _leaf(tree, mid, ci, 0)
         upper = _leaf(tree, mid, ci, 1)
-        # Oriented with the upper part on the left: down a vertical cut, along a horizontal one.
+        # Oriented with the upper part (xy . n > c) on the left: along (n_y, -n_x), so down a
+        # vertical cut and along a horizontal one.
+        flip = d[2][0] * d[1][1] - d[2][1] * d[1][0] < 0.0
         for i0, i1 in itertools.pairwise(ids):
-            iseg.append((i1, i0) if axis == 0 else (i0, i1))
+            iseg.append((i1, i0) if flip else (i0, i1))
             ileft.append(upper)
             iright.append(lower)
     points = np.concatenate(pts) if len(pts) > 1 else sk.pts
