@@ -2,38 +2,40 @@
 
 Usage::
 
-    python benchmarks/scale2d.py                    # n0 = 2e5 triangles per worker, P = 1, 2 real, 4..16 simulated
-    python benchmarks/scale2d.py --n0 400000 --repeat 3 --sim 4 8 16
+    python benchmarks/scale2d.py                       # n0 = 2e6 triangles per worker
+    python benchmarks/scale2d.py --n0 500000 --repeat 3 --sim 4 8 16
 
 Two domains: a uniform rectangle ``[0, P] x [0, 1]`` (its size ``h`` chosen for ``P * n0``
 triangles) and a graded disk with two holes (a point-source size around one hole, scaled for
 ``P * n0``).  Each worker gets ``4`` parts (``parts = 4 P``).
 
-* Real runs at ``P = 1, 2``: ``E(2) = T(1, n0) / T(2, 2 n0)``, times including decomposition,
-  exchange rounds and writing (cluster start and Numba warm-up excluded), best of
-  ``--repeat`` runs, with Dask's task stream recorded (tasks and their compute seconds).
-* Simulation for ``P = 4..16`` (:func:`meshwright.distributed.simulate_scaling`): the
-  ``P``-problem (``P n0`` triangles, ``4 P`` parts) runs for real on the 2 workers at hand;
-  its measured part times are list-scheduled on ``P`` virtual workers and the client phases
-  added.  Validation: the ``P = 2`` problem run on *one* worker, simulated on 2, against the
-  real 2-worker run (the model is trusted when within 10 %), and again with the 1-worker
-  part times scaled to the 2-worker run's seconds per triangle (the model's scheduling and
-  client phases at equal speed: on a shared machine two workers mesh slower per triangle).
-  A second row per ``P`` takes
-  ``T(1, n0)`` at the ``P``-run's part seconds per triangle: on a shared machine the two
-  workers of the ``P``-run mesh slower per triangle than the one worker of ``T(1)``, which
-  the raw ratio would count as lost efficiency (on an idle machine the factor is ~1).
-* Per row: the time's phases as the model sees them on ``P`` workers (client decomposition,
-  the parts' tasks (meshing and writing their pieces) list-scheduled, and the rest:
-  scheduling, client rounds, numbering tasks, the client's files), imbalance (largest part's
-  triangles over the mean / largest worker's when the parts are dealt largest first to ``P``
-  workers, which is what E(P) pays), exchange rounds, triangles over
-  the serial ``meshwright.triangulate`` count of the same problem (simulated rows only with
-  ``--serial-sim``), min angle, Dask tasks recorded.
+* **Real runs** at ``P = 1, 2``: ``E(2) = T(1, n0) / T(2, 2 n0)``, times including
+  decomposition, exchange rounds and writing (cluster start and Numba warm-up excluded), best
+  of ``--repeat`` runs, with Dask's task stream recorded (tasks, and the *tail*: how long the
+  first worker to finish its parts waited for the last).
+* **Cost model** for ``P = 4..16`` (:func:`meshwright.distributed.simulate.model_time`):
+  the per-task costs of the real ``P = 1`` run (part-task seconds per triangle, numbering
+  seconds per triangle, the client's fixed time beyond the tasks, triangles per predicted
+  triangle) applied to the ``P``-problem's real decomposition, with that problem's client
+  phases measured for real: its decomposition, and the skeleton, virtual datasets and XDMF
+  written for its part sizes (the pieces themselves are not meshed: 1e8 triangles do not fit
+  here).  **Validation**: the model calibrated on the ``P = 1`` run predicts the real
+  ``P = 2`` run (trusted within 10 %); a second row takes the part rate of the ``P = 2`` run
+  (on a shared machine two workers mesh slower per triangle than one: that row checks the
+  model's structure, the first its use).  Each model row gives ``E(P)`` against the real
+  ``T(1, n0)``.
+* Per row: the time's phases (client decomposition / the parts' tasks list-scheduled on ``P``
+  workers / the rest: scheduling, stragglers, numbering tasks, the client's files), part
+  imbalance (largest part's triangles over the mean; *predicted* on model rows) and worker
+  imbalance (parts dealt largest first to ``P`` workers, what E(P) pays), exchange rounds,
+  triangles (over the serial ``meshwright.triangulate`` count, real rows, unless
+  ``--no-serial``), min angle, triangles over the decomposition's prediction (mean and the
+  largest deviation of one part), peak worker memory over its limit, tasks.
 
-The machine is shared (2 cores, other jobs running): every number is printed with the load
-average (``os.getloadavg``) taken right before it.  Sizes are small on purpose; on a cluster
-use ``--n0 6250000`` for the issue's 1e8 triangles on 16 workers.
+The machine may be shared: every number is printed with the load average
+(``os.getloadavg``) taken right before it, and a line per domain gives the task CPU seconds
+per triangle beside the wall seconds (a gap between them is CPU taken by other processes).
+On a cluster, ``--n0 6250000 --sim 16`` is the issue's 1e8 triangles on 16 workers.
 """
 
 from __future__ import annotations
@@ -43,10 +45,13 @@ import math
 import os
 import tempfile
 import time
+from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
 KAPPA_EQ = 1.60 * 4.0 / math.sqrt(3.0)
+PARTS_PER_WORKER = 4
 
 
 def rectangle(P: int, n: float):
@@ -89,137 +94,168 @@ def load() -> str:
     return f"load {os.getloadavg()[0]:.1f}"
 
 
-def run_once(client, dom, size, P_parts: int, workdir: str):
+def run_once(client, dom, size, parts: int, workdir: str):
+    """One real run: the mesh's stats, Dask's task count and the tail of the part tasks."""
     from distributed import get_task_stream
 
     from meshwright.distributed import triangulate
 
     with get_task_stream(client) as ts:
-        dm = triangulate(dom, size, client=client, parts=P_parts, out=os.path.join(workdir, "mesh.xdmf"))
-    compute = sum(
-        sum(s["stop"] - s["start"] for s in t["startstops"] if s["action"] == "compute") for t in ts.data
-    )
-    return dm, len(ts.data), compute
+        dm = triangulate(dom, size, client=client, parts=parts, out=os.path.join(workdir, "mesh.xdmf"))
+    ends = {}
+    for t in ts.data:
+        if "-part-r" in str(t["key"]):
+            stop = max(s["stop"] for s in t["startstops"] if s["action"] == "compute")
+            ends[t["worker"]] = max(ends.get(t["worker"], stop), stop)
+    tail = max(ends.values()) - min(ends.values()) if ends else 0.0
+    return dm, len(ts.data), tail
 
 
 def best(client, dom, size, parts, repeat):
     out = None
     for _ in range(repeat):
         with tempfile.TemporaryDirectory() as d:
-            dm, ntask, comp = run_once(client, dom, size, parts, d)
-        if out is None or dm.stats["seconds"]["total"] < out[0].stats["seconds"]["total"]:
-            out = (dm, ntask, comp)
+            got = run_once(client, dom, size, parts, d)
+        if out is None or got[0].stats["seconds"]["total"] < out[0].stats["seconds"]["total"]:
+            out = got
     return out
 
 
-def serial_count(dom, size) -> tuple[int, float]:
+def serial_count(dom, size) -> int:
     import meshwright as mw
 
+    return len(mw.triangulate(dom, size, min_angle=30.0).cells["triangle"])
+
+
+class _Piece(NamedTuple):
+    """What :func:`meshwright.distributed.writer.write_mesh` reads of a part's summary."""
+
+    path: str
+    n_points: int
+    n_triangles: int
+    n_lines: int
+
+
+def client_phases(dom, size, parts: int) -> tuple:
+    """The ``P``-problem's client phases measured for real: its decomposition (and seconds),
+    and the seconds to write the skeleton, virtual datasets and XDMF for its predicted part
+    sizes (virtual sources need not exist)."""
+    from meshwright.distributed import decompose
+    from meshwright.distributed.writer import part_path, write_mesh
+
     t = time.perf_counter()
-    m = mw.triangulate(dom, size, min_angle=30.0)
-    return len(m.cells["triangle"]), time.perf_counter() - t
+    dec = decompose(dom, size, parts)
+    t_dec = time.perf_counter() - t
+    with tempfile.TemporaryDirectory() as d:
+        out = Path(d) / "mesh.xdmf"
+        pieces = [
+            _Piece(str(part_path(out, i)), int(p / 2), int(p), int(math.sqrt(p))) for i, p in enumerate(dec.predicted)
+        ]
+        t = time.perf_counter()
+        write_mesh(out, dec.points, dec.point_markers, pieces)
+        t_write = time.perf_counter() - t
+    return dec, t_dec, t_write
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--n0", type=float, default=2e5, help="triangles per worker")
+    ap.add_argument("--n0", type=float, default=2e6, help="triangles per worker")
     ap.add_argument("--repeat", type=int, default=2)
-    ap.add_argument("--sim", type=int, nargs="*", default=[4, 8, 16], help="simulated worker counts")
+    ap.add_argument("--sim", type=int, nargs="*", default=[4, 8, 16], help="modelled worker counts")
     ap.add_argument("--domains", nargs="*", default=list(DOMAINS))
-    ap.add_argument("--serial-sim", action="store_true", help="also mesh the simulated problems serially (slow)")
+    ap.add_argument("--memory-limit", default="4GiB", help="per worker")
+    ap.add_argument("--no-serial", action="store_true", help="skip the serial meshes of the real problems")
     args = ap.parse_args()
 
-    from meshwright.distributed import local_cluster, simulate_scaling, warm
-    from meshwright.distributed.simulate import lpt_makespan
+    from meshwright.distributed import local_cluster, warm
+    from meshwright.distributed.simulate import fit_costs, model_time
 
-    c1 = local_cluster(1, memory_limit="4GiB")
-    c2 = local_cluster(2, memory_limit="4GiB")
+    c1 = local_cluster(1, memory_limit=args.memory_limit)
+    c2 = local_cluster(2, memory_limit=args.memory_limit)
     try:
         warm(c1)
         warm(c2)
-        print(f"n0 = {args.n0:.3g} triangles per worker, 4 parts per worker, best of {args.repeat}")
+        print(
+            f"n0 = {args.n0:.3g} triangles per worker, {PARTS_PER_WORKER} parts per worker, best of {args.repeat}, "
+            f"worker memory limit {args.memory_limit}"
+        )
         print(
             "| domain | P | run | T (s) | E(P) | decompose / parts / rest (s) | imbalance part / worker | rounds "
-            "| triangles | over serial | min angle | tasks | load |"
+            "| triangles | over serial | min angle | triangles / predicted (spread) | peak memory / limit "
+            "| tasks, tail (s) | load |"
         )
-        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        notes = []
         for name in args.domains:
             make = DOMAINS[name]
-            dom1, s1 = make(1, args.n0)
-            l0 = load()
-            dm1, nt1, _ = best(c1, dom1, s1, 4, args.repeat)
-            t1 = dm1.stats["seconds"]["total"]
-            ser1, _ = serial_count(dom1, s1)
-            row(name, 1, "real", t1, 1.0, dm1, ser1, nt1, l0)
-            dom2, s2 = make(2, 2 * args.n0)
-            l0 = load()
-            dm2, nt2, _ = best(c2, dom2, s2, 8, args.repeat)
-            ser2, _ = serial_count(dom2, s2)
-            row(name, 2, "real", dm2.stats["seconds"]["total"], t1 / dm2.stats["seconds"]["total"], dm2, ser2, nt2, l0)
-            # Validation: the same P = 2 problem on one worker, simulated on two.
-            l0 = load()
-            dm21, nt21, _ = best(c1, dom2, s2, 8, args.repeat)
-            sim2 = simulate_scaling(dm21.stats, 2)
-            err = sim2 / dm2.stats["seconds"]["total"] - 1.0
-            row(name, 2, f"sim (from 1 worker, {err:+.1%} vs real)", sim2, t1 / sim2, dm21, ser2, nt21, l0)
-            # The model's structure (scheduling, client phases) at equal speed per triangle: the
-            # 1-worker part times scaled to the real 2-worker run's rate.
-            r2 = part_rate(dm2.stats) / part_rate(dm21.stats)
-            sim2c = sim2 + (r2 - 1.0) * sum(lpt_makespan([t for _, t in r], 2) for r in dm21.stats["part_seconds"])
-            err = sim2c / dm2.stats["seconds"]["total"] - 1.0
-            row(name, 2, f"sim at the real run's rate (x{r2:.2f}, {err:+.1%} vs real)", sim2c, t1 / sim2c, dm21, ser2, nt21, l0)
+            real = {}
+            for P, c in ((1, c1), (2, c2)):
+                domP, sP = make(P, P * args.n0)
+                l0 = load()
+                dm, ntask, tail = best(c, domP, sP, PARTS_PER_WORKER * P, args.repeat)
+                ser = None if args.no_serial else serial_count(domP, sP)
+                real[P] = dm
+                T = dm.stats["seconds"]["total"]
+                E = real[1].stats["seconds"]["total"] / T
+                real_row(name, P, T, E, dm, ser, ntask, tail, l0)
+            t1, t2 = (real[P].stats["seconds"]["total"] for P in (1, 2))
+            k1, k2 = fit_costs(real[1].stats), fit_costs(real[2].stats)
+            notes.append(
+                f"{name}: part tasks {1e6 * k1.seconds_per_triangle:.2f} / {1e6 * k2.seconds_per_triangle:.2f} s "
+                f"wall and {1e6 * k1.cpu_per_triangle:.2f} / {1e6 * k2.cpu_per_triangle:.2f} s CPU per 1e6 "
+                f"triangles at P = 1 / 2; numbering {1e6 * k1.resolve_per_triangle:.3f} / "
+                f"{1e6 * k2.resolve_per_triangle:.3f} s per 1e6; client overhead beyond the tasks "
+                f"{k1.round_overhead + k1.resolve_overhead:.3f} / {k2.round_overhead + k2.resolve_overhead:.3f} s"
+            )
+            # Validation: the model calibrated on P = 1 predicts the real P = 2 run.
+            s2 = real[2].stats
+            args2 = (s2["predicted"], 2, s2["seconds"]["decompose"], s2["client_write_seconds"])
+            m = model_time(k1, *args2)
+            model_row(name, 2, f"model from P = 1 costs ({m['total'] / t2 - 1:+.1%} vs real)", m, t1, k1, s2, load())
+            m = model_time(k1, *args2, rate=k2.seconds_per_triangle)
+            model_row(name, 2, f"model at the P = 2 part rate ({m['total'] / t2 - 1:+.1%} vs real)", m, t1, k1, s2,
+                      load())
             for P in args.sim:
                 domP, sP = make(P, P * args.n0)
                 l0 = load()
-                dmP, ntP, _ = best(c2, domP, sP, 4 * P, 1)
-                serP = serial_count(domP, sP)[0] if args.serial_sim else None
-                simP = simulate_scaling(dmP.stats, P)
-                row(name, P, "sim (from 2 workers)", simP, t1 / simP, dmP, serP, ntP, l0)
-                # The same, with T(1, n0) taken at the P-run's speed per triangle (on a shared
-                # machine two workers run slower per triangle than one: that is load, not scaling).
-                r = part_rate(dmP.stats) / part_rate(dm1.stats)
-                t1c = t1 + (r - 1.0) * part_total(dm1.stats)
-                row(name, P, f"sim, T(1) at the P-run's rate (x{r:.2f})", simP, t1c / simP, dmP, serP, ntP, l0)
+                dec, t_dec, t_write = client_phases(domP, sP, PARTS_PER_WORKER * P)
+                st = {"predicted": dec.predicted.tolist(), "imbalance": dec.imbalance}
+                m = model_time(k1, dec.predicted, P, t_dec, t_write)
+                model_row(name, P, "model from P = 1 costs", m, t1, k1, st, l0)
+                m = model_time(k1, dec.predicted, P, t_dec, t_write, rate=k2.seconds_per_triangle)
+                model_row(name, P, "model at the P = 2 part rate", m, t1, k1, st, l0)
+        for line in notes:
+            print(line)
     finally:
         c1.close()
         c2.close()
 
 
-def phases(stats: dict, workers: int) -> str:
-    """``decompose / parts (LPT on workers) / the rest`` of a run's time as simulated on ``workers``."""
-    from meshwright.distributed import simulate_scaling
-    from meshwright.distributed.simulate import lpt_makespan
+def real_row(name, P, T, E, dm, serial, ntasks, tail, l0) -> None:
+    from meshwright.distributed.simulate import fit_costs, lpt_makespan
 
-    dec = stats["seconds"]["decompose"]
-    parts = sum(lpt_makespan([t for _, t in r], workers) for r in stats["part_seconds"])
-    return f"{dec:.2f} / {parts:.2f} / {simulate_scaling(stats, workers) - dec - parts:.2f}"
-
-
-def part_total(stats: dict) -> float:
-    """Seconds of all part tasks of a run (every round)."""
-    return sum(t for r in stats["part_seconds"] for _, t in r)
-
-
-def part_rate(stats: dict) -> float:
-    """Part-task seconds per triangle of a run."""
-    return part_total(stats) / sum(stats["triangles"])
-
-
-def worker_imbalance(stats: dict, workers: int) -> float:
-    """Largest worker's triangles over the mean when the parts are dealt largest first to ``workers``."""
-    from meshwright.distributed.simulate import lpt_makespan
-
-    t = stats["triangles"]
-    return lpt_makespan(t, workers) * workers / sum(t)
-
-
-def row(name, P, kind, T, E, dm, serial, ntasks, l0) -> None:
     s = dm.stats
+    dec = s["seconds"]["decompose"]
+    parts = sum(lpt_makespan([t for _, t in r], P) for r in s["part_seconds"])
+    tris = s["triangles"]
+    k = fit_costs(s)
+    mem = f"{s['peak_rss'] / s['memory_limit']:.2f}" if s["memory_limit"] else "-"
     print(
-        f"| {name} | {P} | {kind} | {T:.2f} | {E:.3f} | {phases(s, P)} | {s['imbalance']:.3f} / "
-        f"{worker_imbalance(s, P):.3f} | {s['rounds']} | "
-        f"{dm.n_cells} | {'-' if serial is None else f'{dm.n_cells / serial:.4f}'} | {s['min_angle']:.2f} | "
-        f"{ntasks} | {l0} |",
+        f"| {name} | {P} | real | {T:.2f} | {E:.3f} | {dec:.2f} / {parts:.2f} / {T - dec - parts:.2f} | "
+        f"{s['imbalance']:.3f} / {lpt_makespan(tris, P) * P / sum(tris):.3f} | {s['rounds']} | {dm.n_cells} | "
+        f"{'-' if serial is None else f'{dm.n_cells / serial:.4f}'} | {s['min_angle']:.2f} | "
+        f"{k.triangles_per_predicted:.3f} ({k.spread:.3f}) | {mem} | {ntasks}, {tail:.2f} | {l0} |",
+        flush=True,
+    )
+
+
+def model_row(name, P, kind, m, t1, costs, stats, l0) -> None:
+    pred = np.asarray(stats["predicted"])
+    print(
+        f"| {name} | {P} | {kind} | {m['total']:.2f} | {t1 / m['total']:.3f} | {m['decompose']:.2f} / "
+        f"{m['parts']:.2f} / {m['rest']:.2f} | {pred.max() / pred.mean():.3f} (predicted) / "
+        f"{m['worker_imbalance']:.3f} | - | {round(pred.sum() * costs.triangles_per_predicted)} (modelled) | - | - "
+        f"| - | - | - | {l0} |",
         flush=True,
     )
 

@@ -79,6 +79,11 @@ class DistributedMesh:
     stats : dict
         ``parts``, ``workers``, ``rounds``, ``seconds`` (decompose, mesh, write, total),
         ``part_seconds`` (one list per round: ``(part, seconds)`` of meshing and writing),
+        ``part_cpu_seconds`` (the same with the tasks' CPU seconds), ``round_seconds`` (client
+        wall time of each round: submit to the last summary), ``resolve_seconds`` (wall time
+        of the numbering tasks), ``client_write_seconds`` (the client's skeleton, virtual
+        datasets and XDMF), ``peak_rss`` (largest peak resident memory of a worker that ran
+        a part, bytes) and ``memory_limit`` (the smallest worker limit, 0 when unset),
         ``write_seconds`` (per part: resolving its references), ``triangles`` and
         ``predicted`` per part, ``imbalance`` (largest part's triangles over the mean),
         ``worker_imbalance`` (the largest worker's triangles over the mean when the parts are
@@ -356,13 +361,14 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
     curves_f = c.scatter(dom.curves, broadcast=True, hash=False)
     field_f = c.scatter(field, broadcast=True, hash=False)
     seeds = [int(np.random.SeedSequence([seed, i]).generate_state(1)[0]) for i in range(P)]
-    summaries, part_seconds = {}, []
+    summaries, part_seconds, part_cpu, round_walls = {}, [], [], []
     todo = np.argsort(-dec.predicted, kind="stable")
     rounds = 0
     split_points = 0
     n_skeleton0 = len(dec.points)
     t_mesh = time.perf_counter()
     while True:
+        t_round = time.perf_counter()
         # One task per part: mesh, write the piece, return the summary (largest parts first).
         futs = {
             i: c.submit(
@@ -373,8 +379,10 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
         }
         done = _gather(c, futs, f"round {rounds}", progress)
         del futs
+        round_walls.append(time.perf_counter() - t_round)
         summaries.update(done)
         part_seconds.append([(i, done[i].seconds + done[i].write_seconds) for i in sorted(done)])
+        part_cpu.append([(i, done[i].cpu_seconds) for i in sorted(done)])
         requests = {}
         for i in sorted(summaries):
             for s, xy in summaries[i].requests:
@@ -406,11 +414,14 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
         for j, g in enumerate(groups)
     }
     fixed = _gather(c, fixes, "numbering")
+    t_resolve = time.perf_counter() - t_write
     write_seconds = [0.0] * P
     for j, g in enumerate(groups):
         for i, sec in zip(g, fixed[j]):
             write_seconds[i] = sec
+    t_client = time.perf_counter()
     files = write_mesh(out_path, dec.points, dec.point_markers, pieces) + [p.path for p in pieces]
+    t_client = time.perf_counter() - t_client
     # Attempts of tasks that lost their worker leave temporary files behind.
     for tmp in out_path.parent.glob(f"{out_path.stem}_part*.h5.*.tmp"):
         tmp.unlink(missing_ok=True)
@@ -425,6 +436,12 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
             "decompose": t_dec, "mesh": t_mesh, "write": t_write, "total": time.perf_counter() - t_start,
         },
         "part_seconds": part_seconds,
+        "part_cpu_seconds": part_cpu,
+        "round_seconds": round_walls,
+        "resolve_seconds": t_resolve,
+        "client_write_seconds": t_client,
+        "peak_rss": int(max(summaries[i].peak_rss for i in range(P))),
+        "memory_limit": int(limit),
         "write_seconds": write_seconds,
         "resolve_batches": len(groups),
         "triangles": tris.tolist(),

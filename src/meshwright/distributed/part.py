@@ -94,6 +94,12 @@ class PartSummary(NamedTuple):
         Time writing the piece.
     path : str
         The piece ("" when not written).
+    cpu_seconds : float
+        CPU time of the task's thread (meshing and writing): what the part costs on a core
+        of its own, whatever else the machine runs.
+    peak_rss : int
+        The worker process's peak resident memory so far, bytes (0 where the platform does
+        not report it): checked against the worker's memory limit.
     """
 
     index: int
@@ -105,6 +111,17 @@ class PartSummary(NamedTuple):
     seconds: float
     write_seconds: float
     path: str
+    cpu_seconds: float
+    peak_rss: int
+
+
+def _peak_rss() -> int:
+    """Peak resident memory of this process in bytes (``ru_maxrss`` is KiB on Linux); 0 without it."""
+    try:
+        import resource
+    except ImportError:
+        return 0
+    return int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024
 
 
 def _min_angle(xy: np.ndarray, tris: np.ndarray) -> float:
@@ -143,14 +160,18 @@ def mesh_part(pslg, curves, field, min_angle: float, seed: int, max_points: int,
     PartSummary
         With non-empty ``requests`` (and nothing written) when refinement split an interface.
     """
+    cpu0 = time.thread_time()
     pm = build_part(pslg, curves, field, min_angle, seed, max_points)
     if pm.requests:
-        return PartSummary(pm.index, 0, 0, 0, pm.requests, pm.min_angle, pm.seconds, 0.0, "")
+        return PartSummary(
+            pm.index, 0, 0, 0, pm.requests, pm.min_angle, pm.seconds, 0.0, "", time.thread_time() - cpu0,
+            _peak_rss(),
+        )
     t0 = time.perf_counter()
     write_part(pm, path)
     return PartSummary(
         pm.index, len(pm.points), len(pm.triangles), len(pm.lines), (), pm.min_angle, pm.seconds,
-        time.perf_counter() - t0, str(path),
+        time.perf_counter() - t0, str(path), time.thread_time() - cpu0, _peak_rss(),
     )
 
 
