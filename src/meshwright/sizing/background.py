@@ -131,12 +131,14 @@ def _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y):
 def interpolate_walk(pts, tris, nbr, start, items, x0, y0, cell, nx, ny, values, col, hint, x, y):
     """:func:`interpolate_one` walking from the triangle ``hint[0]`` (updated), for queries
     that move a little at a time (a front): O(distance) instead of a bucket scan, which a
-    graded background (many small triangles in one bucket) makes slow."""
+    graded background (many small triangles in one bucket) makes slow.  A walk that leaves
+    the grid (across a hole or a concave side) falls back to the bucket scan, whose triangle
+    becomes the hint, so that the next query near (x, y) walks from there."""
     t = hint[0]
     if t < 0 or t >= tris.shape[0]:
         t = 0
     for step in range(4096):
-        moved = False
+        n = -2  # no edge with the query on its outer side: t contains it
         for j in range(3):
             e = (j + step) % 3
             u = tris[t, (e + 1) % 3]
@@ -144,16 +146,17 @@ def interpolate_walk(pts, tris, nbr, start, items, x0, y0, cell, nx, ny, values,
             side = (pts[w, 0] - pts[u, 0]) * (y - pts[u, 1]) - (pts[w, 1] - pts[u, 1]) * (x - pts[u, 0])
             if side < 0.0:
                 n = nbr[t, e]
-                if n < 0:
-                    return interpolate_one(pts, tris, start, items, x0, y0, cell, nx, ny, x, y, values, col)
-                t = n
-                moved = True
                 break
-        if not moved:
+        if n == -2:
             hint[0] = t
             w0, w1, w2 = _barycentric(pts, tris, t, x, y)
             return w0 * values[tris[t, 0], col] + w1 * values[tris[t, 1], col] + w2 * values[tris[t, 2], col]
-    return interpolate_one(pts, tris, start, items, x0, y0, cell, nx, ny, x, y, values, col)
+        if n < 0:
+            break
+        t = n
+    t, w0, w1, w2 = _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y)
+    hint[0] = t
+    return w0 * values[tris[t, 0], col] + w1 * values[tris[t, 1], col] + w2 * values[tris[t, 2], col]
 
 
 @njit(cache=True)

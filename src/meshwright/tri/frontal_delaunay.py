@@ -113,20 +113,27 @@ _MAX_LEVELS = 40  # quadtree levels of the scaffold (cells of 2**-40 of the box)
 _MAX_ROOT_LEVELS = 10  # a thin box gets up to 2**10 roots along its longer side
 
 
-def _background(ct, field) -> BackgroundGrid:
-    """A background grid giving ``field`` (see the module docstring)."""
+def _background(ct, field) -> tuple[BackgroundGrid, np.ndarray | None]:
+    """A background grid giving ``field`` (see the module docstring), and for a sampled
+    field the scaffold candidates it yields: the sample's vertices off the boundary, in
+    Hilbert order (None for a given or uniform grid)."""
     if isinstance(field, BackgroundGrid):
-        return field
+        return field, None
     p = ct.points
     lo, hi = p.min(axis=0), p.max(axis=0)
     if field.constant is not None:
-        return BackgroundGrid.uniform((lo[0], lo[1], hi[0], hi[1]), field.constant)
+        return BackgroundGrid.uniform((lo[0], lo[1], hi[0], hi[1]), field.constant), None
     from meshwright.tri.ruppert import refine
 
     sample = copy.deepcopy(ct)
     refine(sample, min_angle=20.0, size=lambda xy: SAMPLE * field(xy))
     # The inside triangles cover the domain.
-    return BackgroundGrid.on_triangulation(sample.points, sample.triangles(True), field(sample.points))
+    grid = BackgroundGrid.on_triangulation(sample.points, sample.triangles(True), field(sample.points))
+    nv = sample.n_points
+    off = np.arange(ct.n_points, nv)
+    off = off[sample.constraints.vseg[ct.n_points:nv] < 0]
+    xy = np.ascontiguousarray(sample.points[off])
+    return grid, np.ascontiguousarray(xy[hilbert_order(xy)]) if len(xy) else xy
 
 
 def scaffold_points(bg: BackgroundGrid, lo, hi, limit: int) -> np.ndarray:
@@ -205,7 +212,7 @@ def _grown(f: fk.FrontalState, ct) -> fk.FrontalState:
     return f._replace(
         acc=grown_rows(f.acc, 3 * slots, -2), stamp=grown_rows(f.stamp, slots, 0),
         ratio=grown_rows(f.ratio, slots, 0.0), hkey=hkey, htri=grown_rows(f.htri, len(hkey)),
-        vflag=grown_rows(f.vflag, rows, 0), free=grown_rows(f.free, rows, 0),
+        vflag=grown_rows(f.vflag, rows, 0), free=grown_rows(f.free, rows, 0), vbg=grown_rows(f.vbg, rows, -1),
     )
 
 
@@ -340,7 +347,7 @@ def frontal_delaunay(ct, size, *, max_points: int | None = None, scaffold: bool 
     if T is not None:
         return _stretched(ct, size, T, max_points, scaffold)
     field = as_size_field(size)
-    grid = _background(ct, field)
+    grid, sampled = _background(ct, field)
     bg = grid.kernel_args() + (np.zeros(1, dtype=np.int64),)  # last: the walk's hint
     par = np.zeros(fk.P_LEN)
     par[fk.P_ACCEPT] = ACCEPT
@@ -358,17 +365,20 @@ def frontal_delaunay(ct, size, *, max_points: int | None = None, scaffold: bool 
         ratio=np.zeros(slots), hkey=np.empty(hcap), htri=np.empty((hcap, 4), dtype=np.int32),
         stamp=np.zeros(slots, dtype=np.int64), fmeta=np.zeros(fk.FM_LEN, dtype=np.int64), par=par,
         vflag=np.zeros(rows, dtype=np.int8), free=np.zeros(rows, dtype=np.int32),
-        scr=np.zeros(SCRATCH, dtype=np.int32),
+        scr=np.zeros(SCRATCH, dtype=np.int32), vbg=np.full(rows, -1, dtype=np.int32),
     )
     seeded = 0
     if scaffold:
-        p = ct.points
-        cap = int(par[fk.P_MAX_POINTS])
-        # The tree covers the domain's box, not the domain: a thin domain across its box
-        # would grow it far past the points the domain itself needs (its inside triangles'
-        # area over h^2), which is all a scaffold of SCAFFOLD h cells can use.
-        need = int(min(estimate(ct, np.inf, grid), 1 << 26))
-        xy = scaffold_points(grid, p.min(axis=0), p.max(axis=0), min(cap, 1 << 26, 4 * need + 4 * MIN_SCAFFOLD))
+        if sampled is not None:
+            xy = sampled
+        else:
+            p = ct.points
+            cap = int(par[fk.P_MAX_POINTS])
+            # The tree covers the domain's box, not the domain: a thin domain across its box
+            # would grow it far past the points the domain itself needs (its inside triangles'
+            # area over h^2), which is all a scaffold of SCAFFOLD h cells can use.
+            need = int(min(estimate(ct, np.inf, grid), 1 << 26))
+            xy = scaffold_points(grid, p.min(axis=0), p.max(axis=0), min(cap, 1 << 26, 4 * need + 4 * MIN_SCAFFOLD))
         if len(xy) < MIN_SCAFFOLD:
             xy = xy[:0]  # a short front: no long cavities to avoid, same mesh as without
         i = 0
