@@ -5,6 +5,8 @@ Usage::
     python benchmarks/quality3d.py            # the issue's sizes: about 1e5 and 1e6 tets
     python benchmarks/quality3d.py --quick    # about 1e4 tets, a smoke run
     python benchmarks/quality3d.py --levels 4 --repeat 1
+    python benchmarks/quality3d.py --levels 5 --tets 1000000   # every mesher calibrated to ~1e6 tets
+    python benchmarks/quality3d.py --levels 5 --factor gmsh-hxt=0.67 --factor meshwright=0.885
 
 Case: the unit sphere as :func:`meshwright.geometry.sphere` triangulates it (icosahedron
 subdivided ``level`` times, vertices on the true sphere; level 3: 1280 faces, level 4:
@@ -20,6 +22,28 @@ as the boundary and the counts are comparable:
 * Gmsh Delaunay (``Mesh.Algorithm3D = 1``) and HXT (``Mesh.Algorithm3D = 10``), one
   thread, the surface given as a discrete entity (kept as is), ``Mesh.MeshSizeMax = h``;
   Gmsh's default optimisation pass included (it is part of its pipeline).
+
+What a size ``h`` means differs between the meshers, so the same ``h`` does not give the same
+mesh.  Measured on the level-4 sphere (h 0.0755; interior edges = edges with at least one
+vertex off the boundary; ``edge/h`` columns): meshwright mean 1.08 h (median 1.06, 10-90 %
+0.84-1.35), TetGen ``a`` = regular-tet volume 0.89 h (median 0.89), Gmsh Delaunay 1.39 h and
+HXT 1.43 h (median 1.43, 10-90 % 1.07-1.79); boundary edges are the surface's, h on average.
+So meshwright's size is not too fine: its criterion (split a tet whose circumradius exceeds
+0.8 h, where the regular tet of edge h has 0.61 h) gives edges of about h, as a size h should,
+and TetGen is a little finer; it is Gmsh whose interior edges come out about 1.4 times its
+``MeshSizeMax``, so at one ``h`` Gmsh makes about 2.1x fewer tets than meshwright (and
+TetGen 1.7x more).  Comparing times at one ``h`` therefore favours Gmsh by the tet count.
+``--tets N`` calibrates each mesher's size factor ``f`` (its size is ``f h``; TetGen's volume
+bound scales by ``f^3``) so that all produce about N tets from the same surface (a few untimed
+runs, ``f <- f (count / N)^(1/3)``, until within 5 %), and ``--factor NAME=F`` gives the
+factors directly; the table prints both ratios to HXT: by time (``x HXT``) and by throughput
+(``x HXT tets/s``: HXT's tets/s over this mesher's).  Neither alone is the whole story: at
+equal counts the time ratio is the fair one; at one ``h`` the throughput ratio is.  Calibrated
+on the level-4 sphere to meshwright's 86,758 tets: TetGen 1.195, Gmsh Delaunay 0.779, HXT
+0.751, and then every mesher's interior edges measure 1.06-1.09 h; for about 1e6 tets on the
+level-5 sphere: meshwright 0.885, TetGen 1.057, Gmsh Delaunay 0.70, HXT 0.672 (963k-999k
+tets, interior edges 0.94-0.98 h).  The size criterion was therefore left as it is: it is the
+yardstick that differed, not meshwright's meaning of h.
 
 Quality is computed by :func:`meshwright.core.quality.tetra_quality` for every mesher
 (peers' tets reoriented positive first): minimum and maximum dihedral angle, mean and
@@ -62,6 +86,30 @@ def oriented(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
     neg = np.einsum("mi,mi->m", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) < 0.0
     tets[neg, 0], tets[neg, 1] = tets[neg, 1], tets[neg, 0].copy()
     return tets
+
+
+def edge_ratios(points: np.ndarray, tets: np.ndarray, h: float) -> tuple[float, float]:
+    """Mean and median length over ``h`` of the interior edges (at least one end off the boundary)."""
+    tets = np.asarray(tets, dtype=np.int64)
+    faces = np.sort(tets[:, [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]]].reshape(-1, 3), axis=1)
+    uniq, count = np.unique(faces, axis=0, return_counts=True)
+    on_boundary = np.zeros(len(points), dtype=bool)
+    on_boundary[uniq[count == 1].ravel()] = True
+    edges = np.unique(np.sort(tets[:, [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]]].reshape(-1, 2), axis=1), axis=0)
+    edges = edges[~(on_boundary[edges[:, 0]] & on_boundary[edges[:, 1]])]
+    length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1) / h
+    return float(length.mean()), float(np.median(length))
+
+
+def calibrate(fn, surface, h: float, target: int, factor: float, name: str) -> float:
+    """Size factor f with about ``target`` tets from ``fn(surface, f h)`` (untimed runs)."""
+    for _ in range(4):
+        count = len(fn(surface, factor * h)[1])
+        print(f"calibrating {name}: factor {factor:.4f} -> {count:,} tets", file=sys.stderr)
+        if abs(count / target - 1.0) < 0.05:
+            break
+        factor *= (count / target) ** (1.0 / 3.0)
+    return factor
 
 
 def run_meshwright(surface, h: float, radius_edge: float):
@@ -152,7 +200,16 @@ def main(argv=None) -> int:
     ap.add_argument("--radius-edge", type=float, default=1.414, help="meshwright's radius-edge bound")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--no-jit", action="store_true", help="skip the JIT compile-time measurement")
+    ap.add_argument("--tets", type=int, metavar="N", help="calibrate each mesher's size factor to about N tets")
+    ap.add_argument("--factor", action="append", default=[], metavar="NAME=F", help="a mesher's size factor (size F h)")
     args = ap.parse_args(argv)
+    factors = {}
+    for item in args.factor:
+        name, _, value = item.partition("=")
+        try:
+            factors[name] = float(value)
+        except ValueError:
+            ap.error(f"--factor wants NAME=F, got {item!r}")
 
     if not args.no_jit:
         cold, cached = jit_compile_times(
@@ -172,23 +229,29 @@ def main(argv=None) -> int:
         results = {}
         for name, fn in found.items():
             try:
-                t, (points, tets) = best_time(lambda fn=fn, s=surface, h=h: fn(s, h), args.repeat if level < 5 else 1)
+                f = factors.get(name, 1.0)
+                if args.tets:
+                    f = calibrate(fn, surface, h, args.tets, f, name)
+                t, (points, tets) = best_time(lambda fn=fn, s=surface, hf=f * h: fn(s, hf), args.repeat if level < 5 else 1)
             except MeshwrightError as exc:  # a row saying why beats losing the other columns
                 print(f"{name} failed on level {level}: {exc}", file=sys.stderr)
                 continue
-            results[name] = (t, quality_row(points, tets))
+            results[name] = (t, f, edge_ratios(points, tets, h), quality_row(points, tets))
         ref = results.get("tetgen", (None,))[0]
-        hxt = results.get("gmsh-hxt", (None,))[0]
-        for name, (t, q) in results.items():
+        hxt = results.get("gmsh-hxt")
+        for name, (t, f, (e_mean, e_median), q) in results.items():
             rows.append(
                 [
                     f"sphere L{level} ({len(surface.triangles):,} faces, h {h:.4f})",
                     name,
+                    f"{f:.3f}",
                     f"{t:.3f}",
                     f"{q['tets']:,}",
                     f"{q['tets'] / t:,.0f}",
+                    f"{e_mean:.2f} / {e_median:.2f}",
                     f"{t / ref:.2f}" if ref else "-",
-                    f"{t / hxt:.2f}" if hxt else "-",
+                    f"{t / hxt[0]:.2f}" if hxt else "-",
+                    f"{(hxt[3]['tets'] / hxt[0]) / (q['tets'] / t):.2f}" if hxt else "-",
                     f"{q['min_dih']:.2f}",
                     f"{q['max_dih']:.2f}",
                     f"{q['rr_mean']:.3f}",
@@ -202,11 +265,14 @@ def main(argv=None) -> int:
         [
             "case",
             "method",
+            "size factor",
             "time [s]",
             "tets",
             "tets/s",
+            "edge/h mean / median",
             "x TetGen",
             "x HXT",
+            "x HXT tets/s",
             "min dihedral",
             "max dihedral",
             "mean radius ratio",
