@@ -561,3 +561,34 @@ def test_sliding_smoother_keeps_quads_convex_on_the_curve_and_the_minimum():
     inner = np.setdiff1d(np.arange(len(xy)), on)
     assert np.abs(moved[inner] - xy[inner]).max() > 1e-3
     assert np.abs(moved[on] - xy[on]).max() > 1e-4
+
+
+def test_enhancement_worklist_decides_as_full_passes():
+    """enhance() examines, after its first pass, only the quads next to the last pass's
+    changes; the same passes over every quad (dirty flags reset to all) must give the same
+    nodes and quads, on raw pairings of a disk and an airfoil with hundreds of operations."""
+    from meshwright.quad.enhancement import ACCEPT, ENHANCE_PASSES, SWAP_GAIN, _node_quads
+
+    cases = [(circle(), 0.05), (airfoil_in_farfield("0012", radius=3.0), 0.15)]
+    for dom, h in cases:
+        tri = mw.triangulate(dom, h, method="front")
+        quads, _, left, t3, _, xy = pair_triangles(tri.points, tri.cells["triangle"], tri.cells["line"])
+        bnd = np.zeros(len(xy), dtype=bool)
+        bnd[tri.cells["line"].ravel()] = True
+        xy_w, q_w, _, counts = enhance(xy, quads, bnd, t3[left])
+        assert sum(counts) > 20
+        # The same passes, every quad examined each time.
+        p = xy.copy()
+        qd = quads.copy()
+        alive = np.ones(len(qd), dtype=np.int8)
+        tri_node = np.zeros(len(p), dtype=np.int8)
+        tri_node[t3[left].ravel()] = 1
+        for _ in range(ENHANCE_PASSES):
+            off, idx = _node_quads(qd, alive, len(p))
+            got = pk.enhance_pass(
+                p, qd, alive, bnd.astype(np.int8), off, idx, tri_node, ACCEPT, SWAP_GAIN, np.ones(len(qd), np.int8)
+            )
+            if sum(got) == 0:
+                break
+        assert np.array_equal(xy_w, p)
+        assert np.array_equal(q_w, qd[alive == 1])

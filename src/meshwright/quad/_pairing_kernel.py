@@ -405,6 +405,14 @@ def _live_count(alive, off, idx, v):
 
 
 @njit(inline="always")
+def _star_dirty(off, idx, dirty, v):
+    for s in range(off[v], off[v + 1]):
+        if dirty[idx[s]] != 0:
+            return True
+    return False
+
+
+@njit(inline="always")
 def _star_free(off, idx, lock, v):
     for s in range(off[v], off[v + 1]):
         if lock[idx[s]] != 0:
@@ -427,13 +435,15 @@ def _position(quad, q, v):
 
 
 @njit(cache=True)
-def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node):
+def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, dirty):
     """Interior nodes in exactly two quads (doublets): the two quads become one, unless it
     would be non-convex or leave a boundary node in one quad at a flat corner."""
     done = 0
     n = xy.shape[0]
     for v in range(n):
         if bnd[v] != 0 or tri_node[v] != 0 or not _star_free(off, idx, lock, v):
+            continue
+        if not _star_dirty(off, idx, dirty, v):
             continue
         q1 = -1
         q2 = -1
@@ -463,12 +473,12 @@ def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node):
 
 
 @njit(cache=True)
-def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept):
+def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept, dirty):
     """Quads whose opposite nodes a, c are interior and in three quads each (diamonds):
     a and c merge at their midpoint and the quad disappears."""
     done = 0
     for q in range(quad.shape[0]):
-        if alive[q] == 0 or lock[q] != 0:
+        if alive[q] == 0 or lock[q] != 0 or dirty[q] == 0:
             continue
         for r in range(2):
             a = quad[q, r]
@@ -521,13 +531,13 @@ def _flat_boundary_corner(xy, bnd, a, b, c, d):
 
 
 @njit(cache=True)
-def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain):
+def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
     """Two quads sharing a side form a hexagon; the side moves to the hexagon diagonal that
     gives the best pair when its worst scaled Jacobian gains more than ``gain``."""
     done = 0
     h = np.empty(6, dtype=np.int64)
     for q1 in range(quad.shape[0]):
-        if alive[q1] == 0 or lock[q1] != 0:
+        if alive[q1] == 0 or lock[q1] != 0 or dirty[q1] == 0:
             continue
         for k in range(4):
             u = quad[q1, k]
@@ -578,16 +588,34 @@ def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain):
 
 
 @njit(cache=True)
-def enhance_pass(xy, quad, alive, bnd, off, idx, tri_node, accept, gain):
+def enhance_pass(xy, quad, alive, bnd, off, idx, tri_node, accept, gain, dirty):
     """One pass of node elimination, element elimination and diagonal swapping.
 
     ``tri_node`` (n,) int8 flags nodes of left-over triangles, which no operation touches.
-    Returns (doublets removed, diamonds collapsed, sides swapped).
+    Only quads flagged in ``dirty`` (q,) int8 (and nodes with one in their star) are
+    examined; on return ``dirty`` flags the quads with a node in a quad this pass changed,
+    the only ones whose operations can decide otherwise in the next pass (every test
+    reads the stars and positions of the quad's own nodes, and an operation changes only
+    the quads it locks; a refused one leaves no trace), so a pass with ``dirty`` decides
+    exactly as a pass over every quad.  Returns (doublets removed, diamonds collapsed,
+    sides swapped).
     """
     lock = np.zeros(quad.shape[0], dtype=np.int8)
-    n1 = _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node)
-    n2 = _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept)
-    n3 = _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain)
+    n1 = _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, dirty)
+    n2 = _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept, dirty)
+    n3 = _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty)
+    touched = np.zeros(xy.shape[0], dtype=np.int8)
+    for q in range(quad.shape[0]):
+        if lock[q] != 0:
+            for k in range(4):
+                touched[quad[q, k]] = 1
+    for q in range(quad.shape[0]):
+        dirty[q] = 0
+        if alive[q] != 0:
+            for k in range(4):
+                if touched[quad[q, k]] != 0:
+                    dirty[q] = 1
+                    break
     return n1, n2, n3
 
 

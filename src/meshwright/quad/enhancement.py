@@ -9,6 +9,9 @@ development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. En
 smallest corner sine around the node does not fall and every quad strictly convex before
 it stays so (exact ``orient2d``).
 
+Passes after the first examine only the quads next to the previous pass's changes (the
+kernel's ``dirty`` flags), which decides exactly as a pass over every quad.
+
 Invariants: every quad an operation or a move produces is strictly convex by exact
 ``orient2d``; boundary nodes (and segment and interior-point nodes) are never removed, and
 move only along their true curves; a quad that stays non-convex is cut back into two
@@ -32,11 +35,12 @@ from meshwright.quad.smoothing import smooth_sliding
 
 __all__ = [
     "enhance", "smooth_quads", "unpair_nonconvex", "nonconvex", "min_scaled_jacobian",
-    "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ACCEPT", "SWAP_GAIN",
+    "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ENHANCE_SETTLE", "ACCEPT", "SWAP_GAIN",
 ]
 
 ENHANCE_PASSES = 8  # cap on enhancement passes (each stops early when nothing changes)
-ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a split)
+ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a split) ...
+ENHANCE_SETTLE = 1e-2  # ... after the first, only where a node moved more than this times an edge
 ACCEPT = 0.4  # element elimination may lower the local worst scaled Jacobian, but not below this
 SWAP_GAIN = 0.02  # a diagonal swap must raise the pair's worst scaled Jacobian by more than this
 
@@ -47,8 +51,8 @@ def _node_quads(quads: np.ndarray, alive: np.ndarray, n: int) -> tuple[np.ndarra
     owner = quads[live].ravel().astype(np.int64)
     order = np.argsort(owner, kind="stable")
     off = np.zeros(n + 1, dtype=np.int64)
-    np.add.at(off, owner + 1, 1)
-    return np.cumsum(off), np.repeat(live, 4)[order].astype(np.int32)
+    off[1:] = np.cumsum(np.bincount(owner, minlength=n))
+    return off, np.repeat(live, 4)[order].astype(np.int32)
 
 
 def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
@@ -95,9 +99,10 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
     if triangles is not None:
         tri_node[as_cells(triangles, "triangles", 3, len(xy)).ravel()] = 1
     total = np.zeros(3, dtype=np.int64)
+    dirty = np.ones(len(qd), dtype=np.int8)
     for _ in range(passes):
         off, idx = _node_quads(qd, alive, len(xy))
-        got = pk.enhance_pass(xy, qd, alive, bnd, off, idx, tri_node, ACCEPT, SWAP_GAIN)
+        got = pk.enhance_pass(xy, qd, alive, bnd, off, idx, tri_node, ACCEPT, SWAP_GAIN, dirty)
         total += np.asarray(got)
         if sum(got) == 0:
             break
@@ -223,7 +228,7 @@ def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, 
         fixed[lines.ravel()] = True
 
     project = _CurveSlider(domain, vcurve)
-    return smooth_sliding(xy, quads, np.asarray(tris).reshape(-1, 3), lines, fixed, project, passes)
+    return smooth_sliding(xy, quads, np.asarray(tris).reshape(-1, 3), lines, fixed, project, passes, ENHANCE_SETTLE)
 
 
 class _CurveSlider:

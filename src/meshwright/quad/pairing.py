@@ -12,7 +12,9 @@ What this module does (and what it does not)
 This is the *frontal pairing* route: the advancing front of 18.2
 (:func:`meshwright.tri.front.advancing_front`, spacing, stretching and direction from the
 size field or background grid exactly as there) makes its triangles first, numbered in
-the order the front made them, and the pairing then walks them in that order.
+the order the front made them, and the pairing then walks them in that order.  The front's
+own finishing (diagonal swaps and a Laplacian, ``advancing_front(finish=False)``) is
+skipped: the enhancement and the quad smoothing below reshape the quads themselves.
 
 1. **Even boundaries.**  Every loop gets an even number of boundary nodes: a loop whose
    discretisation is odd gets one node on its longest segment, on the true curve (the
@@ -58,8 +60,11 @@ the order the front made them, and the pairing then walks them in that order.
    part of the enhancement whatever ``quadrangulate``'s ``smooth``, which adds the shared
    smoother's sweeps afterwards): the chapter's Laplacian (:func:`meshwright.tri.smoothing.smooth`) over the four corner
    triangles of every quad, so a move is accepted only if every quad stays strictly
-   convex; boundary nodes slide on their true curves (``smooth_boundary=True``)
-   or stay fixed; curve joints, polygon corners and interior points never move.  The
+   convex; boundary nodes slide on their true curves (``smooth_boundary=True``; on
+   parametric curves by Newton steps in the curve parameter) or stay fixed; after
+   the first pass only nodes whose neighbourhood still moves are visited
+   (:data:`~meshwright.quad.enhancement.ENHANCE_SETTLE`); curve joints, polygon
+   corners and interior points never move.  The
    nodes of a non-convex quad move only to make it convex; a quad still non-convex after
    smoothing is cut back into two triangles (``PairingReport.reverted``).
 6. **All-quad route**: triangles that are still unpaired (a face of the domain cut off
@@ -69,7 +74,7 @@ the order the front made them, and the pairing then walks them in that order.
    a chord through the quads beyond it to the boundary or to another triangle; crossed sides get their
    midpoints (on the true curves for boundary sides), each crossed quad splits in two (in
    four where chords cross), each triangle into three quads; the result conforms, and is
-   smoothed again.  Unlike one midpoint split of every element
+   smoothed again around the chords (:data:`CHORD_RINGS` rings of nodes).  Unlike one midpoint split of every element
    (:func:`meshwright.quad.subdivide.split_all`), only the quads on the chords change.
    With ``all_quad=False`` the quad-dominant mesh is returned and :class:`PairingReport`
    counts the triangles left.

@@ -99,6 +99,29 @@ def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
     return tx / k, ty / k
 
 
+@njit(inline="always")
+def _settled(nbr_ptr, nbr_idx, last, now, v):
+    """Whether neither ``v`` nor an edge neighbour moved in the last sweep or this one."""
+    if last[v] != 0 or now[v] != 0:
+        return False
+    for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
+        w = nbr_idx[t]
+        if last[w] != 0 or now[w] != 0:
+            return False
+    return True
+
+
+@njit(inline="always")
+def _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle):
+    """Flag ``v`` in ``now`` if it moved from (x0, y0) by more than ``settle`` times its
+    distance to its first neighbour."""
+    w = nbr_idx[nbr_ptr[v]]
+    ref = (points[w, 0] - x0) ** 2 + (points[w, 1] - y0) ** 2
+    shift = (points[v, 0] - x0) ** 2 + (points[v, 1] - y0) ** 2
+    if shift > settle * settle * ref:
+        now[v] = 1
+
+
 @njit(cache=True)
 def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, settle):
     """Gauss-Seidel guarded Laplacian sweeps in place; returns the moves kept.
@@ -115,15 +138,8 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
         for v in range(n):
             if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
                 continue
-            if settle > 0.0 and sweep > 0 and last[v] == 0 and now[v] == 0:
-                stirred = False
-                for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
-                    w = nbr_idx[t]
-                    if last[w] != 0 or now[w] != 0:
-                        stirred = True
-                        break
-                if not stirred:
-                    continue
+            if settle > 0.0 and sweep > 0 and _settled(nbr_ptr, nbr_idx, last, now, v):
+                continue
             tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
             x0 = points[v, 0]
             y0 = points[v, 1]
@@ -134,11 +150,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
                 if _moved_ok(points, cells, cell_ptr, cell_idx, v, before):
                     kept += 1
                     if settle > 0.0:
-                        w = nbr_idx[nbr_ptr[v]]
-                        ref = (points[w, 0] - x0) ** 2 + (points[w, 1] - y0) ** 2
-                        shift = (points[v, 0] - x0) ** 2 + (points[v, 1] - y0) ** 2
-                        if shift > settle * settle * ref:
-                            now[v] = 1
+                        _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle)
                     break
                 points[v, 0] = x0
                 points[v, 1] = y0
@@ -247,11 +259,15 @@ def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty):
 
 
 @njit(cache=True)
-def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free):
-    """One Gauss-Seidel guarded Laplacian sweep over the free vertices, exact validity kept."""
+def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, last, now, settle):
+    """One Gauss-Seidel guarded Laplacian sweep over the free vertices, exact validity
+    kept; with ``settle > 0`` only those not :func:`_settled` (``last``: the moves of the
+    previous sweep, ``now``: this one's, flagged here)."""
     kept = 0
     for v in range(points.shape[0]):
         if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
+            continue
+        if settle > 0.0 and _settled(nbr_ptr, nbr_idx, last, now, v):
             continue
         tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
         x0 = points[v, 0]
@@ -259,6 +275,8 @@ def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free):
         for step in (1.0, 0.5):
             if _try_move(points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0)):
                 kept += 1
+                if settle > 0.0:
+                    _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle)
                 break
     return kept
 
@@ -294,6 +312,16 @@ def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half):
     return kept
 
 
+def _check_settle(settle) -> float:
+    try:
+        settle = float(settle)
+    except (TypeError, ValueError):
+        raise InputError(f"settle must be a number, got {settle!r}") from None
+    if not (np.isfinite(settle) and settle >= 0.0):
+        raise InputError(f"settle must be finite and >= 0, got {settle!r}")
+    return settle
+
+
 def smooth_cells(points, quads, triangles, fixed, passes: int, settle: float = 0.0) -> np.ndarray:
     """Guarded Laplacian smoothing (module docstring).
 
@@ -323,12 +351,7 @@ def smooth_cells(points, quads, triangles, fixed, passes: int, settle: float = 0
         ``passes`` not a count, ``settle`` negative or not finite.
     """
     passes = check_count(passes, "passes")
-    try:
-        settle = float(settle)
-    except (TypeError, ValueError):
-        raise InputError(f"settle must be a number, got {settle!r}") from None
-    if not (np.isfinite(settle) and settle >= 0.0):
-        raise InputError(f"settle must be finite and >= 0, got {settle!r}")
+    settle = _check_settle(settle)
     pts = np.array(points, dtype=np.float64, order="C")
     cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx = cell_tables(pts, quads, triangles)
     free = ~np.asarray(fixed, dtype=bool)
@@ -336,7 +359,7 @@ def smooth_cells(points, quads, triangles, fixed, passes: int, settle: float = 0
     return pts
 
 
-def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int) -> np.ndarray:
+def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int, settle: float = 0.0) -> np.ndarray:
     """Guarded Laplacian with boundary vertices sliding on their curves (module docstring).
 
     Parameters
@@ -357,13 +380,22 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int)
         step along the curve towards them).
     passes : int
         Sweeps: all free interior vertices (Gauss-Seidel), then all sliding ones.
+    settle : float
+        As :func:`smooth_cells`: after the first sweep, interior vertices whose
+        neighbourhood has settled are skipped (0: none).
 
     Returns
     -------
     (n, 2) float64
         New coordinates.
+
+    Raises
+    ------
+    InputError
+        ``passes`` not a count, ``settle`` negative or not finite.
     """
     passes = check_count(passes, "passes")
+    settle = _check_settle(settle)
     pts = np.array(points, dtype=np.float64, order="C")
     n = len(pts)
     cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx = cell_tables(pts, quads, triangles)
@@ -378,8 +410,14 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int)
     start = np.concatenate([[0], np.cumsum(deg)[:-1]])
     slide = np.flatnonzero((deg == 2) & ~np.asarray(fixed, dtype=bool))
     ends = other[order][np.stack([start[slide], start[slide] + 1], axis=1)]
+    last = np.ones(n, np.int8)
+    now = np.zeros(n, np.int8)
     for _ in range(passes):
-        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free)
+        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, last, now, settle)
+        last, now = now, last
+        now[:] = 0
+        # Sliding vertices count as moved: their interior neighbours stay awake.
+        last[slide] = 1
         if not len(slide):
             continue
         chord = pts[ends[:, 1]] - pts[ends[:, 0]]
