@@ -592,3 +592,23 @@ def test_enhancement_worklist_decides_as_full_passes():
                 break
         assert np.array_equal(xy_w, p)
         assert np.array_equal(q_w, qd[alive == 1])
+
+
+def test_sliding_nodes_stay_on_the_naca_section():
+    """The enhancement's smoothing slides the airfoil's boundary nodes along the
+    parametric NACA 0012 curve by Newton steps in its parameter: every one of them still
+    satisfies the section's thickness formula (written out here: y = +-5 t (0.2969 sqrt x
+    - 0.1260 x - 0.3516 x^2 + 0.2843 x^3 - 0.1036 x^4), t = 0.12, sharp trailing edge), and
+    they did move along it (the mesh's airfoil nodes are not the discretisation's)."""
+    dom, size, _ = CASES["naca 0012 far field graded"]
+    mesh = quadrangulate(dom, size, method="pairing")
+    v = np.unique(mesh.cells["line"])
+    p = mesh.points[v]
+    wall = p[(p[:, 0] > -1e-9) & (p[:, 0] < 1.0 + 1e-9) & (np.abs(p[:, 1]) < 0.2)]
+    assert len(wall) > 50
+    x = np.clip(wall[:, 0], 0.0, 1.0)
+    yt = 0.6 * (0.2969 * np.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4)
+    np.testing.assert_allclose(np.abs(wall[:, 1]), yt, rtol=0, atol=1e-9)
+    disc = dom.discretize(as_size_field(size)).points
+    d = np.min(np.hypot(*(wall[:, None, :] - disc[None, :, :]).transpose(2, 0, 1)), axis=1)
+    assert (d > 1e-6).sum() > len(wall) // 4
