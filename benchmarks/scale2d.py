@@ -22,8 +22,10 @@ triangles) and a graded disk with two holes (a point-source size around one hole
   here).  **Validation**: the model calibrated on the ``P = 1`` run predicts the real
   ``P = 2`` run (trusted within 10 %); a second row takes the part rate of the ``P = 2`` run
   (on a shared machine two workers mesh slower per triangle than one: that row checks the
-  model's structure, the first its use).  Each model row gives ``E(P)`` against the real
-  ``T(1, n0)``.
+  model's structure, the first its use).  Per modelled ``P``, the first row gives ``E(P)``
+  against the real ``T(1, n0)``; the second takes the part tasks' CPU seconds per triangle
+  (each worker on a core of its own, what an idle cluster measures) against ``T(1, n0)``
+  modelled at the same rate.
 * Per row: the time's phases (client decomposition / the parts' tasks list-scheduled on ``P``
   workers / the rest: scheduling, stragglers, numbering tasks, the client's files), part
   imbalance (largest part's triangles over the mean; *predicted* on model rows) and worker
@@ -205,7 +207,8 @@ def main() -> None:
                 f"wall and {1e6 * k1.cpu_per_triangle:.2f} / {1e6 * k2.cpu_per_triangle:.2f} s CPU per 1e6 "
                 f"triangles at P = 1 / 2; numbering {1e6 * k1.resolve_per_triangle:.3f} / "
                 f"{1e6 * k2.resolve_per_triangle:.3f} s per 1e6; client overhead beyond the tasks "
-                f"{k1.round_overhead + k1.resolve_overhead:.3f} / {k2.round_overhead + k2.resolve_overhead:.3f} s"
+                f"{k1.round_overhead + k1.resolve_overhead:.3f} / {k2.round_overhead + k2.resolve_overhead:.3f} s; "
+                f"per-part spread of seconds per triangle (not modelled) {k1.rate_spread:.1%} / {k2.rate_spread:.1%}"
             )
             # Validation: the model calibrated on P = 1 predicts the real P = 2 run.
             s2 = real[2].stats
@@ -215,6 +218,10 @@ def main() -> None:
             m = model_time(k1, *args2, rate=k2.seconds_per_triangle)
             model_row(name, 2, f"model at the P = 2 part rate ({m['total'] / t2 - 1:+.1%} vs real)", m, t1, k1, s2,
                       load())
+            s1 = real[1].stats
+            m1 = model_time(k1, s1["predicted"], 1, s1["seconds"]["decompose"], s1["client_write_seconds"],
+                            rate=k1.cpu_per_triangle)
+            t1_cpu = m1["total"]
             for P in args.sim:
                 domP, sP = make(P, P * args.n0)
                 l0 = load()
@@ -222,8 +229,10 @@ def main() -> None:
                 st = {"predicted": dec.predicted.tolist(), "imbalance": dec.imbalance}
                 m = model_time(k1, dec.predicted, P, t_dec, t_write)
                 model_row(name, P, "model from P = 1 costs", m, t1, k1, st, l0)
-                m = model_time(k1, dec.predicted, P, t_dec, t_write, rate=k2.seconds_per_triangle)
-                model_row(name, P, "model at the P = 2 part rate", m, t1, k1, st, l0)
+                # Each worker on a core of its own: the tasks' CPU seconds per triangle, against
+                # T(1) modelled at the same rate (what an idle cluster would measure).
+                m = model_time(k1, dec.predicted, P, t_dec, t_write, rate=k1.cpu_per_triangle)
+                model_row(name, P, "model at the P = 1 CPU rate", m, t1_cpu, k1, st, l0)
         for line in notes:
             print(line)
     finally:

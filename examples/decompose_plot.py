@@ -5,8 +5,9 @@ Usage::
     python examples/decompose_plot.py OUT.png [--parts 8]
 
 A disk with two holes and a size graded from the first hole: the cuts are balanced by the
-integral of 1/h^2 (more, smaller parts near the fine region), meet the boundary at 60 degrees
-or more, and their inside pieces (red) are discretised before meshing.  The legend gives each
+integral of 1/h^2 (more, smaller parts near the fine region), meet the boundary and each other
+at 60 degrees or more (so near the rim, between the axes, some cuts turn away from the axes),
+and their inside pieces (red) are discretised before meshing.  The legend gives each
 part's predicted triangle count.
 """
 

@@ -339,35 +339,24 @@ def _junction_scores(cell, cut_dirs, dom_segments, d, cs: np.ndarray) -> np.ndar
     return out
 
 
-def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, windows=BALANCE_WINDOWS, dirs=None,
-                ctx=None):
-    """Best cut of a cell: ``(direction, c, angle)`` (see the module docstring, step 3).
-
-    ``cell`` is ``(polygon, labels)`` (:mod:`.cells`); ``grid`` is ``(indices (n, 2), (xs,
-    ys), xy (n, 2))`` of the cell's samples (:func:`_sample_grid`).  ``dirs``: the directions
-    tried, default the two axes, the longer extent first.  ``ctx`` is ``(cut directions,
-    dom_segments)``: where the cell has an oblique edge or ``dirs`` an oblique direction, the
-    cut's ends are scored by :func:`_junction_scores`.  With ``windows`` shorter than
-    :data:`BALANCE_WINDOWS`, None when no candidate is admissible."""
-    poly, labels = cell
+def _cumulative(cell, grid, weights, dirs=None) -> list:
+    """``[(direction, coordinates, cumulative cost)]`` of a cell's samples along each of
+    ``dirs`` (default the two axes, the longer extent first); see :func:`_choose_cut`."""
+    poly, _ = cell
     x0, y0 = poly.min(axis=0)
     x1, y1 = poly.max(axis=0)
     if dirs is None:
         dirs = AXES if (x1 - x0) >= (y1 - y0) else AXES[::-1]
-    cut_dirs, dom_segments = ctx
-    oblique_cell = any(cut_dirs[e][0] < 0 for e in labels[labels >= 0].tolist())
-    total = weights.sum()
-    best = None
-    sorted_dirs = []
+    out = []
     ij, axes_xy, xy = grid
     for d in dirs:
         axis = d[0]
         if axis >= 0:
             # Cumulative cost at each distinct sample coordinate, interpolated in between, so
             # that candidates are not tied to the sample grid (gaps between boundary vertices
-            # are finer than it where h is small).
-            # The cumulative cost of a column is reached at its far edge, not at its centre (at
-            # the centre, every cut would leave up to a column's cost off its lower side).
+            # are finer than it where h is small).  The cost of a column is all reached at its
+            # far edge, not at its centre (there, every cut would leave up to a column's cost
+            # off its lower side).
             n_axis = len(axes_xy[axis])
             present = np.bincount(ij[:, axis], minlength=n_axis) > 0
             coord = axes_xy[axis][present] + 0.5 * (axes_xy[axis][1] - axes_xy[axis][0])
@@ -376,7 +365,29 @@ def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, wind
             s = proj(xy, d)
             order = np.argsort(s, kind="stable")
             coord, cum = s[order], np.cumsum(weights[order])
-        sorted_dirs.append((d, coord, cum))
+        out.append((d, coord, cum))
+    return out
+
+
+def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, windows=BALANCE_WINDOWS, dirs=None,
+                ctx=None):
+    """Best cut of a cell: ``(direction, c, angle)`` (see the module docstring, step 3).
+
+    ``cell`` is ``(polygon, labels)`` (:mod:`.cells`); ``grid`` is ``(indices (n, 2), (xs,
+    ys), xy (n, 2))`` of the cell's samples (:func:`_sample_grid`).  ``dirs``: the directions
+    tried, default the two axes, the longer extent first, or what :func:`_cumulative` made of
+    them.  ``ctx`` is ``(cut directions, dom_segments)``: where the cell has an oblique edge
+    or ``dirs`` an oblique direction, the cut's ends are scored by :func:`_junction_scores`.
+    With ``windows`` shorter than :data:`BALANCE_WINDOWS`, None when no candidate is
+    admissible."""
+    poly, labels = cell
+    x0, y0 = poly.min(axis=0)
+    x1, y1 = poly.max(axis=0)
+    sorted_dirs = dirs if isinstance(dirs, list) else _cumulative(cell, grid, weights, dirs)
+    cut_dirs, dom_segments = ctx
+    oblique_cell = any(cut_dirs[e][0] < 0 for e in labels[labels >= 0].tolist())
+    total = weights.sum()
+    best = None
     strict = len(windows) < len(BALANCE_WINDOWS)
     found = None  # strict: (relative deviation from the balance, direction, c, angle) of the best admissible
     for clearance, window in [(q, w) for w in windows for q in VERTEX_CLEARANCES]:
@@ -553,6 +564,7 @@ def _best_split(sk, cell, grid, w, segs_in, verts, vh, exy, eh, k: int, dirs, ct
     side's cost per part over the mean; wider windows only when no split has an admissible
     cut in a narrower one."""
     cut, excess, kl = None, np.inf, None
+    dirs = _cumulative(cell, grid, w, dirs)
     for window in BALANCE_WINDOWS:
         for j in sorted(range(1, k), key=lambda j: (abs(2 * j - k), j))[:_SPLITS]:
             got = _choose_cut(sk, cell, grid, w, segs_in, verts, vh, exy, eh, j / k, (window,), dirs, ctx)

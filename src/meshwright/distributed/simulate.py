@@ -24,8 +24,9 @@ Two simulations:
   ``T(P) = decompose_P + round_overhead + LPT_P(rate * t_i) + resolve_overhead +
   LPT_P(resolve_rate * t_i) + client_write_P`` with ``t_i = triangles_per_predicted *
   predicted_i``.  Not modelled: exchange rounds beyond those of the calibration run (their
-  work is folded into the rate), the prediction error of single parts (the calibration's
-  spread is reported beside it), memory bandwidth shared by the workers of one machine.
+  work is folded into the rate), the prediction error of single parts and their different
+  speeds per triangle (the calibration's spreads are reported beside it), memory bandwidth
+  shared by the workers of one machine.
 """
 
 from __future__ import annotations
@@ -100,6 +101,9 @@ class TaskCosts(NamedTuple):
         Final triangles over the decomposition's prediction.
     spread : float
         Largest relative deviation of one part's triangles from that ratio.
+    rate_spread : float
+        Largest relative deviation of one part's seconds per triangle (its last round) from
+        ``seconds_per_triangle``: the model does not schedule it.
     """
 
     seconds_per_triangle: float
@@ -109,6 +113,7 @@ class TaskCosts(NamedTuple):
     resolve_overhead: float
     triangles_per_predicted: float
     spread: float
+    rate_spread: float
 
 
 def fit_costs(stats: dict) -> TaskCosts:
@@ -137,6 +142,11 @@ def fit_costs(stats: dict) -> TaskCosts:
     resolve = float(np.sum(stats["write_seconds"]))
     ratio = float(tris.sum() / pred.sum()) if pred.sum() > 0 else 1.0
     spread = float(np.max(np.abs(tris / (ratio * pred) - 1.0))) if len(pred) and (pred > 0).all() else 0.0
+    last = {}
+    for r in stats["part_seconds"]:
+        last.update(dict(r))
+    per_part = np.array([last[i] / tris[i] for i in sorted(last) if tris[i] > 0])
+    rate_spread = float(np.max(np.abs(per_part * n / work - 1.0))) if len(per_part) and work > 0 else 0.0
     return TaskCosts(
         seconds_per_triangle=work / n,
         cpu_per_triangle=cpu / n,
@@ -145,6 +155,7 @@ def fit_costs(stats: dict) -> TaskCosts:
         resolve_overhead=max(0.0, float(stats["resolve_seconds"]) - lpt_makespan(stats["write_seconds"], w)),
         triangles_per_predicted=ratio,
         spread=spread,
+        rate_spread=rate_spread,
     )
 
 
