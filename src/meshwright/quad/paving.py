@@ -242,16 +242,27 @@ class _Paver:
         self.pending = (0, 0)
         self.joints = 0
 
-    def add_points(self, p: np.ndarray, rnd: int) -> np.ndarray:
-        k = len(p)
-        if self.n + k > self.cap:
-            raise MeshingError(f"paving needs more than max_points = {self.cap} nodes")
+    def _reserve(self, k: int) -> None:
+        """Room for ``k`` nodes beyond ``self.n`` (the arrays doubled when full)."""
         if self.n + k > len(self.pts):
             grow = np.empty((max(2 * len(self.pts), self.n + k), 2))
             grow[: self.n] = self.pts[: self.n]
             self.pts = grow
             self.round_of = np.concatenate([self.round_of, np.full(len(grow) - len(self.round_of), -1)])
             self.h = np.concatenate([self.h, np.full(len(grow) - len(self.h), np.nan)])
+
+    def trial_points(self, p: np.ndarray) -> np.ndarray:
+        """The committed nodes followed by candidate nodes ``p`` (not committed): a view
+        of the point buffer, so that checking a row copies no old node."""
+        self._reserve(len(p))
+        self.pts[self.n : self.n + len(p)] = p
+        return self.pts[: self.n + len(p)]
+
+    def add_points(self, p: np.ndarray, rnd: int) -> np.ndarray:
+        k = len(p)
+        if self.n + k > self.cap:
+            raise MeshingError(f"paving needs more than max_points = {self.cap} nodes")
+        self._reserve(k)
         self.pts[self.n : self.n + k] = p
         self.h[self.n : self.n + k] = np.nan
         self.round_of[self.n : self.n + k] = rnd
@@ -336,12 +347,18 @@ class _Paver:
         nodes whose new quads fail)."""
         n_old = self.n
         e = np.concatenate([quads[:, [k, (k + 1) % 4]] for k in range(4)])
-        old = np.sort(np.column_stack([f, shift_next(f)]), axis=1)
-        key = np.sort(e, axis=1)
+        g = shift_next(f)
+        lo, hi = np.minimum(e[:, 0], e[:, 1]), np.maximum(e[:, 0], e[:, 1])
         n = len(xy)
         # Edges as one int64 key each: a 1-D unique, not the row-wise one (a lexsort).
-        flat = key[:, 0] * n + key[:, 1]
-        flat = np.unique(flat[~np.isin(flat, old[:, 0] * n + old[:, 1])])
+        flat = lo * n + hi
+        # An edge with a new node is new; only those between two old nodes may be the
+        # paving boundary's own.
+        both_old = hi < n_old
+        old_key = np.minimum(f, g) * n + np.maximum(f, g)
+        drop = np.zeros(len(flat), dtype=bool)
+        drop[both_old] = np.isin(flat[both_old], old_key)
+        flat = np.unique(flat[~drop])
         new = np.column_stack([flat // n, flat % n])
         oa, ob = edges_of(others + [f])
         sa = np.concatenate([oa, new[:, 0]])
@@ -368,8 +385,7 @@ class _Paver:
             if row is None:
                 return None
             new_xy, quads, front, _, owner = row
-            trial = np.vstack([self.xy, new_xy])
-            verdict, bad = self.check_row(trial, f, quads, others, owner)
+            verdict, bad = self.check_row(self.trial_points(new_xy), f, quads, others, owner)
             if verdict == "ok":
                 self.tucks += self.pending[0]
                 self.wedges += self.pending[1]
@@ -547,14 +563,13 @@ class _Paver:
         if not sel:
             return
         q = np.concatenate(sel)
-        mark = np.zeros(self.n, dtype=bool)
-        mark[q.ravel()] = True
-        used = np.flatnonzero(mark)
+        # The few recent nodes, numbered locally in ascending order (no pass over all nodes).
+        used, local = np.unique(q, return_inverse=True)
+        local = local.reshape(q.shape)
         ro = self.round_of[used]
         free = (used >= self.n_fixed) & (ro >= rnd - 2) & (ro <= rnd - 1) & ~on_front[used]
         if not free.any():
             return
-        local = (np.cumsum(mark) - 1)[q]
         moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH)
         self.pts[used] = moved
         self.h[used[free]] = np.nan
