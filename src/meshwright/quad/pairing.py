@@ -133,7 +133,7 @@ __all__ = [
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
 MAX_VISIT = 4096  # triangles one alternating-chain search may enter (last round)
-EARLY_VISIT = 64  # ... in the rounds before the last
+EARLY_VISIT = 256  # ... in the rounds before the last (64 left the h=0.01 disk six triangles for the chords)
 MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
 STALE_WALKS = 8  # ... stopped after this many rounds without fewer unpaired triangles
 # ... in pair_domain: over the domains of benchmarks/quad_domains.py no walk gained after two
