@@ -25,7 +25,9 @@ triangles) and a graded disk with two holes (a point-source size around one hole
   model's structure, the first its use).  Per modelled ``P``, the first row gives ``E(P)``
   against the real ``T(1, n0)``; the second takes the part tasks' CPU seconds per triangle
   (each worker on a core of its own, what an idle cluster measures) against ``T(1, n0)``
-  modelled at the same rate.
+  modelled at the same rate.  In parentheses, ``E(P)`` at the model's bound: the largest
+  part longer by the calibration's spreads of triangles and of speed per part, ending the
+  run (the model schedules neither).
 * Per row: the time's phases (client decomposition / the parts' tasks list-scheduled on ``P``
   workers / the rest: scheduling, stragglers, numbering tasks, the client's files), part
   imbalance (largest part's triangles over the mean; *predicted* on model rows) and worker
@@ -208,7 +210,8 @@ def main() -> None:
                 f"triangles at P = 1 / 2; numbering {1e6 * k1.resolve_per_triangle:.3f} / "
                 f"{1e6 * k2.resolve_per_triangle:.3f} s per 1e6; client overhead beyond the tasks "
                 f"{k1.round_overhead + k1.resolve_overhead:.3f} / {k2.round_overhead + k2.resolve_overhead:.3f} s; "
-                f"per-part spread of seconds per triangle (not modelled) {k1.rate_spread:.1%} / {k2.rate_spread:.1%}"
+                f"per-part spread of seconds per triangle {k1.rate_spread:.1%} / {k2.rate_spread:.1%} wall, "
+                f"{k1.cpu_rate_spread:.1%} / {k2.cpu_rate_spread:.1%} CPU"
             )
             # Validation: the model calibrated on P = 1 predicts the real P = 2 run.
             s2 = real[2].stats
@@ -220,7 +223,7 @@ def main() -> None:
                       load())
             s1 = real[1].stats
             m1 = model_time(k1, s1["predicted"], 1, s1["seconds"]["decompose"], s1["client_write_seconds"],
-                            rate=k1.cpu_per_triangle)
+                            rate=k1.cpu_per_triangle, rate_spread=k1.cpu_rate_spread)
             t1_cpu = m1["total"]
             for P in args.sim:
                 domP, sP = make(P, P * args.n0)
@@ -231,7 +234,8 @@ def main() -> None:
                 model_row(name, P, "model from P = 1 costs", m, t1, k1, st, l0)
                 # Each worker on a core of its own: the tasks' CPU seconds per triangle, against
                 # T(1) modelled at the same rate (what an idle cluster would measure).
-                m = model_time(k1, dec.predicted, P, t_dec, t_write, rate=k1.cpu_per_triangle)
+                m = model_time(k1, dec.predicted, P, t_dec, t_write, rate=k1.cpu_per_triangle,
+                               rate_spread=k1.cpu_rate_spread)
                 model_row(name, P, "model at the P = 1 CPU rate", m, t1_cpu, k1, st, l0)
         for line in notes:
             print(line)
@@ -261,7 +265,8 @@ def real_row(name, P, T, E, dm, serial, ntasks, tail, l0) -> None:
 def model_row(name, P, kind, m, t1, costs, stats, l0) -> None:
     pred = np.asarray(stats["predicted"])
     print(
-        f"| {name} | {P} | {kind} | {m['total']:.2f} | {t1 / m['total']:.3f} | {m['decompose']:.2f} / "
+        f"| {name} | {P} | {kind} | {m['total']:.2f} | {t1 / m['total']:.3f} ({t1 / m['bound']:.3f}) | "
+        f"{m['decompose']:.2f} / "
         f"{m['parts']:.2f} / {m['rest']:.2f} | {pred.max() / pred.mean():.3f} (predicted) / "
         f"{m['worker_imbalance']:.3f} | - | {round(pred.sum() * costs.triangles_per_predicted)} (modelled) | - | - "
         f"| - | - | - | {l0} |",

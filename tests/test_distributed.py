@@ -311,6 +311,13 @@ def test_cost_model_reproduces_a_hand_schedule():
     # 8 parts of 1000 on 2 workers: 4 s of parts, 0.4 s numbering, overheads and the client's 0.3 s.
     m = model_time(k, [1000.0] * 8, 2, 0.2, 0.3)
     assert m["parts"] == pytest.approx(4.0) and m["total"] == pytest.approx(0.2 + 4.0 + 0.5 + 0.1 + 0.4 + 0.3)
+    assert m["bound"] == pytest.approx(m["total"])  # equal parts, equal speeds: nothing to add
+    # One part 20 % slower per triangle: the bound adds 20 % of the largest part's 1 s.
+    stats["part_seconds"] = [[(0, 1.2)] + [(i, 1.0) for i in range(1, 4)]]
+    k = fit_costs(stats)
+    m = model_time(k, [1000.0] * 8, 2, 0.2, 0.3)
+    assert m["bound"] - m["total"] == pytest.approx(k.rate_spread * k.seconds_per_triangle * 1000.0)
+    assert k.rate_spread == pytest.approx(1.2 / 1.05 - 1.0)
     with pytest.raises(InputError, match="stats"):
         fit_costs({"workers": 1})
 

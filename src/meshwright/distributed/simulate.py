@@ -104,6 +104,8 @@ class TaskCosts(NamedTuple):
     rate_spread : float
         Largest relative deviation of one part's seconds per triangle (its last round) from
         ``seconds_per_triangle``: the model does not schedule it.
+    cpu_rate_spread : float
+        The same for the CPU seconds.
     """
 
     seconds_per_triangle: float
@@ -114,6 +116,7 @@ class TaskCosts(NamedTuple):
     triangles_per_predicted: float
     spread: float
     rate_spread: float
+    cpu_rate_spread: float
 
 
 def fit_costs(stats: dict) -> TaskCosts:
@@ -145,8 +148,14 @@ def fit_costs(stats: dict) -> TaskCosts:
     last = {}
     for r in stats["part_seconds"]:
         last.update(dict(r))
-    per_part = np.array([last[i] / tris[i] for i in sorted(last) if tris[i] > 0])
-    rate_spread = float(np.max(np.abs(per_part * n / work - 1.0))) if len(per_part) and work > 0 else 0.0
+    last_cpu = {}
+    for r in stats["part_cpu_seconds"]:
+        last_cpu.update(dict(r))
+
+    def rate_spread(per: dict, total: float) -> float:
+        x = np.array([per[i] / tris[i] for i in sorted(per) if tris[i] > 0])
+        return float(np.max(np.abs(x * n / total - 1.0))) if len(x) and total > 0 else 0.0
+
     return TaskCosts(
         seconds_per_triangle=work / n,
         cpu_per_triangle=cpu / n,
@@ -155,12 +164,13 @@ def fit_costs(stats: dict) -> TaskCosts:
         resolve_overhead=max(0.0, float(stats["resolve_seconds"]) - lpt_makespan(stats["write_seconds"], w)),
         triangles_per_predicted=ratio,
         spread=spread,
-        rate_spread=rate_spread,
+        rate_spread=rate_spread(last, work),
+        cpu_rate_spread=rate_spread(last_cpu, cpu),
     )
 
 
 def model_time(costs: TaskCosts, predicted, workers: int, decompose_seconds: float, client_write_seconds: float,
-               rate: float | None = None) -> dict:
+               rate: float | None = None, rate_spread: float | None = None) -> dict:
     """Modelled wall time of a run on ``workers`` workers (module docstring, :func:`model_time`).
 
     Parameters
@@ -174,12 +184,17 @@ def model_time(costs: TaskCosts, predicted, workers: int, decompose_seconds: flo
         The problem's client phases, measured.
     rate : float, optional
         Part seconds per triangle instead of ``costs.seconds_per_triangle``.
+    rate_spread : float, optional
+        The spread of that rate between parts (default ``costs.rate_spread``), for ``bound``.
 
     Returns
     -------
     dict
         ``total`` and its phases ``decompose``, ``parts`` (makespan of the part tasks),
-        ``rest`` (overheads, numbering tasks, client write), and ``worker_imbalance``.
+        ``rest`` (overheads, numbering tasks, client write), ``worker_imbalance``, and
+        ``bound``: ``total`` plus the largest part's time times the calibration's spreads of
+        triangles and of speed (the slowest part ending its worker's list, which LPT on
+        predicted sizes cannot foresee).
     """
     if not isinstance(costs, TaskCosts):
         raise InputError(f"costs must be a TaskCosts (fit_costs), got {type(costs).__name__}")
@@ -189,7 +204,10 @@ def model_time(costs: TaskCosts, predicted, workers: int, decompose_seconds: flo
     parts = lpt_makespan(r * t, w)
     rest = (costs.round_overhead + costs.resolve_overhead + lpt_makespan(costs.resolve_per_triangle * t, w)
             + float(client_write_seconds))
+    q = costs.rate_spread if rate_spread is None else float(rate_spread)
+    late = ((1.0 + q) * (1.0 + costs.spread) - 1.0) * float((r * t).max()) if len(t) else 0.0
     return {
+        "bound": float(decompose_seconds) + parts + rest + late,
         "total": float(decompose_seconds) + parts + rest,
         "decompose": float(decompose_seconds),
         "parts": parts,
