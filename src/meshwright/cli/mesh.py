@@ -243,6 +243,8 @@ def _run_distributed(args, domain, size) -> int:
         f"({s['parts']} parts, {s['rounds']} exchange rounds, imbalance {s['imbalance']:.3f} per part, "
         f"{s['worker_imbalance']:.3f} per worker)"
     )
+    if s["memory_limit"]:
+        print(f"peak worker memory {s['peak_rss'] / 2**20:.0f} MiB of its {s['memory_limit'] / 2**20:.0f} MiB limit")
     print(f"wrote {', '.join(dm.files[:2])} and {len(dm.files) - 2} part files")
     return 0
 
