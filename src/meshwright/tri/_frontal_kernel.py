@@ -20,6 +20,9 @@ again):
     free   (rows,) int32     stack of dead rows (removed scaffold vertices), reused first
     vbg    (rows,) int32     a background triangle at or near each vertex (-1: not yet),
                              where every size query near the vertex starts its walk
+    qtri   (3 cap,) int32    vertex triple of the triangle each slot has a live heap entry
+                             for (cleared when it is popped or classified again): a
+                             triangle already queued with its key is not pushed twice
     scr    (SCRATCH,) int32  scratch of :func:`meshwright.tri._scaffold.remove_vertex`
 
 The scaffold: before the front starts, :func:`seed_scaffold` inserts coarse interior points
@@ -87,6 +90,7 @@ class FrontalState(NamedTuple):
     free: np.ndarray
     scr: np.ndarray
     vbg: np.ndarray
+    qtri: np.ndarray
 
 
 @njit(inline="always")
@@ -134,7 +138,11 @@ def _front_edge(t, pts, tri, nbr, treg, acc):
 
 
 @njit(inline="always")
-def _push(hkey, htri, fmeta, key, t, tri):
+def _push(hkey, htri, fmeta, key, t, tri, qtri):
+    if qtri[3 * t] == tri[3 * t] and qtri[3 * t + 1] == tri[3 * t + 1] and qtri[3 * t + 2] == tri[3 * t + 2]:
+        return
+    for k in range(3):
+        qtri[3 * t + k] = tri[3 * t + k]
     i = heap_push(hkey, htri, fmeta[FM_HN], key)
     fmeta[FM_HN] += 1
     htri[i, 0] = t
@@ -169,9 +177,10 @@ def _hint_of(t, tri, vbg):
 
 
 @njit(inline="always")
-def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg):
+def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, qtri):
     """Store slot t's ``R sqrt(3) / h`` in ``ratio[t]``; accept t if it is within ACCEPT and
     has no scaffold vertex."""
+    qtri[3 * t] = -2  # a key from before (a scaffold vertex's lift) no longer holds
     r = _radius(pts, tri, t)
     gx = (pts[tri[3 * t], 0] + pts[tri[3 * t + 1], 0] + pts[tri[3 * t + 2], 0]) / 3.0
     gy = (pts[tri[3 * t], 1] + pts[tri[3 * t + 1], 1] + pts[tri[3 * t + 2], 1]) / 3.0
@@ -188,11 +197,11 @@ def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg):
 
 
 @njit(inline="always")
-def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta):
+def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri):
     """Queue slot t (ratio known since it was made) if it waits on the front."""
     if not _inside(t, tri, treg) or _settled(t, tri, acc) or _front_edge(t, pts, tri, nbr, treg, acc) < 0:
         return
-    _push(hkey, htri, fmeta, -ratio[t], t, tri)
+    _push(hkey, htri, fmeta, -ratio[t], t, tri, qtri)
 
 
 @njit(cache=True)
@@ -202,6 +211,7 @@ def start(s, c, f, bg):
     others that touch the front."""
     pts, tri, nbr, treg = s.pts, s.tri, s.nbr, c.treg
     acc, ratio, hkey, htri, fmeta, par, vflag, vbg = f.acc, f.ratio, f.hkey, f.htri, f.fmeta, f.par, f.vflag, f.vbg
+    qtri = f.qtri
     if par[P_CONST] == 0.0:
         for v in range(s.meta[M_NV]):
             if vbg[v] < 0 and c.vtri[v] >= 0:
@@ -210,9 +220,9 @@ def start(s, c, f, bg):
     ntri = s.meta[M_NTRI]
     for t in range(ntri):
         if _inside(t, tri, treg):
-            classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg)
+            classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, qtri)
     for t in range(ntri):
-        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
 
 
 @njit(inline="always")
@@ -303,6 +313,11 @@ def seed_scaffold(xy, i0, s, c, f, bg):
         px = xy[i, 0]
         py = xy[i, 1]
         host, _ = walk(s, meta[M_LAST] if meta[M_LAST] < ntri else 0, px, py, False)
+        if host >= 0:
+            # The next walk starts here, refused or not: from the last insertion, runs of
+            # refused candidates made each walk longer (a 1e4-aspect strip of 105k
+            # boundary points: 10.7 s of seeding).
+            meta[M_LAST] = host
         if not _inside(host, tri, treg) or on_constraint(host, px, py, s) >= 0:
             continue
         # The candidates come in Hilbert order: the last walk's end is a near start.
@@ -322,7 +337,7 @@ def seed_scaffold(xy, i0, s, c, f, bg):
 
 
 @njit(inline="always")
-def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg):
+def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, qtri):
     """Classify the new star of vertex v, then queue it and its outer neighbours on the front."""
     s0 = vtri[v]
     sl = s0
@@ -331,7 +346,7 @@ def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, pa
         while tri[3 * sl + k] != v:
             k += 1
         if _inside(sl, tri, treg):
-            classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg)
+            classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg, qtri)
         sl = nbr[3 * sl + (k + 1) % 3]
         if sl == s0 or sl < 0:
             break
@@ -340,16 +355,16 @@ def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, pa
         k = 0
         while tri[3 * sl + k] != v:
             k += 1
-        _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
-        _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+        _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
+        _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
         sl = nbr[3 * sl + (k + 1) % 3]
         if sl == s0 or sl < 0:
             break
 
 
 @njit(cache=True)
-def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, free, scr,
-          s, c):
+def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, qtri, free,
+          scr, s, c):
     """Remove scaffold vertex v, refill the freed slots from the end, queue the new front.
 
     A call, not inlined: :func:`run` calls it from three places, and three inlined copies
@@ -365,7 +380,7 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmet
     k = remove_vertex(v, s, c, scr)
     if k < 0:
         fmeta[FM_KEPT] += 1
-        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg)
+        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, qtri)
         return
     fmeta[FM_REMOVED] += 1
     free[fmeta[FM_NFREE]] = v
@@ -383,15 +398,15 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmet
             for q in range(k - 2):
                 if st[q] == last:
                     st[q] = fs
-            _push_if_front(fs, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+            _push_if_front(fs, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
         meta[M_NTRI] = last
     for q in range(k - 2):
-        classify(st[q], pts, tri, acc, ratio, par, bg, vflag, vbg)
+        classify(st[q], pts, tri, acc, ratio, par, bg, vflag, vbg, qtri)
     for q in range(k - 2):
         t = st[q]
-        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
         for j in range(3):
-            _push_if_front(nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+            _push_if_front(nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
 
 
 @njit(cache=True)
@@ -405,13 +420,13 @@ def run(s, c, f, bg):
     stack = np.empty(4096, dtype=np.int32)
     pts, tri, nbr, cons, meta, treg, vtri = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg, c.vtri
     acc, ratio, hkey, htri, stamp, fmeta, par = f.acc, f.ratio, f.hkey, f.htri, f.stamp, f.fmeta, f.par
-    vflag, free, scr, vbg = f.vflag, f.free, f.scr, f.vbg
+    vflag, free, scr, vbg, qtri = f.vflag, f.free, f.scr, f.vbg, f.qtri
     rows, slots = enc.room_of(s, c)
     rows = min(rows, vflag.shape[0], free.shape[0], vbg.shape[0])
     while True:
         ntri = meta[M_NTRI]
         if (
-            fmeta[FM_HN] + HEAP_ROOM > hkey.shape[0] or acc.shape[0] < 3 * (ntri + 2)
+            fmeta[FM_HN] + HEAP_ROOM > hkey.shape[0] or acc.shape[0] < 3 * (ntri + 2) or qtri.shape[0] < 3 * (ntri + 2)
             or stamp.shape[0] < ntri + 2 or ratio.shape[0] < ntri + 2 or ntri + 2 > slots
         ):
             return F_ROOM
@@ -427,7 +442,7 @@ def run(s, c, f, bg):
                 fmeta[FM_NSCAF] = 0
                 continue
             _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                  free, scr, s, c)
+                  qtri, free, scr, s, c)
             continue
         if meta[M_NV] - fmeta[FM_NFREE] - fmeta[FM_NSCAF] >= par[P_MAX_POINTS]:
             return F_POINTS
@@ -436,6 +451,7 @@ def run(s, c, f, bg):
         fmeta[FM_HN] -= 1
         if t >= ntri or tri[3 * t] != a0 or tri[3 * t + 1] != b0 or tri[3 * t + 2] != c0:
             continue
+        qtri[3 * t] = -2
         if not _inside(t, tri, treg) or _settled(t, tri, acc):
             continue
         e = _front_edge(t, pts, tri, nbr, treg, acc)
@@ -464,9 +480,9 @@ def run(s, c, f, bg):
                          fmeta, stack)
         if near >= 0:
             # A scaffold vertex in the way: remove it and try t again (if it survived).
-            _push(hkey, htri, fmeta, -ratio[t], t, tri)
+            _push(hkey, htri, fmeta, -ratio[t], t, tri, qtri)
             _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                  free, scr, s, c)
+                  qtri, free, scr, s, c)
             continue
         if near == _NEAR_CROWDED:
             # No room for a point: the triangle stays as it is and joins the accepted ones,
@@ -474,16 +490,16 @@ def run(s, c, f, bg):
             sv = _scaffold_of(t, tri, vflag)
             if sv >= 0:
                 _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                      free, scr, s, c)
+                      qtri, free, scr, s, c)
                 continue
             for k in range(3):
                 acc[3 * t + k] = tri[3 * t + k]
             for k in range(3):
-                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta)
+                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
             continue
         v = _insert_at(px, py, host, pts, tri, treg, meta, free, fmeta, vflag, rows, s, c)
         if v == NEED_SPACE:
-            _push(hkey, htri, fmeta, -ratio[t], t, tri)
+            _push(hkey, htri, fmeta, -ratio[t], t, tri, qtri)
             return F_ROOM
         if v == BROKEN:
             return F_BROKEN
@@ -491,7 +507,7 @@ def run(s, c, f, bg):
             continue  # the point was already a vertex
         fmeta[FM_ADDED] += 1
         vbg[v] = near_bg  # the front edge's midpoint is within about h of v
-        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg)
+        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, qtri)
 
 
 @njit(cache=True)

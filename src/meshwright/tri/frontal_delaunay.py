@@ -46,6 +46,10 @@ Sizes are evaluated inside the kernel on a background grid
 (:func:`meshwright.sizing.background.interpolate_walk`): the given
 :class:`~meshwright.sizing.BackgroundGrid`, a uniform one for a constant, or for any other
 field a grid sampled at the vertices of a Delaunay refinement to ``SAMPLE`` times the size.
+Each vertex keeps a background triangle at or near it, and a size query for a triangle or
+a front edge walks from its vertex's: the heap jumps about the whole front, and walks from
+the previous query crossed the graded sample, or left it across a hole into a bucket scan
+(7x the kernel's time on the graded NACA 0012 of ``benchmarks/quality2d.py``).
 
 Scaffold
 --------
@@ -53,10 +57,16 @@ Points inserted in frontal order land next to triangles that span the whole unme
 interior (the Delaunay triangulation of the front's vertices): their circumcircles reach
 far ahead of the front, so cavities are long, and front vertices have a large degree, so
 the disc searches around a proposed point are long too.  So the interior is first filled
-with a removable *scaffold*: the centres of the leaves of a quadtree whose cells are at
-most ``SCAFFOLD`` times the local size, inserted in Hilbert order where they keep
-``SCAFFOLD / 2`` h from every vertex (none when the tree has fewer than ``MIN_SCAFFOLD``
-leaves: the front is short and the mesh stays the one without).  Triangles with a scaffold
+with a removable *scaffold*, inserted in Hilbert order where its points keep
+``SCAFFOLD / 2`` h from every vertex (none when there are fewer than ``MIN_SCAFFOLD``
+candidates: the front is short and the mesh stays the one without).  The candidates are,
+for a uniform or given background grid, the centres of the leaves of a quadtree whose cells
+are at most ``SCAFFOLD`` times the local size; for any other size field, the vertices of
+its sample (a refinement to ``SAMPLE`` h, so about the same spacing) off the boundary,
+whose sizes are known: locating a quadtree's cells one by one in a strongly graded sample
+(the NACA 0012 far field: 1e-3 at the wall, 1 in the far field, thousands of sample
+triangles per bucket near the wall, the airfoil's inside refined by the wall's size for
+nothing) cost 1.0 s of a 20k-triangle mesh.  Triangles with a scaffold
 vertex are never accepted and wait in the heap before all others, as the long triangles
 do without a scaffold; the front deletes a scaffold vertex when it proposes a point within
 ``CLEAR`` h of it (vertex removal, :mod:`meshwright.tri._scaffold`), so no scaffold vertex
@@ -210,7 +220,7 @@ def _grown(f: fk.FrontalState, ct) -> fk.FrontalState:
     if int(f.fmeta[fk.FM_HN]) + fk.HEAP_ROOM > len(hkey):
         hkey = grown_rows(hkey, 2 * len(hkey))
     return f._replace(
-        acc=grown_rows(f.acc, 3 * slots, -2), stamp=grown_rows(f.stamp, slots, 0),
+        acc=grown_rows(f.acc, 3 * slots, -2), qtri=grown_rows(f.qtri, 3 * slots, -2), stamp=grown_rows(f.stamp, slots, 0),
         ratio=grown_rows(f.ratio, slots, 0.0), hkey=hkey, htri=grown_rows(f.htri, len(hkey)),
         vflag=grown_rows(f.vflag, rows, 0), free=grown_rows(f.free, rows, 0), vbg=grown_rows(f.vbg, rows, -1),
     )
@@ -366,6 +376,7 @@ def frontal_delaunay(ct, size, *, max_points: int | None = None, scaffold: bool 
         stamp=np.zeros(slots, dtype=np.int64), fmeta=np.zeros(fk.FM_LEN, dtype=np.int64), par=par,
         vflag=np.zeros(rows, dtype=np.int8), free=np.zeros(rows, dtype=np.int32),
         scr=np.zeros(SCRATCH, dtype=np.int32), vbg=np.full(rows, -1, dtype=np.int32),
+        qtri=np.full(3 * slots, -2, dtype=np.int32),
     )
     seeded = 0
     if scaffold:
