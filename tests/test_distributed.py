@@ -275,6 +275,26 @@ def test_oblique_cuts_balance_the_rim_and_mesh_a_valid_disk(clients, tmp_path):
     assert dm.stats["imbalance"] <= 1.15  # 540 triangles a part: boundary layers weigh more than at scale
 
 
+@pytest.mark.parametrize("h0, growth, parts", [(0.004, 1.5, 16), (0.003, 1.8, 12), (0.004, 1.3, 8)])
+def test_oblique_junctions_are_single_points_and_every_part_is_closed(h0, growth, parts):
+    # Found by fuzzing: an oblique cut through an earlier cut's end computed that point again
+    # with other rounding (two skeleton points 6e-17 apart, an open loop in each part), and a
+    # junction between the hole's chord and its arc left an interface sliver in the hole.
+    dec = decompose(_disk_with_hole(), gradation([[0.4, 0.1]], h0, growth=growth), parts)
+    p = dec.points
+    gap = np.hypot(p[:, None, 0] - p[None, :, 0], p[:, None, 1] - p[None, :, 1])
+    np.fill_diagonal(gap, np.inf)
+    assert gap.min() > 1e-9
+    for i in range(parts):
+        # The part's boundary: its own segments, and interfaces with it on the right reversed.
+        own = dec.segments[dec.left == i]
+        theirs = dec.segments[dec.right == i][:, ::-1]
+        seg = np.concatenate([own, theirs])
+        out_deg = Counter(seg[:, 0].tolist())
+        in_deg = Counter(seg[:, 1].tolist())
+        assert out_deg == in_deg, f"part {i} has an open loop"
+
+
 def test_clipping_a_cell_by_an_oblique_line_keeps_its_area():
     from meshwright.distributed.cells import box, clip, direction
 

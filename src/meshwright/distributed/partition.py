@@ -91,6 +91,7 @@ _CANDIDATES = 81
 _QUERY_BLOCK = 256  # size queries per block of the interface spacing (consecutive: near each other)
 _GOOD_ENOUGH = 0.005  # a cut this near its balance (fraction of the cell's cost) is taken at once
 _SPLITS = 5  # splits k = j + (k - j) of a cell tried, nearest halves first
+_SNAP = 1e-9  # of the padding (1 % of the domain's extent): ends of cuts this near are one point
 _OBLIQUE_TRIGGER = 0.01  # an axis-parallel cut further than this from its balance: try oblique lines too
 _OBLIQUE = tuple(direction(-1, math.radians(a)) for a in range(15, 180, 15) if a != 90)
 _BISECTIONS = 80
@@ -321,21 +322,44 @@ class _Skeleton:
         return np.array(new_p, dtype=np.int64), np.array(new_s, dtype=np.int64)
 
 
-def _junction_scores(cell, cut_dirs, dom_segments, d, cs: np.ndarray) -> np.ndarray:
-    """Scores (k,) of the cuts ``(d, cs[j])`` at their ends: an end inside the domain on an
-    earlier cut must meet it at :data:`MIN_CUT_ANGLE` or more (a cut/cut junction is an input
-    angle of both parts); infinite where no end needs it."""
+def _junction_scores(cell, ctx, d, cs: np.ndarray, angles: bool) -> np.ndarray:
+    """Scores (k,) of the cuts ``(d, cs[j])`` at their ends on earlier cuts (junctions), >= 1
+    where admissible; infinite where no end is a junction.
+
+    A junction inside the domain is an input angle of the parts around it, so the cuts must
+    meet at :data:`MIN_CUT_ANGLE` or more (checked when ``angles``: with axis-parallel cuts
+    only, every junction is a right angle).  And a junction must keep
+    :data:`JUNCTION_CLEARANCE` ``h`` from the boundary's chords, inside the domain or out: one
+    between a chord and its curve (the cuts cross the curve, the pieces are kept by their
+    midpoints against the chords) would leave a sliver of interface poking out of the domain."""
     poly, labels = cell
+    cut_dirs, dom_segments, field = ctx
     out = np.full(len(cs), np.inf)
     xy, lab = line_ends(poly, labels, d, cs)
     need = lab >= 0
     if not need.any():
         return out
     rows, cols = np.nonzero(need)
-    inside = classify_points(np.ascontiguousarray(xy[rows, cols]), *dom_segments) == INSIDE
-    t_other = np.array([cut_dirs[e][2] for e in lab[rows, cols].tolist()]).reshape(-1, 2)
-    ang = np.degrees(np.arccos(np.clip(np.abs(t_other @ d[2]), 0.0, 1.0)))
-    np.minimum.at(out, rows[inside], ang[inside] / MIN_CUT_ANGLE)
+    e = np.ascontiguousarray(xy[rows, cols])
+    if angles:
+        inside = classify_points(e, *dom_segments) == INSIDE
+        t_other = np.array([cut_dirs[q][2] for q in lab[rows, cols].tolist()]).reshape(-1, 2)
+        ang = np.degrees(np.arccos(np.clip(np.abs(t_other @ d[2]), 0.0, 1.0)))
+        np.minimum.at(out, rows[inside], ang[inside] / MIN_CUT_ANGLE)
+    he = JUNCTION_CLEARANCE * field(e)
+    a, b = dom_segments
+    reach = float(he.max())
+    lo, hi = e.min(axis=0) - reach, e.max(axis=0) + reach
+    near = np.flatnonzero(
+        (np.maximum(a[:, 0], b[:, 0]) >= lo[0]) & (np.minimum(a[:, 0], b[:, 0]) <= hi[0])
+        & (np.maximum(a[:, 1], b[:, 1]) >= lo[1]) & (np.minimum(a[:, 1], b[:, 1]) <= hi[1])
+    )
+    if len(near):
+        a, b = a[near], b[near]
+        ab = b - a
+        f = np.clip(((e[:, None, :] - a[None]) * ab[None]).sum(axis=2) / (ab * ab).sum(axis=1)[None], 0.0, 1.0)
+        gap = np.hypot(*(e[:, None, :] - a[None] - f[..., None] * ab[None]).transpose(2, 0, 1)).min(axis=1)
+        np.minimum.at(out, rows, gap / he)
     return out
 
 
@@ -376,15 +400,16 @@ def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, wind
     ``cell`` is ``(polygon, labels)`` (:mod:`.cells`); ``grid`` is ``(indices (n, 2), (xs,
     ys), xy (n, 2))`` of the cell's samples (:func:`_sample_grid`).  ``dirs``: the directions
     tried, default the two axes, the longer extent first, or what :func:`_cumulative` made of
-    them.  ``ctx`` is ``(cut directions, dom_segments)``: where the cell has an oblique edge
-    or ``dirs`` an oblique direction, the cut's ends are scored by :func:`_junction_scores`.
+    them.  ``ctx`` is ``(cut directions, dom_segments, field)``: the cut's ends on earlier
+    cuts are scored by :func:`_junction_scores` (their angles where the cell has an oblique
+    edge or ``d`` is oblique).
     With ``windows`` shorter than :data:`BALANCE_WINDOWS`, None when no candidate is
     admissible."""
     poly, labels = cell
     x0, y0 = poly.min(axis=0)
     x1, y1 = poly.max(axis=0)
     sorted_dirs = dirs if isinstance(dirs, list) else _cumulative(cell, grid, weights, dirs)
-    cut_dirs, dom_segments = ctx
+    cut_dirs = ctx[0]
     oblique_cell = any(cut_dirs[e][0] < 0 for e in labels[labels >= 0].tolist())
     total = weights.sum()
     best = None
@@ -412,8 +437,7 @@ def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, wind
             if not len(cs):
                 continue
             score, angle = _scores(sk.pts, sk.seg, segs_in, verts, vh, clearance, exy, eh, d, cs)
-            if d[0] < 0 or oblique_cell:
-                score = np.minimum(score, _junction_scores(cell, cut_dirs, dom_segments, d, cs))
+            score = np.minimum(score, _junction_scores(cell, ctx, d, cs, d[0] < 0 or oblique_cell))
             ok = np.flatnonzero(score >= 1.0)
             if len(ok) and strict:
                 j = ok[np.argmin(dev[ok])]
@@ -482,7 +506,7 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
     # tree rows: (axis, nx, ny, c, node_lo_child, node_hi_child); leaves are -1 - part.
     cuts, dirs, tree, ends = [], [], [], []
     cut_points, junctions = [], []  # per cut: its boundary crossings (ids), the ends of later cuts on it
-    ctx = (dirs, dom_segments)
+    ctx = (dirs, dom_segments, field)
     stack = [(box(*root), parts, 0, np.arange(len(samples)), np.arange(len(sk.seg)), np.arange(n_interior), -1, 0)]
     while stack:
         cell, k, first, smp, segs_in, ints_in, parent, side = stack.pop()
@@ -529,6 +553,17 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
             mid = 0.5 * (proj(sk.pts[sk.seg[segs_in, 0]], d) + proj(sk.pts[sk.seg[segs_in, 1]], d))
             node = len(tree)
             lo_cell, hi_cell, cut_ends = clip(poly, labels, d, c, node)
+            if ends:
+                # A cut placed through an earlier cut's end computes that point again with its
+                # own rounding where either is oblique: snap it, so the junction is one point.
+                known = np.array(ends, dtype=np.float64)
+                for xy, _ in cut_ends:
+                    gap = np.hypot(known[:, 0] - xy[0], known[:, 1] - xy[1])
+                    j = int(np.argmin(gap))
+                    if 0.0 < gap[j] <= _SNAP * pad:
+                        for half, _ in (lo_cell, hi_cell):
+                            half[(half[:, 0] == xy[0]) & (half[:, 1] == xy[1])] = known[j]
+                        xy[:] = known[j]
             tree.append([d[0], d[1][0], d[1][1], c, 0, 0])
             (pa, _), (pb, _) = cut_ends
             cuts.append((d[1][0], d[1][1], c, *pa, *pb, angle))
