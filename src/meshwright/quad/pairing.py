@@ -127,13 +127,18 @@ from meshwright.tri.front import advancing_front
 __all__ = [
     "ParityError", "PairingReport", "pair_domain", "pairing_fill", "make_loops_even",
     "pair_triangles", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS", "DOMAIN_STALE_WALKS",
+    "DOMAIN_EARLY_VISIT",
     "CENTRE_ROUNDS",
     "CENTRE_KEEP", "FLAT_ANGLE", "RESPACE", "CHORD_RINGS",
 ]
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
 MAX_VISIT = 4096  # triangles one alternating-chain search may enter (last round)
-EARLY_VISIT = 256  # ... in the rounds before the last (64 left the h=0.01 disk six triangles for the chords)
+EARLY_VISIT = 64  # ... in the rounds before the last
+# ... in pair_domain: 64 left the h=0.01 disk six triangles for the chords, 256 pairs them all
+# and raises the airfoils' min scaled Jacobian; paving's void fill (pair_triangles) keeps 64,
+# its three-element airfoil fell from 50.1 to 42.8 degrees with 256.
+DOMAIN_EARLY_VISIT = 256
 MAX_WALKS = 64  # rounds of moving unpaired triangles by diagonal flips
 STALE_WALKS = 8  # ... stopped after this many rounds without fewer unpaired triangles
 # ... in pair_domain: over the domains of benchmarks/quad_domains.py no walk gained after two
@@ -504,9 +509,12 @@ class _PairState(NamedTuple):
     chains: int
 
 
-def _pair_rounds(xy, tris, bkey, n, bounds, max_visit, walks, seed, stale_walks=STALE_WALKS) -> _PairState:
-    """Ears opened, greedy and chain rounds per bound, then the walks (steps 1-3), stopped
-    after ``stale_walks`` rounds without fewer unpaired triangles."""
+def _pair_rounds(
+    xy, tris, bkey, n, bounds, max_visit, walks, seed, stale_walks=STALE_WALKS, early_visit=EARLY_VISIT,
+) -> _PairState:
+    """Ears opened, greedy and chain rounds per bound (searches of ``early_visit``
+    triangles before the last), then the walks (steps 1-3), stopped after ``stale_walks``
+    rounds without fewer unpaired triangles."""
     nbr = _neighbours(tris, bkey, n)
     xy, tris, changed = _open_ears(xy, tris, nbr)
     if changed:
@@ -517,7 +525,7 @@ def _pair_rounds(xy, tris, bkey, n, bounds, max_visit, walks, seed, stale_walks=
         pk.greedy_pairs(xy, tris.ravel(), nbr.ravel(), mate, float(q))
         # Early rounds only mend locally: a triangle with no partner at a high bound would
         # search its whole component in vain; the last round searches far.
-        visit = int(max_visit) if i == len(bounds) - 1 else min(int(max_visit), EARLY_VISIT)
+        visit = int(max_visit) if i == len(bounds) - 1 else min(int(max_visit), int(early_visit))
         chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(q), visit))
     rng = np.random.default_rng(seed)
     best, stale = int((mate < 0).sum()), 0
@@ -667,7 +675,8 @@ def pair_domain(
     lkey = np.sort(lines.astype(np.int64), axis=1)
     bkey = np.unique(lkey[:, 0] * n + lkey[:, 1])
     paired = _pair_rounds(
-        as_points(xy, "points"), tri_in, bkey, n, PAIR_BOUNDS, MAX_VISIT, MAX_WALKS, seed, DOMAIN_STALE_WALKS
+        as_points(xy, "points"), tri_in, bkey, n, PAIR_BOUNDS, MAX_VISIT, MAX_WALKS, seed, DOMAIN_STALE_WALKS,
+        DOMAIN_EARLY_VISIT,
     )
 
     def attempt(st):

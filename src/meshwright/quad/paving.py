@@ -34,7 +34,8 @@ Steps, as the chapter numbers them
    relax :data:`ROW_RELAX` times along the row (tangentially: corners stay) and form the
    new paving boundary.
 4. **Smoothing.**  After each row, the guarded Laplacian (:mod:`meshwright.quad.smoothing`)
-   on the floating nodes of the two previous rows.
+   on the floating nodes of the two previous rows (after its first sweep only where
+   nodes still move, :data:`SETTLE`).
 5. **Seams.**  A floating paving node sharper than :data:`SEAM_ANGLE` is closed: its two
    neighbours merge at their midpoint if every quad around stays strictly convex, no
    front edge moves across another and the boundary's region only shrinks.
@@ -62,7 +63,7 @@ Steps, as the chapter numbers them
 8. **Cleanup.**  Triangles the pairing of a void could not pair are finished by chord
    refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split);
    then :data:`FINAL_SMOOTH` sweeps of the guarded Laplacian (after the first, only
-   where nodes still move: :data:`FINAL_SETTLE`), and a max-min pattern
+   where nodes still move: :data:`SETTLE`), and a max-min pattern
    search (``_paving_close.polish``) moves the free nodes of every quad with a corner sine
    below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles).
 
@@ -123,11 +124,11 @@ __all__ = [
     "CONNECT",
     "CORNER_ANGLE",
     "END_ANGLE",
-    "FINAL_SETTLE",
     "FINAL_SMOOTH",
     "MAX_ROUNDS",
     "REVERSAL_ANGLE",
     "SEAM_ANGLE",
+    "SETTLE",
     "PavingReport",
     "closure_quads",
     "node_classes",
@@ -152,9 +153,9 @@ SPLIT_MAX = 80  # paving boundaries up to this many nodes may be closed by chord
 MAX_ROUNDS = 64  # rounds of rows beyond the bound from the domain's extent
 POLISH_BELOW = 0.8  # quads with a corner sine below this (about 53 degrees) get the max-min cleanup ...
 POLISH_ROUNDS = 8  # ... this many passes
-FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end ...
-FINAL_SETTLE = 1e-2  # ... after the first, only where a node moved more than this times an edge
+FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end
 ROW_SMOOTH = 4  # ... over the two previous rows after each row
+SETTLE = 1e-2  # both: after the first sweep, only where a node moved more than this times an edge
 
 
 class PavingReport(NamedTuple):
@@ -570,7 +571,7 @@ class _Paver:
         free = (used >= self.n_fixed) & (ro >= rnd - 2) & (ro <= rnd - 1) & ~on_front[used]
         if not free.any():
             return
-        moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH)
+        moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH, SETTLE)
         self.pts[used] = moved
         self.h[used[free]] = np.nan
 
@@ -726,7 +727,7 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
         fill = chord_split(fill, domain, cap)
     fixed = np.zeros(len(fill.points), dtype=bool)
     fixed[fill.lines.ravel()] = True
-    moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH, FINAL_SETTLE)
+    moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH, SETTLE)
     if not len(fill.triangles):
         moved = polish(moved, fill.quads, fixed, POLISH_BELOW, POLISH_ROUNDS)
     fill = fill._replace(points=np.ascontiguousarray(moved))
