@@ -109,16 +109,15 @@ def line_ends(poly: np.ndarray, labels: np.ndarray, d, cs: np.ndarray):
     s = proj(poly, d)[None, :] - cs[:, None]  # (k, m)
     sn = np.roll(s, -1, axis=1)
     cross = (s * sn < 0.0) | ((s == 0.0) & (sn != 0.0))
-    k = len(cs)
-    xy = np.zeros((k, 2, 2))
-    lab = np.full((k, 2), -1, dtype=np.int64)
+    # The first two crossed edges of each candidate (a convex cell has exactly two).
+    edges = np.argsort(~cross, axis=1, kind="stable")[:, :2]
+    found = np.take_along_axis(cross, edges, axis=1)
     q = np.roll(poly, -1, axis=0)
-    for j in range(k):
-        edges = np.flatnonzero(cross[j])[:2]
-        for e_slot, e in enumerate(edges.tolist()):
-            f = s[j, e] / (s[j, e] - sn[j, e])
-            xy[j, e_slot] = poly[e] + f * (q[e] - poly[e])
-            lab[j, e_slot] = labels[e]
+    se, sne = np.take_along_axis(s, edges, axis=1), np.take_along_axis(sn, edges, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        f = np.where(found, se / (se - sne), 0.0)
+    xy = poly[edges] + f[..., None] * (q[edges] - poly[edges])
+    lab = np.where(found, labels[edges], -1)
     return xy, lab
 
 
