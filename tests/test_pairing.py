@@ -612,3 +612,31 @@ def test_sliding_nodes_stay_on_the_naca_section():
     disc = dom.discretize(as_size_field(size)).points
     d = np.min(np.hypot(*(wall[:, None, :] - disc[None, :, :]).transpose(2, 0, 1)), axis=1)
     assert (d > 1e-6).sum() > len(wall) // 4
+
+
+def test_curve_slider_keeps_nodes_that_do_not_move_and_follows_the_curve():
+    """The slider (enhancement._CurveSlider) on the three-element airfoil's parametric
+    curves: a zero step gives back every node where it is (its parameter found
+    exactly), and a small step along the tangent lands on the curve at the parameter the
+    step's arc length reaches (oracle: the curve evaluated at the nodes' own parameters)."""
+    from meshwright.geometry import builtin
+    from meshwright.geometry.curves import Parametric
+    from meshwright.quad.enhancement import _CurveSlider
+
+    dom = builtin("three-element")
+    ids = [i for i, c in enumerate(dom.curves) if isinstance(c, Parametric)]
+    assert ids
+    rng = np.random.default_rng(3)
+    for cid in ids:
+        c = dom.curves[cid]
+        span = c.t1 - c.t0
+        t = np.sort(rng.uniform(c.t0 + 0.05 * span, c.t1 - 0.05 * span, 200))
+        at = c.evaluate(t)
+        nodes = np.arange(len(t))
+        slider = _CurveSlider(dom, np.full(len(t), cid))
+        np.testing.assert_allclose(slider(nodes, at.copy(), at), at, rtol=0, atol=1e-10)
+        # A step to C(t + dt) itself, for a tiny dt, is reproduced to second order.
+        dt = 1e-6 * span
+        target = c.evaluate(t + dt)
+        got = slider(nodes, target, at)
+        np.testing.assert_allclose(got, target, rtol=0, atol=1e-9)

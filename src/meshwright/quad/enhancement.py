@@ -237,9 +237,8 @@ class _CurveSlider:
 
     On lines, arcs and polylines it is the curve's own closest point.  On parametric
     curves (splines, airfoil sections) that is a golden-section search of some forty
-    curve evaluations per call; here a node's parameter is found once (nearest sample,
-    then Newton steps: :meth:`_locate`), and each trial is then one Newton step of the
-    same minimisation from it,
+    curve evaluations per call; here a node's parameter is found that way once, and each
+    trial is then one Newton step of the same minimisation from it,
     ``t' = t + (xy - at) . C'(t) / |C'(t)|^2`` (``C'`` by a central difference), placed
     at ``C(t')``: exactly on the curve, three evaluations per call.  The parameters of
     the last call's trials are remembered, so the node's next position is recognised
@@ -248,9 +247,6 @@ class _CurveSlider:
     """
 
     SLOTS = 3  # remembered (parameter, point) pairs per node: where it is, and two trials
-    SAMPLES = 2048  # evenly spaced parameters whose nearest starts a node's first search ...
-    NEWTON = 4  # ... then this many Newton steps (quadratic: from 1/2048 of the range to round-off)
-    BLOCK = 256  # nodes per block of the nearest-sample search (bounds its memory)
 
     def __init__(self, domain: Domain, vcurve: np.ndarray):
         self.domain = domain
@@ -271,40 +267,19 @@ class _CurveSlider:
             out[m] = self._slide(self.domain.curves[c], nodes[m], xy[m], at[m])
         return out
 
-    @staticmethod
-    def _newton_step(curve, t, d):
-        """Parameter steps ``d . C'(t) / |C'(t)|^2`` (``C'`` by a central difference,
-        one-sided at the ends): the linearised move of ``C(t)`` by ``d`` (k, 2)."""
-        lo, hi = curve.t0, curve.t1
-        h = 1e-7 * (hi - lo)
-        ta, tb = np.maximum(t - h, lo), np.minimum(t + h, hi)
-        ends = curve.evaluate(np.concatenate([ta, tb]))
-        dc = (ends[len(t) :] - ends[: len(t)]) / (tb - ta)[:, None]
-        return (d * dc).sum(axis=1) / np.maximum((dc * dc).sum(axis=1), 1e-300)
-
-    def _locate(self, curve, q):
-        """Parameters of points ``q`` (k, 2) on ``curve``: the nearest of
-        :data:`SAMPLES` evenly spaced parameters, then :data:`NEWTON` Newton steps of
-        the distance's minimisation (a handful of curve evaluations instead of a
-        golden-section search's forty)."""
-        ts = np.linspace(curve.t0, curve.t1, self.SAMPLES)
-        ps = curve.evaluate(ts)
-        t = np.empty(len(q))
-        for s in range(0, len(q), self.BLOCK):
-            d2 = ((q[s : s + self.BLOCK, None, :] - ps[None, :, :]) ** 2).sum(axis=2)
-            t[s : s + self.BLOCK] = ts[np.argmin(d2, axis=1)]
-        for _ in range(self.NEWTON):
-            t = np.clip(t + self._newton_step(curve, t, q - curve.evaluate(t)), curve.t0, curve.t1)
-        return t
-
     def _slide(self, curve, v, xy, at):
         hit = (self.memo_xy[v] == at[:, None, :]).all(axis=2)
         t = np.where(hit.any(axis=1), self.memo_t[v, np.argmax(hit, axis=1)], np.nan)
         miss = np.isnan(t)
         if miss.any():
-            t[miss] = self._locate(curve, at[miss])
+            t[miss] = curve.project(at[miss])
         lo, hi = curve.t0, curve.t1
-        t_new = t + self._newton_step(curve, t, xy - at)
+        h = 1e-7 * (hi - lo)
+        ta, tb = np.maximum(t - h, lo), np.minimum(t + h, hi)
+        ends = curve.evaluate(np.concatenate([ta, tb]))
+        dc = (ends[len(t):] - ends[: len(t)]) / (tb - ta)[:, None]
+        step = ((xy - at) * dc).sum(axis=1) / np.maximum((dc * dc).sum(axis=1), 1e-300)
+        t_new = t + step
         inside = (t_new >= lo) & (t_new <= hi)
         t_new = np.where(inside, t_new, t)
         out = curve.evaluate(t_new)
