@@ -329,11 +329,12 @@ def _junction_scores(cell, ctx, d, cs: np.ndarray, angles: bool) -> np.ndarray:
     A junction inside the domain is an input angle of the parts around it, so the cuts must
     meet at :data:`MIN_CUT_ANGLE` or more (checked when ``angles``: with axis-parallel cuts
     only, every junction is a right angle).  And a junction must keep
-    :data:`JUNCTION_CLEARANCE` ``h`` from the boundary's chords, inside the domain or out: one
-    between a chord and its curve (the cuts cross the curve, the pieces are kept by their
-    midpoints against the chords) would leave a sliver of interface poking out of the domain."""
+    :data:`JUNCTION_CLEARANCE` ``h`` from where the earlier cut crosses the boundary, inside
+    the domain or out: one between a chord and its curve (the cuts cross the curve, pieces are
+    kept by their midpoints against the chords) would leave a sliver of interface poking out
+    of the domain.  Elsewhere the earlier cut keeps its own clearance from the boundary."""
     poly, labels = cell
-    cut_dirs, dom_segments, field = ctx
+    cut_dirs, dom_segments, crossings = ctx
     out = np.full(len(cs), np.inf)
     xy, lab = line_ends(poly, labels, d, cs)
     need = lab >= 0
@@ -341,25 +342,19 @@ def _junction_scores(cell, ctx, d, cs: np.ndarray, angles: bool) -> np.ndarray:
         return out
     rows, cols = np.nonzero(need)
     e = np.ascontiguousarray(xy[rows, cols])
+    on = lab[rows, cols]
     if angles:
         inside = classify_points(e, *dom_segments) == INSIDE
-        t_other = np.array([cut_dirs[q][2] for q in lab[rows, cols].tolist()]).reshape(-1, 2)
+        t_other = np.array([cut_dirs[q][2] for q in on.tolist()]).reshape(-1, 2)
         ang = np.degrees(np.arccos(np.clip(np.abs(t_other @ d[2]), 0.0, 1.0)))
         np.minimum.at(out, rows[inside], ang[inside] / MIN_CUT_ANGLE)
-    he = JUNCTION_CLEARANCE * field(e)
-    a, b = dom_segments
-    reach = float(he.max())
-    lo, hi = e.min(axis=0) - reach, e.max(axis=0) + reach
-    near = np.flatnonzero(
-        (np.maximum(a[:, 0], b[:, 0]) >= lo[0]) & (np.minimum(a[:, 0], b[:, 0]) <= hi[0])
-        & (np.maximum(a[:, 1], b[:, 1]) >= lo[1]) & (np.minimum(a[:, 1], b[:, 1]) <= hi[1])
-    )
-    if len(near):
-        a, b = a[near], b[near]
-        ab = b - a
-        f = np.clip(((e[:, None, :] - a[None]) * ab[None]).sum(axis=2) / (ab * ab).sum(axis=1)[None], 0.0, 1.0)
-        gap = np.hypot(*(e[:, None, :] - a[None] - f[..., None] * ab[None]).transpose(2, 0, 1)).min(axis=1)
-        np.minimum.at(out, rows, gap / he)
+    for q in np.unique(on).tolist():
+        x, hx = crossings[q]
+        if not len(x):
+            continue
+        sel = on == q
+        gap = np.hypot(e[sel, 0, None] - x[None, :, 0], e[sel, 1, None] - x[None, :, 1]) / (JUNCTION_CLEARANCE * hx)
+        np.minimum.at(out, rows[sel], gap.min(axis=1))
     return out
 
 
@@ -400,7 +395,7 @@ def _choose_cut(sk, cell, grid, weights, segs_in, verts, vh, exy, eh, frac, wind
     ``cell`` is ``(polygon, labels)`` (:mod:`.cells`); ``grid`` is ``(indices (n, 2), (xs,
     ys), xy (n, 2))`` of the cell's samples (:func:`_sample_grid`).  ``dirs``: the directions
     tried, default the two axes, the longer extent first, or what :func:`_cumulative` made of
-    them.  ``ctx`` is ``(cut directions, dom_segments, field)``: the cut's ends on earlier
+    them.  ``ctx`` is ``(cut directions, dom_segments, crossings)``: the cut's ends on earlier
     cuts are scored by :func:`_junction_scores` (their angles where the cell has an oblique
     edge or ``d`` is oblique).
     With ``windows`` shorter than :data:`BALANCE_WINDOWS`, None when no candidate is
@@ -506,7 +501,8 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
     # tree rows: (axis, nx, ny, c, node_lo_child, node_hi_child); leaves are -1 - part.
     cuts, dirs, tree, ends = [], [], [], []
     cut_points, junctions = [], []  # per cut: its boundary crossings (ids), the ends of later cuts on it
-    ctx = (dirs, dom_segments, field)
+    crossings = []  # per cut: its boundary crossings (q, 2) and the size there
+    ctx = (dirs, dom_segments, crossings)
     stack = [(box(*root), parts, 0, np.arange(len(samples)), np.arange(len(sk.seg)), np.arange(n_interior), -1, 0)]
     while stack:
         cell, k, first, smp, segs_in, ints_in, parent, side = stack.pop()
@@ -569,6 +565,8 @@ def decompose_domain(dom, field, parts: int, samples_per_part: int = 1024) -> De
             cuts.append((d[1][0], d[1][1], c, *pa, *pb, angle))
             dirs.append(d)
             cut_points.append(new_p)
+            cross_xy = sk.pts[new_p]
+            crossings.append((cross_xy, field(cross_xy) if len(new_p) else np.zeros(0)))
             junctions.append([])
             for xy, lab in cut_ends:
                 ends.append(xy)
