@@ -513,12 +513,20 @@ def polish(xy, quads, fixed, floor: float, rounds: int):
     ang = np.arange(16) * (np.pi / 8.0)
     dirs = np.ascontiguousarray(np.column_stack([np.cos(ang), np.sin(ang)]))
     steps = np.array([0.25, 0.125, 0.0625])
+    worst = min_sine(p, q)
     for _ in range(rounds):
-        bad = np.flatnonzero(min_sine(p, q) < floor)
+        bad = np.flatnonzero(worst < floor)
         nodes = np.unique(q[bad])
         nodes = nodes[~fixed[nodes]]
-        if not len(nodes) or not pk.polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
+        if not len(nodes):
             break
+        before = p[nodes].copy()
+        if not pk.polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
+            break
+        # Only the quads around the nodes that moved change their smallest sine.
+        moved = nodes[(p[nodes] != before).any(axis=1)]
+        touched = np.unique(np.concatenate([cell_idx[cell_ptr[v] : cell_ptr[v + 1]] for v in moved.tolist()]))
+        worst[touched] = min_sine(p, q[touched])
     return p
 
 
