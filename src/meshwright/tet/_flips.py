@@ -619,9 +619,13 @@ def vertex_stars(tet, ntet, nv):
     return first, slots
 
 
-@njit(inline="always")
+@njit(cache=True)
 def _star_worst(pts, tet, first, slots, v, x, y, z, threshold, floor, bound):
     """Smallest ratio and sliver count of v's star with v placed at (x, y, z).
+
+    A call, not inlined: move_pass evaluates it at five places, and five inlined copies of
+    the star loop (with the ratio and exact orientation code) made move_pass the third most
+    expensive kernel to compile.
 
     Returns -inf as soon as a tet's float ratio is <= ``floor`` (the position cannot
     win, so the exact tests are skipped) or a tet would not be positive (exact
