@@ -24,8 +24,9 @@ triangles) and a graded disk with two holes (a point-source size around one hole
   (on a shared machine two workers mesh slower per triangle than one: that row checks the
   model's structure, the first its use).  Per modelled ``P``, the first row gives ``E(P)``
   against the real ``T(1, n0)``; the second takes the part tasks' CPU seconds per triangle
-  (each worker on a core of its own, what an idle cluster measures) against ``T(1, n0)``
-  modelled at the same rate.  In parentheses, ``E(P)`` at the model's bound: the largest
+  (each worker on a core of its own, what an idle cluster measures) and the client's CPU
+  seconds for its decomposition and files, against ``T(1, n0)`` modelled at the same rate
+  (the client's overheads beyond the tasks stay wall seconds of the ``P = 1`` run).  In parentheses, ``E(P)`` at the model's bound: the largest
   part longer by the calibration's spreads of triangles and of speed per part, ending the
   run (the model schedules neither).
 * Per row: the time's phases (client decomposition / the parts' tasks list-scheduled on ``P``
@@ -141,24 +142,25 @@ class _Piece(NamedTuple):
 
 
 def client_phases(dom, size, parts: int) -> tuple:
-    """The ``P``-problem's client phases measured for real: its decomposition (and seconds),
-    and the seconds to write the skeleton, virtual datasets and XDMF for its predicted part
-    sizes (virtual sources need not exist)."""
+    """The ``P``-problem's client phases measured for real: its decomposition, the wall
+    seconds of the decomposition and of writing the skeleton, virtual datasets and XDMF for
+    its predicted part sizes (virtual sources need not exist), then the same two in CPU
+    seconds of the client."""
     from meshwright.distributed import decompose
     from meshwright.distributed.writer import part_path, write_mesh
 
-    t = time.perf_counter()
+    t, c = time.perf_counter(), time.process_time()
     dec = decompose(dom, size, parts)
-    t_dec = time.perf_counter() - t
+    t_dec, c_dec = time.perf_counter() - t, time.process_time() - c
     with tempfile.TemporaryDirectory() as d:
         out = Path(d) / "mesh.xdmf"
         pieces = [
             _Piece(str(part_path(out, i)), int(p / 2), int(p), int(math.sqrt(p))) for i, p in enumerate(dec.predicted)
         ]
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         write_mesh(out, dec.points, dec.point_markers, pieces)
-        t_write = time.perf_counter() - t
-    return dec, t_dec, t_write
+        t_write, c_write = time.perf_counter() - t, time.process_time() - c
+    return dec, t_dec, t_write, c_dec, c_write
 
 
 def main() -> None:
@@ -228,13 +230,13 @@ def main() -> None:
             for P in args.sim:
                 domP, sP = make(P, P * args.n0)
                 l0 = load()
-                dec, t_dec, t_write = client_phases(domP, sP, PARTS_PER_WORKER * P)
+                dec, t_dec, t_write, c_dec, c_write = client_phases(domP, sP, PARTS_PER_WORKER * P)
                 st = {"predicted": dec.predicted.tolist(), "imbalance": dec.imbalance}
                 m = model_time(k1, dec.predicted, P, t_dec, t_write)
                 model_row(name, P, "model from P = 1 costs", m, t1, k1, st, l0)
                 # Each worker on a core of its own: the tasks' CPU seconds per triangle, against
                 # T(1) modelled at the same rate (what an idle cluster would measure).
-                m = model_time(k1, dec.predicted, P, t_dec, t_write, rate=k1.cpu_per_triangle,
+                m = model_time(k1, dec.predicted, P, c_dec, c_write, rate=k1.cpu_per_triangle,
                                rate_spread=k1.cpu_rate_spread)
                 model_row(name, P, "model at the P = 1 CPU rate", m, t1_cpu, k1, st, l0)
         for line in notes:
