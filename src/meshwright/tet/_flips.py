@@ -703,7 +703,7 @@ def move_pass(pts, tet, ntet, cand, threshold, movable, counters, bound):
         best_y = 0.0
         best_z = 0.0
         for k in range(4):
-            v = tet[4 * t + k]
+            v = np.int64(tet[4 * t + k])  # int64 as best_v: one specialisation of _star_worst
             if not movable[v]:
                 continue
             px, py, pz = pts[v, 0], pts[v, 1], pts[v, 2]
