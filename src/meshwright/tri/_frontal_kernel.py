@@ -61,9 +61,9 @@ from meshwright.tri._kernel2d import (
     M_NTRI,
     M_NV,
     NEED_SPACE,
-    insert_vertex,
-    on_constraint,
-    walk,
+    _on_constraint,
+    _walk,
+    insert_arrays,
 )
 from meshwright.tri._scaffold import KMAX, move_row, move_slot, remove_vertex
 
@@ -265,10 +265,36 @@ def _near(px, py, rclear, rspace, host, pts, tri, nbr, treg, vflag, stamp, fmeta
 
 
 @njit(inline="always")
-def _insert_at(px, py, host, pts, tri, treg, meta, free, fmeta, vflag, rows, s, c):
+def _link_star(v, tn, f0, tri, nbr, vtri, treg):
+    """Region ``f0`` (-1 at ghosts) and vertex->triangle links of the new star of v: the
+    ordinary-insertion case of :func:`meshwright.tri._encroach.set_flags` over arrays (the
+    bundle form's field reads cost a reference-count pair per insertion)."""
+    t = tn
+    for _ in range(4 * KMAX + 1024):
+        i = 0
+        while tri[3 * t + i] != v:
+            i += 1
+        x = tri[3 * t + (i + 1) % 3]
+        y = tri[3 * t + (i + 2) % 3]
+        treg[t] = -1 if tri[3 * t + 2] == GHOST else f0
+        vtri[v] = t
+        if x >= 0:
+            vtri[x] = t
+        if y >= 0:
+            vtri[y] = t
+        t = nbr[3 * t + (i + 1) % 3]
+        if t == tn:
+            return
+
+
+@njit(inline="always")
+def _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark, vtri, treg, vseg, vpar, vacute,
+               free, fmeta, vflag, rows):
     """Insert p (inside, strictly off every constrained edge) into a dead row if one is
-    free, else a new row.  Returns the vertex, or ``NEED_SPACE`` / ``BROKEN`` / a duplicate
-    code of :func:`meshwright.tri._kernel2d.insert_vertex` (nothing changed then)."""
+    free, else a new row (the bundles' arrays passed one by one, read once per kernel
+    call: a bundle's field read costs an atomic reference-count pair each time).  Returns
+    the vertex, or ``NEED_SPACE`` / ``BROKEN`` / a duplicate code of
+    :func:`meshwright.tri._kernel2d.insert_vertex` (nothing changed then)."""
     nfree = fmeta[FM_NFREE]
     row = free[nfree - 1] if nfree > 0 else meta[M_NV]
     if row >= rows:
@@ -277,19 +303,20 @@ def _insert_at(px, py, host, pts, tri, treg, meta, free, fmeta, vflag, rows, s, 
     pts[row, 1] = py
     f0 = treg[host]
     meta[M_LAST] = host
-    tn = insert_vertex(row, host, s)
+    tn = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, row, host)
     if tn < 0:
         return tn
     if nfree > 0:
         fmeta[FM_NFREE] = nfree - 1
     else:
         meta[M_NV] = row + 1
-    c.vseg[row] = -1
-    c.vacute[row] = 0
-    c.vpar[row] = np.nan
+    vseg[row] = -1
+    vacute[row] = 0
+    vpar[row] = np.nan
     vflag[row] = 0
-    enc.set_flags(row, tn, -1, -1, -1, -1, f0, s, c)
+    _link_star(row, tn, f0, tri, nbr, vtri, treg)
     return row
+
 
 
 @njit(cache=True)
@@ -302,7 +329,8 @@ def seed_scaffold(xy, i0, s, c, f, bg):
     (int, int)
         ``(i, F_DONE)`` with i = len(xy), or ``(i, F_ROOM)`` / ``(i, F_BROKEN)`` at point i.
     """
-    pts, tri, nbr, meta, treg = s.pts, s.tri, s.nbr, s.meta, c.treg
+    pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
+    vtri, treg, vseg, vpar, vacute = c.vtri, c.treg, c.vseg, c.vpar, c.vacute
     stamp, fmeta, par, vflag, free, vbg = f.stamp, f.fmeta, f.par, f.vflag, f.free, f.vbg
     stack = np.empty(4096, dtype=np.int32)
     rows, slots = enc.room_of(s, c)
@@ -312,19 +340,20 @@ def seed_scaffold(xy, i0, s, c, f, bg):
             return i, F_ROOM
         px = xy[i, 0]
         py = xy[i, 1]
-        host, _ = walk(s, meta[M_LAST] if meta[M_LAST] < ntri else 0, px, py, False)
+        host, _ = _walk(pts, tri, nbr, cons, meta, meta[M_LAST] if meta[M_LAST] < ntri else 0, px, py, False)
         if host >= 0:
             # The next walk starts here, refused or not: from the last insertion, runs of
             # refused candidates made each walk longer (a 1e4-aspect strip of 105k
             # boundary points: 10.7 s of seeding).
             meta[M_LAST] = host
-        if not _inside(host, tri, treg) or on_constraint(host, px, py, s) >= 0:
+        if not _inside(host, tri, treg) or _on_constraint(pts, tri, cons, host, px, py) >= 0:
             continue
         # The candidates come in Hilbert order: the last walk's end is a near start.
         r = 0.5 * par[P_SCAF] * _size(par, bg, -1, px, py)
         if _near(px, py, r, r, host, pts, tri, nbr, treg, vflag, stamp, fmeta, stack) != _NEAR_NONE:
             continue
-        v = _insert_at(px, py, host, pts, tri, treg, meta, free, fmeta, vflag, rows, s, c)
+        v = _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark, vtri, treg, vseg, vpar,
+                       vacute, free, fmeta, vflag, rows)
         if v == NEED_SPACE:
             return i, F_ROOM
         if v == BROKEN:
@@ -418,7 +447,8 @@ def run(s, c, f, bg):
     a field read inside a loop costs a reference-count pair per iteration.
     """
     stack = np.empty(4096, dtype=np.int32)
-    pts, tri, nbr, cons, meta, treg, vtri = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg, c.vtri
+    pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
+    vtri, treg, vseg, vpar, vacute = c.vtri, c.treg, c.vseg, c.vpar, c.vacute
     acc, ratio, hkey, htri, stamp, fmeta, par = f.acc, f.ratio, f.hkey, f.htri, f.stamp, f.fmeta, f.par
     vflag, free, scr, vbg, qtri = f.vflag, f.free, f.scr, f.vbg, f.qtri
     rows, slots = enc.room_of(s, c)
@@ -473,9 +503,9 @@ def run(s, c, f, bg):
         d = rho + np.sqrt(max(rho * rho - p * p, 0.0))
         px = 0.5 * (pts[a, 0] + pts[b, 0]) + d * nx
         py = 0.5 * (pts[a, 1] + pts[b, 1]) + d * ny
-        host, _ = walk(s, t, px, py, False)
+        host, _ = _walk(pts, tri, nbr, cons, meta, t, px, py, False)
         near = _NEAR_CROWDED
-        if _inside(host, tri, treg) and on_constraint(host, px, py, s) < 0:
+        if _inside(host, tri, treg) and _on_constraint(pts, tri, cons, host, px, py) < 0:
             near = _near(px, py, par[P_CLEAR] * h, par[P_SPACING] * h, host, pts, tri, nbr, treg, vflag, stamp,
                          fmeta, stack)
         if near >= 0:
@@ -497,7 +527,8 @@ def run(s, c, f, bg):
             for k in range(3):
                 _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
             continue
-        v = _insert_at(px, py, host, pts, tri, treg, meta, free, fmeta, vflag, rows, s, c)
+        v = _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark, vtri, treg, vseg, vpar,
+                       vacute, free, fmeta, vflag, rows)
         if v == NEED_SPACE:
             _push(hkey, htri, fmeta, -ratio[t], t, tri, qtri)
             return F_ROOM
