@@ -200,7 +200,7 @@ def _hilbert_keys_2d(points, bits):
         x = min(np.int64((points[i, 0] - xmin) * sx), top)
         y = min(np.int64((points[i, 1] - ymin) * sy), top)
         d = np.int64(0)
-        state = 0
+        state = np.int64(0)
         for lv in range(bits - 1, bits - 1 - lead, -1):
             q, state = _hilbert_step(state, (x >> lv) & 1, (y >> lv) & 1)
             d = (d << 2) | q

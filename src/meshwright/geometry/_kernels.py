@@ -154,7 +154,7 @@ def _register(points, segments):
     nx = int((xmax - xmin) / w) + 1
     ny = int((ymax - ymin) / w) + 1
     empty = np.empty(0, dtype=np.int64)
-    count = 0
+    count = np.int64(0)
     for s in range(m):
         a, b = segments[s, 0], segments[s, 1]
         count = _supercover(x[a], y[a], x[b], y[b], xmin, ymin, w, nx, ny, empty, count)

@@ -293,7 +293,7 @@ def _search(xy, tri, nbr, mate, qmin, root, used, pred, base, blossom, mark, sta
             if to == root or (mate[to] >= 0 and pred[mate[to]] >= 0):
                 stamp += 1
                 cur = _lca(v, to, mate, pred, base, mark, stamp)
-                nb = _mark_path(v, cur, to, mate, pred, base, blossom, bstack, 0)
+                nb = _mark_path(v, cur, to, mate, pred, base, blossom, bstack, np.int64(0))
                 nb = _mark_path(to, cur, v, mate, pred, base, blossom, bstack, nb)
                 tail_q = _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis, cand, queue,
                                    tail_q)
@@ -339,7 +339,7 @@ def augment(xy, tri, nbr, mate, qmin, max_visit):
     link = np.full(nt, -1, dtype=np.int32)
     vpos = np.zeros(nt, dtype=np.int32)
     cand = np.empty(nt + 1, dtype=np.int32)
-    stamp = 0
+    stamp = np.int64(0)  # typed: a literal 0 would compile _search twice
     gained = 0
     for u in range(nt):
         if mate[u] >= 0:
@@ -477,6 +477,7 @@ def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept,
     """Quads whose opposite nodes a, c are interior and in three quads each (diamonds):
     a and c merge at their midpoint and the quad disappears."""
     done = 0
+    none = np.int64(-1)  # typed: literal -1 arguments would compile _local_min once per pattern
     for q in range(quad.shape[0]):
         if alive[q] == 0 or lock[q] != 0 or dirty[q] == 0:
             continue
@@ -493,13 +494,13 @@ def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept,
                 continue
             if not (_star_free(off, idx, lock, a) and _star_free(off, idx, lock, c)):
                 continue
-            old = min(_local_min(xy, quad, alive, off, idx, a, -1, -1, -1),
-                      _local_min(xy, quad, alive, off, idx, c, -1, -1, -1))
+            old = min(_local_min(xy, quad, alive, off, idx, a, none, none, none),
+                      _local_min(xy, quad, alive, off, idx, c, none, none, none))
             ax, ay = xy[a, 0], xy[a, 1]
             xy[a, 0] = 0.5 * (ax + xy[c, 0])
             xy[a, 1] = 0.5 * (ay + xy[c, 1])
-            new = min(_local_min(xy, quad, alive, off, idx, a, q, -1, -1),
-                      _local_min(xy, quad, alive, off, idx, c, q, c, a))
+            new = min(_local_min(xy, quad, alive, off, idx, a, q, none, none),
+                      _local_min(xy, quad, alive, off, idx, c, q, np.int64(c), np.int64(a)))
             if new <= 0.0 or new < min(old, accept):
                 xy[a, 0], xy[a, 1] = ax, ay
                 continue

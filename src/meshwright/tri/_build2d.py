@@ -92,7 +92,7 @@ def init_triangle(s, a, b, c):
     meta[M_NTRI] = 4
     meta[M_LAST] = 0
     if s.circ.shape[0] > 0:
-        watson.circle(pts, tri, s.circ, 0)
+        watson.circle(pts, tri, s.circ, np.int64(0))
 
 
 @njit(cache=True)

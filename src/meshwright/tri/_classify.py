@@ -17,6 +17,7 @@ written: -1 exterior or ghost, 0 inside, r + 1 region r.  ``pside`` (P,) int8 pe
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from meshwright.core.flat import GHOST
@@ -94,6 +95,7 @@ def classify_sides(s, c, pside, ntri, stack, info):
                 top += 1
             elif not inside:
                 treg[t] = -3
+    unsided = np.bool_(True)  # a typed True: a literal would compile _free twice
     if top == 0:
         # Triangle's convention: eat from the convex hull up to the segments.
         for t in range(ntri):
@@ -117,7 +119,7 @@ def classify_sides(s, c, pside, ntri, stack, info):
         top -= 1
         t = stack[top]
         for k in range(3):
-            if not _free(3 * t + k, cons, pside, True):
+            if not _free(3 * t + k, cons, pside, unsided):
                 continue
             n = nbr[3 * t + k]
             if tri[3 * n + 2] == GHOST or treg[n] == -3:

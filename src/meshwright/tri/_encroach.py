@@ -123,8 +123,8 @@ def room_of(s, c):
 
 @njit(inline="always")
 def key_of(rank, v):
-    """Symbolic-perturbation key of vertex v (as in :mod:`meshwright.tri.bowyer`)."""
-    return rank[v] if v < rank.shape[0] else v
+    """Symbolic-perturbation key of vertex v (as in :mod:`meshwright.tri.bowyer`); int64."""
+    return np.int64(rank[v]) if v < rank.shape[0] else np.int64(v)
 
 
 @njit(cache=True)

@@ -515,7 +515,7 @@ def _fan(pts, tri, nbr, circ, cons, meta, work, vmark, v, ncav):
             cons[b3 + (sh + 1) % 3] = sc if (sc != 0 and (u == sa or u == sb)) else 0
         vmark[_vslot(u, vmark)] = j
     # Link each fan triangle (u, w, v) with the one whose boundary edge starts at w.
-    result = -1
+    result = np.int64(-1)  # not a literal: see docs/ARCHITECTURE.md, 'literal arguments'
     for j in range(nb):
         o = bo + 3 * j
         u = work[o]
@@ -700,7 +700,7 @@ def flip(h, s):
     _redirect(nbr, ea, t, n)
     if s.circ.shape[0] > 0:
         watson.circle(s.pts, tri, s.circ, t)
-        watson.circle(s.pts, tri, s.circ, n)
+        watson.circle(s.pts, tri, s.circ, np.int64(n))
     return n
 
 
@@ -796,6 +796,6 @@ def _split_by_flips(v, h, s):
                 break
     if circ.shape[0] > 0:
         for i in range(3):
-            watson.circle(pts, tri, circ, slots[i])
+            watson.circle(pts, tri, circ, np.int64(slots[i]))
     s.meta[M_LAST] = x
     return x

@@ -40,6 +40,7 @@ filter cannot decide.
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from meshwright.core.flat import GHOST
@@ -80,8 +81,9 @@ def ghost_conflict(pts, a, b, px, py):
 
 @njit(inline="always")
 def _key(rank, v):
-    """Perturbation key of vertex v: ``rank[v]`` if listed, else v."""
-    return rank[v] if v < rank.shape[0] else v
+    """Perturbation key of vertex v: ``rank[v]`` if listed, else v (int64 whatever the index
+    type, so the predicates compile once)."""
+    return np.int64(rank[v]) if v < rank.shape[0] else np.int64(v)
 
 
 @njit(cache=True, inline="always")

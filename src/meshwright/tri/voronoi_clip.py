@@ -312,7 +312,7 @@ def _tidy(wxy, wlab, cnt):
                 else:
                     o = s - 1 if s > 0 else cnt - 1
                     drop[s] = wlab[o, 3] == wlab[s, 3] and wlab[o, 4] == wlab[s, 4]
-            kept = 0
+            kept = np.int64(0)
             for s in range(cnt):
                 if not drop[s]:
                     _copy_row(wxy, wlab, kept, wxy, wlab, s)
@@ -336,7 +336,7 @@ def _clip_cells(points, centres, poly, voff, cv, noff, nb_pts, nb_ridges, ridge_
     counts = np.zeros(n, dtype=np.int64)
     lab = np.empty((4 * (n + k), 3), dtype=np.int64)
     xy = np.empty((4 * (n + k), 2))
-    used = 0
+    used = np.int64(0)
     # Working polygon: coordinates, and (kind, a, b, support kind, support id) where the
     # support is what the side from this vertex to the next lies on.
     wxy, wlab = np.empty((2 * k + 8, 2)), np.empty((2 * k + 8, 5), dtype=np.int64)
@@ -377,8 +377,8 @@ def _clip_cells(points, centres, poly, voff, cv, noff, nb_pts, nb_ridges, ridge_
             q, r = nb_pts[h0 + j], nb_ridges[h0 + j]
             dx, dy = points[q, 0] - points[i, 0], points[q, 1] - points[i, 1]
             mx, my = 0.5 * (points[q, 0] + points[i, 0]), 0.5 * (points[q, 1] + points[i, 1])
-            nxy, nlab = _reserve(nxy, nlab, 0, 2 * cnt)  # each side yields at most two
-            out = 0
+            nxy, nlab = _reserve(nxy, nlab, np.int64(0), 2 * cnt)  # each side yields at most two
+            out = np.int64(0)
             for s in range(cnt):
                 s2 = s + 1 if s + 1 < cnt else 0
                 ax, ay, bx, by = wxy[s, 0], wxy[s, 1], wxy[s2, 0], wxy[s2, 1]
