@@ -76,20 +76,12 @@ from meshwright.core.geom2d import circumcentre, corners, off_centre
 from meshwright.core.predicates import incircle_sos
 from meshwright.sizing.field import as_size_field
 from meshwright.tri._encroach import (
-    R_BROKEN,
-    R_DONE,
-    R_ROOM,
-    edge_of,
-    encroaches,
-    key_of,
-    param_of,
-    set_flags,
-    room_of,
-    split_point,
+    R_BROKEN, R_DONE, R_ROOM, edge_of, encroaches, key_of, param_of, room_of, set_flags, split_point,
 )
 from meshwright.tri._kernel2d import (
-    BROKEN, DUP_BASE, M_NTRI, M_NV, NEED_SPACE, cavity, fan, on_constraint, split_edge, walk,
+    BROKEN, DUP_BASE, M_NTRI, M_NV, NEED_SPACE, _cavity, _fan, _on_constraint, _walk, split_edge,
 )
+from meshwright.tri._kernel2d import _short as _no_room
 from meshwright.tri._refine_caps import Caps
 
 __all__ = ["refine", "conform", "split_subsegment", "RefineState"]
@@ -240,6 +232,17 @@ def quality(t, pts, tri):
     if l1 <= l2:
         return cross * cross / (l0 * l2), 0.5 * cross, c, a, l1
     return cross * cross / (l0 * l1), 0.5 * cross, a, b, l2
+
+
+@njit(cache=True, nogil=True)
+def _requeue(t, pts, tri, qhead, qnext, qval, qhdr):
+    """Put triangle t back on the queue (its point was refused or a cap stopped the loop).
+
+    A call, not inlined: :func:`refine_loop` requeues from five places, and each inlined
+    copy of :func:`quality` and :func:`push_bad` cost compile time on every first run
+    while the requeue itself is rare.
+    """
+    push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
 
 
 @njit(inline="always")
@@ -397,10 +400,13 @@ def refine_loop(s, c, r):
         ``R_BROKEN`` (inconsistent cavity); ``R_OFF_CURVE`` (the split point of the requested
         subsegment lies neither on it nor inside its two triangles).
     """
-    pts, tri, nbr, cons, meta, treg = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg
+    # Every array once, here, and the array forms of walk / cavity / fan below (the bundle
+    # forms read the fields again per point).
+    pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
+    vtri, treg = c.vtri, c.treg
     qhead, qnext, qval, qhdr, sq, pend, _, st, prm = r
     rows, slots = room_of(s, c)
-    wcap = s.work.shape[0] // 5
+    wcap = work.shape[0] // 5
     while True:
         nv = meta[M_NV]
         if _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, st):
@@ -409,7 +415,7 @@ def refine_loop(s, c, r):
             q = st[S_QN] - 1
             a = sq[2 * q]
             b = sq[2 * q + 1]
-            h = edge_of(a, b, tri, nbr, c.vtri)
+            h = edge_of(a, b, tri, nbr, vtri)
             if h < 0 or cons[h] == 0:
                 st[S_QN] = q  # split or freed meanwhile
                 continue
@@ -463,27 +469,29 @@ def refine_loop(s, c, r):
             prm[P_WY] = y
             if st[S_STEPS] > st[S_MAXSTEPS]:
                 # Requeued: a caller that raises the cap continues where the loop stopped.
-                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
+                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 return R_CAP_STEPS
-            t0, hb = walk(s, t, x, y, True)
+            t0, hb = _walk(pts, tri, nbr, cons, meta, t, x, y, True)
             if hb < 0 and tri[3 * t0 + 2] != GHOST:
-                hb = on_constraint(t0, x, y, s)
+                hb = _on_constraint(pts, tri, cons, t0, x, y)
             if hb >= 0:
                 # Hidden behind, or on, a subsegment: split that one first.
                 push_seg(tri[next3(hb % 3) + hb - hb % 3], tri[prev3(hb % 3) + hb - hb % 3], sq, st)
-                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
+                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 continue
             if tri[3 * t0 + 2] == GHOST or treg[t0] < 0:
                 st[S_SKIPPED] += 1  # unreachable without crossing a segment: cannot happen
                 continue
             if nv >= st[S_MAXPTS]:
-                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
+                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 return R_CAP_POINTS
             pts[nv, 0] = x
             pts[nv, 1] = y
-            ncav = cavity(nv, t0, s)
+            ncav = NEED_SPACE if _no_room(pts, tri, nbr, circ, cons, meta, vmark) else _cavity(
+                pts, tri, nbr, circ, rank, cons, meta, work, nv, t0
+            )
             if ncav == NEED_SPACE:
-                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
+                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 return R_ROOM
             if ncav == BROKEN:
                 return R_BROKEN
@@ -492,7 +500,6 @@ def refine_loop(s, c, r):
                 continue
             # Reject a point inside the diametral circle of a subsegment on its cavity
             # boundary (the only subsegments it can encroach): split those instead.
-            work = s.work
             bo = 2 * (work.shape[0] // 5)
             enc = False
             for j in range(ncav + 2):
@@ -504,10 +511,10 @@ def refine_loop(s, c, r):
                         push_seg(u, w, sq, st)
                         enc = True
             if enc:
-                push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
+                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 continue
             f0 = treg[t0]
-            tn = fan(nv, ncav, s)
+            tn = _fan(pts, tri, nbr, circ, cons, meta, work, vmark, nv, ncav)
             _new_vertex(nv, tn, -1, 0.0, -1, -1, 0, 0, f0, s, c, r)
             continue
         if st[S_PN] > 0:
