@@ -227,6 +227,49 @@ def _check_cells(method: str, points: np.ndarray, quads: np.ndarray, triangles: 
         )
 
 
+def _close_voids(method: str, points: np.ndarray, quads: np.ndarray, triangles: np.ndarray,
+                 lines: np.ndarray) -> np.ndarray:
+    """The cover check: every edge that bounds the cells on one side only must be a line cell.
+
+    A method may leave a void inside the domain (paving's closure missed a four-node loop);
+    a four-node void that is a strictly convex quad gets that quad (the paving closure
+    template for four nodes), any other raises :class:`MeshingError` naming the loop, so no
+    mesh with a hole the domain does not have leaves :func:`quadrangulate`.  Returns
+    ``quads``, with the closing quads appended.
+    """
+    from meshwright.core.validate_quad import simple_ccw_quads
+
+    n = np.int64(len(points))
+    parts = [np.stack([quads[:, k], quads[:, (k + 1) % 4]], axis=1) for k in range(4)]
+    parts += [np.stack([triangles[:, k], triangles[:, (k + 1) % 3]], axis=1) for k in range(3)]
+    e = np.concatenate(parts).astype(np.int64)
+    one_sided = e[~np.isin(e[:, 0] * n + e[:, 1], e[:, 1] * n + e[:, 0])]
+    ln = lines.astype(np.int64)
+    line_keys = np.concatenate([ln[:, 0] * n + ln[:, 1], ln[:, 1] * n + ln[:, 0]])
+    extra = one_sided[~np.isin(one_sided[:, 0] * n + one_sided[:, 1], line_keys)]
+    if not len(extra):
+        return quads
+    succ = {int(u): int(v) for u, v in extra}
+    closing = []
+    while succ:
+        start, _ = succ.popitem()
+        loop = [start]
+        v = _
+        while v != start and v in succ and len(loop) <= len(extra):
+            loop.append(v)
+            v = succ.pop(v)
+        # The cells run counter-clockwise around themselves, so clockwise around the void.
+        quad = np.array(loop[::-1], dtype=quads.dtype).reshape(1, -1)
+        if v != start or quad.shape[1] != 4 or not simple_ccw_quads(points, quad)[0]:
+            where = ", ".join(f"({points[w, 0]:.17g}, {points[w, 1]:.17g})" for w in loop[:8])
+            raise MeshingError(
+                f"method {method!r} left a void of {len(loop)} edges inside the domain at {where}; "
+                "please report it with the domain and size"
+            )
+        closing.append(quad)
+    return np.concatenate([quads] + closing)
+
+
 def quadrangulate(
     domain,
     size=None,
@@ -332,8 +375,9 @@ def quadrangulate(
             # The domain's interior points are vertices of methods honouring them: they stay.
             fixed |= (points[:, None, :] == dom.points[None, :, :]).all(axis=2).any(axis=1)
         points = smooth_cells(points, fill.quads, fill.triangles, fixed, passes)
-    _check_cells(m.name, points, fill.quads, fill.triangles)
-    cells = {"quad": fill.quads}
+    quads = _close_voids(m.name, points, fill.quads, fill.triangles, fill.lines)
+    _check_cells(m.name, points, quads, fill.triangles)
+    cells = {"quad": quads}
     if len(fill.triangles):
         cells["triangle"] = fill.triangles
     cells["line"] = fill.lines
@@ -341,7 +385,7 @@ def quadrangulate(
     if dom.regions:
         from meshwright.quad.regions import region_markers
 
-        markers["quad"], tri_markers = region_markers(points, fill.quads, fill.triangles, fill.lines, dom.regions)
+        markers["quad"], tri_markers = region_markers(points, quads, fill.triangles, fill.lines, dom.regions)
         if len(fill.triangles):
             markers["triangle"] = tri_markers
     return Mesh(points, cells, cell_data={"marker": markers})

@@ -359,7 +359,8 @@ def _check_work(dom: Domain, field: SizeField | None, max_area: float | None, ca
     if field is not None:
         what.append(f"size {field.constant:g}" if field.constant is not None else f"size field {field.name}")
         if field.constant is not None and not isinstance(field, BackgroundGrid):
-            interior = area / (math.sqrt(3.0) * field.constant**2)
+            # Divided twice, not squared: a size near 1e154 must not overflow a float.
+            interior = area / math.sqrt(3.0) / field.constant / field.constant
     if max_area is not None:
         what.append(f"max_area {max_area:g}")
         interior = max(interior, area / (4.0 * max_area))
