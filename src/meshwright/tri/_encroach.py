@@ -199,17 +199,26 @@ def set_flags(v, tn, a, b, fl, fr, f0, s, c):
     subsegment ``a -> b`` the ones counter-clockwise from v->b to v->a (left of a-v-b) get
     ``fl`` and the others ``fr``.  Ghosts get -1.  ``s`` TriState, ``c`` CdtState.
     """
-    tri, nbr, vtri, treg = s.tri, s.nbr, c.vtri, c.treg
+    link_star(v, tn, a, b, fl, fr, f0, s.tri, s.nbr, c.vtri, c.treg)
+
+
+@njit(inline="always")
+def link_star(v, tn, a, b, fl, fr, f0, tri, nbr, vtri, treg):
+    """:func:`set_flags` over arrays, for kernels that unpacked their bundles once (a field
+    read per insertion costs a reference-count pair).  A star has fewer triangles than the
+    slots, which caps both walks."""
     t = tn
     i = index3(tri, t, v)
     cur = f0
     if a >= 0:
-        while tri[3 * t + next3(i)] != b:
+        for _ in range(tri.shape[0]):
+            if tri[3 * t + next3(i)] == b:
+                break
             t = nbr[3 * t + next3(i)]
             i = index3(tri, t, v)
         cur = fl
     start = t
-    while True:
+    for _ in range(tri.shape[0]):
         x = tri[3 * t + next3(i)]
         y = tri[3 * t + prev3(i)]
         treg[t] = -1 if tri[3 * t + 2] == GHOST else cur

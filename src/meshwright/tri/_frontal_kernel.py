@@ -265,29 +265,6 @@ def _near(px, py, rclear, rspace, host, pts, tri, nbr, treg, vflag, stamp, fmeta
 
 
 @njit(inline="always")
-def _link_star(v, tn, f0, tri, nbr, vtri, treg):
-    """Region ``f0`` (-1 at ghosts) and vertex->triangle links of the new star of v: the
-    ordinary-insertion case of :func:`meshwright.tri._encroach.set_flags` over arrays (the
-    bundle form's field reads cost a reference-count pair per insertion)."""
-    t = tn
-    for _ in range(4 * KMAX + 1024):
-        i = 0
-        while tri[3 * t + i] != v:
-            i += 1
-        x = tri[3 * t + (i + 1) % 3]
-        y = tri[3 * t + (i + 2) % 3]
-        treg[t] = -1 if tri[3 * t + 2] == GHOST else f0
-        vtri[v] = t
-        if x >= 0:
-            vtri[x] = t
-        if y >= 0:
-            vtri[y] = t
-        t = nbr[3 * t + (i + 1) % 3]
-        if t == tn:
-            return
-
-
-@njit(inline="always")
 def _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark, vtri, treg, vseg, vpar, vacute,
                free, fmeta, vflag, rows):
     """Insert p (inside, strictly off every constrained edge) into a dead row if one is
@@ -314,7 +291,7 @@ def _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark,
     vacute[row] = 0
     vpar[row] = np.nan
     vflag[row] = 0
-    _link_star(row, tn, f0, tri, nbr, vtri, treg)
+    enc.link_star(row, tn, -1, -1, f0, f0, f0, tri, nbr, vtri, treg)
     return row
 
 
