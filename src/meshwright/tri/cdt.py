@@ -156,6 +156,10 @@ class ConstrainedTriangulation:
         The insertion kernel's bundle (:mod:`meshwright.tri._kernel2d`), with ``cons``.
     constraints : CdtState
         The constrained layer's bundle (:mod:`meshwright.tri._encroach`).
+    held : tuple of ((k, 2) int32, (k,) int32)
+        Subsegments of frozen segments that the last :func:`~meshwright.tri.ruppert.refine`
+        left unsplit although refinement needed them split (along their segment's
+        direction, as :meth:`segments`), and their segment ids; empty without ``frozen``.
     """
 
     def __init__(self, tr: Triangulation, segments: np.ndarray, segment_ids: np.ndarray, curves):
@@ -191,6 +195,7 @@ class ConstrainedTriangulation:
         self.segment_ids = segment_ids
         self.curves = curves
         self.classified = False
+        self.held = (np.zeros((0, 2), dtype=np.int32), np.zeros(0, dtype=np.int32))
         self._rmarker = np.zeros(1, dtype=np.int32)
         self._np = m
         self._hull_id = -1

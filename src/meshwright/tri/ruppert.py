@@ -32,19 +32,14 @@ Algorithm (:func:`refine_loop`, one Numba loop over flat arrays)
    meeting at a small input angle, at equal distance from the apex, are left alone.
 
 State: the insertion kernel's ``TriState`` ``s``, the constrained layer's ``CdtState`` ``c``
-(:mod:`meshwright.tri._encroach`) and this method's :class:`RefineState` ``r``, each one
-kernel argument::
+(:mod:`meshwright.tri._encroach`) and this method's :class:`RefineState` ``r`` (layout in
+:mod:`meshwright.tri._refine_state`, with the per-triangle tests of step 1), each one kernel
+argument.
 
-    qhead (QB,)     int32    bad-triangle bucket queue (:mod:`meshwright.core.bucket_queue`):
-                               newest entry of each bucket,
-    qnext (qcap,)   int32      next entry of a bucket or of the free list,
-    qval  (qcap, 4) int32      payloads (t, a, b, c): stale entries are recognised,
-    qhdr  (4,)      int64      count, free list, lowest bucket, entries handed out
-    sq   (2 q,)     int32    stack of subsegments (a, b) to split
-    pend (4 p,)     int32    triangles (t, a, b, c) waiting for the size field at pcen
-    pcen (2 p,)     float64  their circumcentres
-    st   (S_LEN,)   int64    counters, caps, requests (slots ``S_*``)
-    prm  (P_LEN,)   float64  parameters, curve points, where the loop works (slots ``P_*``)
+Frozen segments (``refine(frozen=ids)``, for the distributed mesher's interfaces): a
+subsegment of one is never split.  Where step 2 or 3 would split it, it is recorded in
+``held`` and the triangle that needed it is dropped; the caller splits the agreed
+subsegments and calls again, and the new run's step 1 finds what was dropped.
 
 Priority queue (:mod:`meshwright.core.bucket_queue`): one bucket per half power of two of
 the squared shortest edge, shortest first (Triangle's order), newest first inside a bucket
@@ -63,26 +58,22 @@ place where the loop was working.
 
 from __future__ import annotations
 
-import math
-from typing import NamedTuple
-
 import numpy as np
 from numba import njit
 
-from meshwright.core.bucket_queue import Q_N, bq_pop, bq_push, new_queue
+from meshwright.core.bucket_queue import Q_N, bq_pop, new_queue
 from meshwright.core.errors import GeometryError, InputError, MeshingError
-from meshwright.core.flat import GHOST, back3, grown_rows, index3, next3, prev3
-from meshwright.core.geom2d import circumcentre, corners, off_centre
-from meshwright.core.predicates import incircle_sos
+from meshwright.core.flat import GHOST, grown_rows, next3, prev3
 from meshwright.sizing.field import as_size_field
-from meshwright.tri._encroach import (
-    R_BROKEN, R_DONE, R_ROOM, edge_of, encroaches, key_of, param_of, room_of, set_flags, split_point,
-)
-from meshwright.tri._kernel2d import (
-    BROKEN, DUP_BASE, M_NTRI, M_NV, NEED_SPACE, _cavity, _fan, _on_constraint, _walk, split_edge,
-)
+from meshwright.tri._encroach import R_BROKEN, R_DONE, R_ROOM, edge_of, encroaches, param_of, room_of, set_flags, split_point
+from meshwright.tri._kernel2d import BROKEN, DUP_BASE, M_NTRI, M_NV, NEED_SPACE, _cavity, _fan, _on_constraint, _walk, split_edge
 from meshwright.tri._kernel2d import _short as _no_room
 from meshwright.tri._refine_caps import Caps
+from meshwright.tri._refine_state import (
+    EQUILATERAL, QB, MODE_CONFORM, MODE_RUPPERT, P_AMAX, P_CT, P_CX, P_CY, P_LEN, P_OFF, P_SIN2, P_TA, P_TB, P_WX,
+    P_WY, S_CREADY, S_HN, S_LEN, S_MAXPTS, S_MAXSTEPS, S_MODE, S_NIN, S_PN, S_QN, S_REQ_A, S_REQ_B, S_REQ_P, S_SIZED,
+    S_SKIPPED, S_STEPS, RefineState, hold_subsegment, requeue, apply_sizes, examine, push_seg, steiner_point
+)
 
 __all__ = ["refine", "conform", "split_subsegment", "RefineState"]
 
@@ -92,269 +83,11 @@ R_CURVE = 3
 R_CAP_POINTS = 4
 R_CAP_STEPS = 5
 R_OFF_CURVE = 7
-# st slots
-S_QN = 2  # subsegment stack size
-S_PN = 3  # triangles waiting for sizes
-S_STEPS = 5
-S_MAXPTS = 6
-S_MAXSTEPS = 7
-S_NIN = 8  # vertices when the run started (later ones have their piece in vseg)
-S_CREADY = 9  # prm[P_CX:P_CT] holds the curve point asked for
-S_REQ_A = 10  # curve point request: subsegment (a, b) of piece p
-S_REQ_B = 11
-S_REQ_P = 12
-S_MODE = 13  # MODE_RUPPERT or MODE_CONFORM
-S_SIZED = 14  # 1 when the size field must be evaluated in Python
-S_SKIPPED = 15  # triangles left alone (small input angles, unreachable off-centres)
-S_LEN = 16
-# prm slots
-P_SIN2 = 0  # sin^2 of the minimum angle (0: no angle criterion)
-P_AMAX = 1  # global max area (inf: none)
-P_OFF = 2  # off-centre constant (0: circumcentres)
-P_CX = 3  # curve point given by Python
-P_CY = 4
-P_CT = 5
-P_TA = 6  # curve parameters of a request
-P_TB = 7
-P_WX = 8  # where the loop last worked (error messages)
-P_WY = 9
-P_LEN = 10
-MODE_RUPPERT = 0
-MODE_CONFORM = 1
-_EQUILATERAL = np.sqrt(3.0) / 4.0  # area of the equilateral triangle of side 1
-# Queue buckets: 2 e + (m > 1/sqrt 2) + shift for the squared shortest edge m 2^e.
-_QB = 4200
 _GROWTH = 8  # largest factor one grow of the bundles may take toward the estimate
-_QB_SHIFT = 2150
-_SQRT_HALF = np.sqrt(0.5)
-
-
-class RefineState(NamedTuple):
-    """Queues and counters of one refinement run (layout in the module docstring)."""
-
-    qhead: np.ndarray
-    qnext: np.ndarray
-    qval: np.ndarray
-    qhdr: np.ndarray
-    sq: np.ndarray
-    pend: np.ndarray
-    pcen: np.ndarray
-    st: np.ndarray
-    prm: np.ndarray
-
-
-# ------------------------------------------------------------------ queues
-# The per-step helpers below take arrays, not bundles: refine_loop reads the bundles' fields
-# once (a field read where a helper runs per triangle costs a reference-count pair each
-# time; docs/ARCHITECTURE.md).
-@njit(inline="always")
-def push_seg(u, w, sq, st):
-    """Queue subsegment u-w for splitting."""
-    q = st[S_QN]
-    sq[2 * q] = u
-    sq[2 * q + 1] = w
-    st[S_QN] = q + 1
 
 
 @njit(inline="always")
-def push_bad(lmin, t, tri, qhead, qnext, qval, qhdr):
-    """Queue triangle t (with its vertices, to recognise it later) by its squared shortest
-    edge ``lmin``: bucket ``2 e + (m > 1/sqrt 2)`` for ``lmin = m 2^e``, ``m`` in [0.5, 1)."""
-    m, e = math.frexp(lmin)
-    b = min(_QB - 1, max(0, 2 * e + (1 if m > _SQRT_HALF else 0) + _QB_SHIFT))
-    i = bq_push(qhead, qnext, qhdr, b)
-    qval[i, 0] = t
-    for j in range(3):
-        qval[i, j + 1] = tri[3 * t + j]
-
-
-# ------------------------------------------------------------------ triangle tests
-@njit(cache=True)
-def vertex_piece(u, nin, tri, nbr, cons, vtri, vseg):
-    """A segment piece through vertex u (its own for split vertices), or -1.
-
-    Vertices from ``nin`` on were inserted by this run, which records the piece of every
-    vertex it puts on a segment (``vseg``), so only older ones need the search of their star.
-    """
-    if vseg[u] >= 0:
-        return vseg[u]
-    if u >= nin:
-        return -1
-    t = vtri[u]
-    start = t
-    while True:
-        i = index3(tri, t, u)
-        for k in (next3(i), prev3(i)):
-            if cons[3 * t + k] != 0:
-                return cons[3 * t + k] - 1
-        t = nbr[3 * t + next3(i)]
-        if t == start:
-            return -1
-
-
-@njit(cache=True)
-def _small_angle_apex(u, w, nin, pts, tri, nbr, cons, vtri, vseg, seg):
-    """Shewchuk's rule: u and w on two segments meeting at a vertex, equally far from it."""
-    pu = vertex_piece(u, nin, tri, nbr, cons, vtri, vseg)
-    if pu < 0:
-        return False
-    pw = vertex_piece(w, nin, tri, nbr, cons, vtri, vseg)
-    if pw < 0 or pu == pw:
-        return False
-    j = -1
-    for x in (seg[pu, 0], seg[pu, 1]):
-        if x == seg[pw, 0] or x == seg[pw, 1]:
-            j = x
-    if j < 0:
-        return False
-    du = (pts[u, 0] - pts[j, 0]) ** 2 + (pts[u, 1] - pts[j, 1]) ** 2
-    dw = (pts[w, 0] - pts[j, 0]) ** 2 + (pts[w, 1] - pts[j, 1]) ** 2
-    return 0.999 * dw < du < 1.001 * dw
-
-
-@njit(inline="always")
-def quality(t, pts, tri):
-    """``(sin^2 of the smallest angle, area, u, w, |uw|^2)`` of triangle t, uw its shortest edge.
-
-    The smallest angle is opposite the shortest edge; its sine squared is (2 area)^2 over
-    the product of the other two squared lengths.
-    """
-    a = tri[3 * t]
-    b = tri[3 * t + 1]
-    c = tri[3 * t + 2]
-    ax, ay, bx, by, cx, cy = corners(pts, tri, t)
-    l0 = (cx - bx) ** 2 + (cy - by) ** 2
-    l1 = (ax - cx) ** 2 + (ay - cy) ** 2
-    l2 = (bx - ax) ** 2 + (by - ay) ** 2
-    cross = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-    if l0 <= l1 and l0 <= l2:
-        return cross * cross / (l1 * l2), 0.5 * cross, b, c, l0
-    if l1 <= l2:
-        return cross * cross / (l0 * l2), 0.5 * cross, c, a, l1
-    return cross * cross / (l0 * l1), 0.5 * cross, a, b, l2
-
-
-@njit(cache=True, nogil=True)
-def _requeue(t, pts, tri, qhead, qnext, qval, qhdr):
-    """Put triangle t back on the queue (its point was refused or a cap stopped the loop).
-
-    A call, not inlined: :func:`refine_loop` requeues from five places, and each inlined
-    copy of :func:`quality` and :func:`push_bad` cost compile time on every first run
-    while the requeue itself is rare.
-    """
-    push_bad(quality(t, pts, tri)[4], t, tri, qhead, qnext, qval, qhdr)
-
-
-@njit(inline="always")
-def steiner_point(t, pts, tri, off):
-    """Off-centre of triangle t (Üngör 2004, with Triangle's constant ``off``), else its
-    circumcentre when nearer (:func:`meshwright.core.geom2d.off_centre`)."""
-    ax, ay, bx, by, cx, cy = corners(pts, tri, t)
-    return off_centre(ax, ay, bx, by, cx, cy, off)
-
-
-@njit(cache=True, nogil=True)
-def examine(v, tn, s, c, r):
-    """Queue what is wrong with the triangles that take part (inside; all in conforming mode)
-    around vertex v, from its triangle tn; with v < 0, with every slot (tn unused).
-
-    Ruppert mode: each constrained edge of a triangle encroached by its apex there is
-    pushed; the triangle goes to the queue when its minimum angle is below the bound or its
-    area above the (regional) maximum, else to the size queue when the size field is
-    evaluated in Python.  Conforming mode: constrained edges that are not locally Delaunay
-    are pushed.  The test is written once, inside this loop, not in a helper called per
-    triangle: a call handing a helper the bundles' seventeen arrays costs a reference-count
-    pair per array, which measured four times the test itself.
-    """
-    pts, tri, nbr, cons, rank = s.pts, s.tri, s.nbr, s.cons, s.rank
-    vtri, treg, vseg, seg, rarea = c.vtri, c.treg, c.vseg, c.seg, c.rarea
-    qhead, qnext, qval, qhdr, sq, pend, pcen, st, prm = r
-    conform = st[S_MODE] == MODE_CONFORM
-    ntri = s.meta[M_NTRI]
-    t = tn if v >= 0 else 0
-    while True:
-        if v >= 0:
-            nxt = nbr[3 * t + next3(index3(tri, t, v))]
-        elif t >= ntri:
-            return
-        else:
-            nxt = t + 1
-        b3 = 3 * t
-        if tri[b3 + 2] != GHOST and (conform or treg[t] >= 0):
-            a = tri[b3]
-            b = tri[b3 + 1]
-            cc = tri[b3 + 2]
-            ax, ay, bx, by, cx, cy = corners(pts, tri, t)
-            if conform:
-                for k in range(3):
-                    n = nbr[b3 + k]
-                    if cons[b3 + k] != 0 and tri[3 * n + 2] != GHOST:
-                        d = tri[3 * n + back3(nbr, n, t)]
-                        if incircle_sos(
-                            ax, ay, bx, by, cx, cy, pts[d, 0], pts[d, 1],
-                            key_of(rank, a), key_of(rank, b), key_of(rank, cc), key_of(rank, d),
-                        ) > 0:
-                            push_seg(tri[b3 + next3(k)], tri[b3 + prev3(k)], sq, st)
-            else:
-                for k in range(3):
-                    if cons[b3 + k] != 0:
-                        x = tri[b3 + k]
-                        u = tri[b3 + next3(k)]
-                        w = tri[b3 + prev3(k)]
-                        if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[x, 0], pts[x, 1]):
-                            push_seg(u, w, sq, st)
-                sin2, area, su, sw, lmin = quality(t, pts, tri)
-                bad_area = area > prm[P_AMAX] or area > rarea[treg[t]]
-                bad_angle = sin2 < prm[P_SIN2]
-                # Shewchuk's small-angle rule is for a shortest edge between two segments; a
-                # shortest edge that is a subsegment itself is split as usual (Triangle's
-                # testtriangle does the same).
-                kx = 0
-                while tri[b3 + kx] == su or tri[b3 + kx] == sw:
-                    kx += 1
-                own = cons[b3 + kx] != 0
-                if bad_angle and not bad_area and not own and _small_angle_apex(
-                    su, sw, st[S_NIN], pts, tri, nbr, cons, vtri, vseg, seg
-                ):
-                    st[S_SKIPPED] += 1
-                    bad_angle = False
-                if bad_angle or bad_area:
-                    push_bad(lmin, t, tri, qhead, qnext, qval, qhdr)
-                elif st[S_SIZED] != 0:
-                    i = st[S_PN]
-                    st[S_PN] = i + 1
-                    pend[4 * i] = t
-                    pend[4 * i + 1] = a
-                    pend[4 * i + 2] = b
-                    pend[4 * i + 3] = cc
-                    ox, oy = circumcentre(ax, ay, bx, by, cx, cy)
-                    pcen[2 * i] = ox
-                    pcen[2 * i + 1] = oy
-        if v >= 0 and nxt == tn:
-            return
-        t = nxt
-
-
-@njit(cache=True, nogil=True)
-def apply_sizes(h, s, r):
-    """Queue the waiting triangles larger than the equilateral triangle of side h.
-
-    ``h`` (pn,) float64 is the size field at their circumcentres ``pcen``; triangles that
-    changed since they were queued are dropped (their successors were examined).
-    """
-    tri = s.tri
-    pend, st = r.pend, r.st
-    for i in range(st[S_PN]):
-        t = pend[4 * i]
-        if tri[3 * t] == pend[4 * i + 1] and tri[3 * t + 1] == pend[4 * i + 2] and tri[3 * t + 2] == pend[4 * i + 3]:
-            _, area, _, _, lmin = quality(t, s.pts, tri)
-            if area > _EQUILATERAL * h[i] * h[i]:
-                push_bad(lmin, t, tri, r.qhead, r.qnext, r.qval, r.qhdr)
-    st[S_PN] = 0
-
-
-@njit(inline="always")
-def _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, st):
+def _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, held, st):
     """Whether some array lacks room for one more step (one insertion and its queue pushes);
     ``rows, slots`` from :func:`meshwright.tri._encroach.room_of`, ``wcap`` the cavity room."""
     return (
@@ -363,6 +96,7 @@ def _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, st):
         or qhdr[Q_N] + wcap + 1 > qnext.shape[0]
         or 2 * (st[S_QN] + 3 * wcap + 3) > sq.shape[0]
         or 4 * (st[S_PN] + wcap + 1) > pend.shape[0]
+        or 2 * (st[S_HN] + 3 * wcap + 3) > held.shape[0]
     )
 
 
@@ -404,12 +138,12 @@ def refine_loop(s, c, r):
     # forms read the fields again per point).
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
     vtri, treg = c.vtri, c.treg
-    qhead, qnext, qval, qhdr, sq, pend, _, st, prm = r
+    qhead, qnext, qval, qhdr, sq, pend, _, st, prm, fz, held = r
     rows, slots = room_of(s, c)
     wcap = work.shape[0] // 5
     while True:
         nv = meta[M_NV]
-        if _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, st):
+        if _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, held, st):
             return R_ROOM
         if st[S_QN] > 0:
             q = st[S_QN] - 1
@@ -469,21 +203,25 @@ def refine_loop(s, c, r):
             prm[P_WY] = y
             if st[S_STEPS] > st[S_MAXSTEPS]:
                 # Requeued: a caller that raises the cap continues where the loop stopped.
-                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
+                requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 return R_CAP_STEPS
             t0, hb = _walk(pts, tri, nbr, cons, meta, t, x, y, True)
             if hb < 0 and tri[3 * t0 + 2] != GHOST:
                 hb = _on_constraint(pts, tri, cons, t0, x, y)
             if hb >= 0:
-                # Hidden behind, or on, a subsegment: split that one first.
-                push_seg(tri[next3(hb % 3) + hb - hb % 3], tri[prev3(hb % 3) + hb - hb % 3], sq, st)
-                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
+                # Hidden behind, or on, a subsegment: split that one first (a frozen one
+                # waits for the caller; so does t, dropped until the next run examines it).
+                u = tri[next3(hb % 3) + hb - hb % 3]
+                w = tri[prev3(hb % 3) + hb - hb % 3]
+                if not hold_subsegment(u, w, hb, cons, fz, held, st):
+                    push_seg(u, w, sq, st)
+                    requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 continue
             if tri[3 * t0 + 2] == GHOST or treg[t0] < 0:
                 st[S_SKIPPED] += 1  # unreachable without crossing a segment: cannot happen
                 continue
             if nv >= st[S_MAXPTS]:
-                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
+                requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 return R_CAP_POINTS
             pts[nv, 0] = x
             pts[nv, 1] = y
@@ -491,7 +229,7 @@ def refine_loop(s, c, r):
                 pts, tri, nbr, circ, rank, cons, meta, work, nv, t0
             )
             if ncav == NEED_SPACE:
-                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
+                requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 return R_ROOM
             if ncav == BROKEN:
                 return R_BROKEN
@@ -502,16 +240,22 @@ def refine_loop(s, c, r):
             # boundary (the only subsegments it can encroach): split those instead.
             bo = 2 * (work.shape[0] // 5)
             enc = False
+            froze = False
             for j in range(ncav + 2):
                 o = bo + 3 * j
                 if cons[work[o + 2]] != 0:
                     u = work[o]
                     w = work[o + 1]
                     if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y):
-                        push_seg(u, w, sq, st)
-                        enc = True
+                        if hold_subsegment(u, w, work[o + 2], cons, fz, held, st):
+                            froze = True
+                        else:
+                            push_seg(u, w, sq, st)
+                            enc = True
             if enc:
-                _requeue(t, pts, tri, qhead, qnext, qval, qhdr)
+                requeue(t, pts, tri, qhead, qnext, qval, qhdr)
+                continue
+            if froze:
                 continue
             f0 = treg[t0]
             tn = _fan(pts, tri, nbr, circ, cons, meta, work, vmark, nv, ncav)
@@ -539,10 +283,18 @@ def _split_at(v, h, s, c):
 class _Run:
     """The :class:`RefineState` of one refinement run on a ConstrainedTriangulation ``ct``."""
 
-    def __init__(self, ct, mode: int, sin2: float, amax: float, off: float, sized: bool, max_points: int, max_steps: int):
+    def __init__(
+        self, ct, mode: int, sin2: float, amax: float, off: float, sized: bool, max_points: int, max_steps: int,
+        frozen=None,
+    ):
         self.ct = ct
         ct.refresh_pieces()
         ct.mark_acute()
+        rows = ct.constraints.seg_in[: ct._np]
+        fz = np.zeros(len(rows), dtype=np.uint8)
+        if frozen is not None and len(frozen):
+            inner = rows >= 0
+            fz[inner] = np.isin(ct.segment_ids[rows[inner]], frozen)
         st = np.zeros(S_LEN, dtype=np.int64)
         st[S_MODE] = mode
         st[S_SIZED] = int(sized)
@@ -555,8 +307,8 @@ class _Run:
         prm[P_OFF] = off
         cap = 2 * int(ct.state.meta[M_NTRI]) + 1024
         self.r = RefineState(
-            *new_queue(_QB, cap, 4), np.empty(2 * (3 * cap), dtype=np.int32),
-            np.empty(4 * cap, dtype=np.int32), np.empty(2 * cap), st, prm,
+            *new_queue(QB, cap, 4), np.empty(2 * (3 * cap), dtype=np.int32),
+            np.empty(4 * cap, dtype=np.int32), np.empty(2 * cap), st, prm, fz, np.empty(2 * (3 * cap), dtype=np.int32),
         )
 
     def seed(self) -> None:
@@ -577,7 +329,8 @@ class _Run:
         wcap = ct.state.work.shape[0] // 5
         sq = grown_rows(r.sq, 2 * (int(st[S_QN]) + 3 * wcap + 3))
         pend = grown_rows(r.pend, 4 * (int(st[S_PN]) + wcap + 1))
-        self.r = r._replace(sq=sq, pend=pend, pcen=grown_rows(r.pcen, len(pend) // 2))
+        held = grown_rows(r.held, 2 * (int(st[S_HN]) + 3 * wcap + 3))
+        self.r = r._replace(sq=sq, pend=pend, pcen=grown_rows(r.pcen, len(pend) // 2), held=held)
         # The queue holds up to about one entry per triangle slot.
         self._grow_queue(max(wcap + 1, slots - int(r.qhdr[Q_N])))
 
@@ -665,7 +418,7 @@ class _Run:
 
 def refine(
     ct, *, min_angle: float = 30.0, size=None, max_area=None, max_points=None, max_steps=None,
-    offcenters: bool = True, curves=None, progress=None,
+    offcenters: bool = True, curves=None, progress=None, frozen=None,
 ):
     """Guaranteed-quality Delaunay refinement of a constrained triangulation, in place.
 
@@ -695,11 +448,17 @@ def refine(
         Replaces ``ct.curves`` (true curve of each segment for the split points).
     progress : callable, optional
         ``progress(n_vertices)``, called now and then (progress bars).
+    frozen : (f,) array_like of int, optional
+        Ids of segments refinement must not split (the interfaces of a decomposed domain:
+        their splits are agreed with the neighbouring part first).  A subsegment of one that
+        an encroachment would split is recorded in ``ct.held`` instead, and the triangles
+        that waited for it are left as they are; split the agreed subsegments
+        (:func:`split_subsegment`) and call ``refine`` again to finish them.
 
     Returns
     -------
     ConstrainedTriangulation
-        ``ct``, refined.
+        ``ct``, refined (everywhere when ``ct.held`` is empty).
 
     Raises
     ------
@@ -712,6 +471,10 @@ def refine(
         raise InputError(f"min_angle must be in [0, 60) degrees, got {min_angle!r}")
     if max_area is not None and not (np.isfinite(max_area) and max_area > 0.0):
         raise InputError(f"max_area must be positive and finite, got {max_area!r}")
+    if frozen is not None:
+        frozen = np.asarray(frozen)
+        if frozen.ndim != 1 or (frozen.size and frozen.dtype.kind not in "iu"):
+            raise InputError(f"frozen must be a 1-D array of segment ids, got shape {frozen.shape} dtype {frozen.dtype}")
     if curves is not None:
         ct.curves = curves
     if not ct.classified:
@@ -720,16 +483,32 @@ def refine(
     field = None if size is None else as_size_field(size)
     amax = np.inf if max_area is None else float(max_area)
     if field is not None and field.constant is not None:
-        amax = min(amax, _EQUILATERAL * field.constant**2)
+        amax = min(amax, EQUILATERAL * field.constant**2)
     theta = np.radians(float(min_angle))
     sin2 = np.sin(theta) ** 2
     off = 0.475 * np.sqrt((1.0 + np.cos(theta)) / (1.0 - np.cos(theta))) if offcenters and theta > 0 else 0.0
     caps = Caps(ct, amax, field, max_points, max_steps)
     sized = field is not None and field.constant is None
-    run = _Run(ct, MODE_RUPPERT, sin2, amax, off, sized, caps.max_points, caps.max_steps)
+    run = _Run(ct, MODE_RUPPERT, sin2, amax, off, sized, caps.max_points, caps.max_steps, frozen)
     run.seed()
     run.run(field, caps.room, "refine", progress, caps)
+    ct.held = _held(ct, run.r)
     return ct
+
+
+def _held(ct, r: RefineState) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct subsegments the run held (``ct.held``), as :meth:`segments` gives them."""
+    pairs = r.held[: 2 * int(r.st[S_HN])].reshape(-1, 2).astype(np.int64)
+    edges, ids = ct.segments()
+    if not len(pairs):
+        return edges[:0], ids[:0]
+    n = ct.n_points
+
+    def key(e):
+        return np.minimum(e[:, 0], e[:, 1]).astype(np.int64) * n + np.maximum(e[:, 0], e[:, 1])
+
+    keep = np.isin(key(edges), key(pairs))
+    return edges[keep], ids[keep]
 
 
 def _close_open_hull(ct) -> None:
