@@ -403,3 +403,25 @@ def test_cli_quad(tmp_path, capsys):
     assert main(["quad", "circle", "--smooth", "-3"]) == 2
     err = capsys.readouterr().err
     assert "Traceback" not in err and "smooth" in err
+
+
+def test_cover_check_edges_match_a_set_oracle():
+    """one_sided_edges (the cover check's kernel) against Python sets of directed edges, on
+    a quad mesh with cells removed (voids) and a triangle beside a quad."""
+    from meshwright.core.validate_quad import one_sided_edges
+
+    mesh = quadrangulate(circle(), 0.2, method="quadtree")
+    quads = np.asarray(mesh.cells["quad"], dtype=np.int64)
+    rng = np.random.default_rng(5)
+    quads = np.delete(quads, rng.choice(len(quads), 7, replace=False), axis=0)
+    # One quad split into two triangles: its edges pair with the neighbours' either way.
+    a, b, c, d = quads[0]
+    tris = np.array([[a, b, c], [a, c, d]], dtype=np.int64)
+    quads = quads[1:]
+    cells = [q.tolist() for q in quads] + [t.tolist() for t in tris]
+    directed = {(u, w) for cell in cells for u, w in zip(cell, cell[1:] + cell[:1])}
+    expect = {e for e in directed if (e[1], e[0]) not in directed}
+    got = one_sided_edges(len(mesh.points), quads, tris)
+    assert got.dtype == np.int64 and got.shape[1] == 2
+    assert {tuple(e) for e in got.tolist()} == expect and len(got) == len(expect)
+    assert (a, c) not in expect and len(expect) > 7 * 4

@@ -237,13 +237,10 @@ def _close_voids(method: str, points: np.ndarray, quads: np.ndarray, triangles: 
     mesh with a hole the domain does not have leaves :func:`quadrangulate`.  Returns
     ``quads``, with the closing quads appended.
     """
-    from meshwright.core.validate_quad import simple_ccw_quads
+    from meshwright.core.validate_quad import one_sided_edges, simple_ccw_quads
 
     n = np.int64(len(points))
-    parts = [np.stack([quads[:, k], quads[:, (k + 1) % 4]], axis=1) for k in range(4)]
-    parts += [np.stack([triangles[:, k], triangles[:, (k + 1) % 3]], axis=1) for k in range(3)]
-    e = np.concatenate(parts).astype(np.int64)
-    one_sided = e[~np.isin(e[:, 0] * n + e[:, 1], e[:, 1] * n + e[:, 0])]
+    one_sided = one_sided_edges(len(points), quads, triangles)
     ln = lines.astype(np.int64)
     line_keys = np.concatenate([ln[:, 0] * n + ln[:, 1], ln[:, 1] * n + ln[:, 0]])
     extra = one_sided[~np.isin(one_sided[:, 0] * n + one_sided[:, 1], line_keys)]
