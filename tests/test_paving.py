@@ -299,14 +299,52 @@ def test_tuck_and_wedge_scan_follows_the_running_surplus():
     assert 3 not in np.flatnonzero(m == 3) and 7 not in np.flatnonzero(m == 3) and w >= 1
 
 
-@pytest.mark.xfail(raises=MeshingError, strict=True, reason=(
-    "known paving bug (found by random examples, 2026-12-02): its rows leave a tangled "
-    "four-node void on this star; quadrangulate's cover check refuses it instead of "
-    "returning a mesh with a hole"
-))
-def test_star_whose_rows_leave_a_tangled_void():
+def test_star_whose_rows_left_a_tangled_void():
+    """A random star (found by random examples): a seam merged away the node a joint had
+    left on two paving boundaries, the other one closed over it, and a tangled four-node
+    void was left (quadrangulate's cover check refused it).  The quads must cover the
+    polygon: their exact areas sum to its exact area."""
     radii = [1.0, 0.53125, 0.5625, 0.6875, 1.0, 0.5234375, 1.0, 0.78125, 0.546875, 0.796875, 1.0, 0.75, 0.625, 0.75]
     t = np.linspace(0.0, 2.0 * np.pi, len(radii), endpoint=False)
     r = np.asarray(radii)
     dom = polygon(np.column_stack([r * np.cos(t), r * np.sin(t)]))
-    _check_all_quad(quadrangulate(dom, 0.111328125, method="paving"))
+    mesh = quadrangulate(dom, 0.111328125, method="paving")
+    _check_all_quad(mesh)
+    xy = mesh.points
+    twice = sum(_cross(xy[q[0]], xy[q[1]], xy[q[2]]) + _cross(xy[q[0]], xy[q[2]], xy[q[3]])
+                for q in mesh.cells["quad"].tolist())
+    lines = {a: b for a, b in mesh.cells["line"].tolist()}
+    start = next(iter(lines))
+    order, v = [start], lines[start]
+    while v != start and len(order) <= len(lines):
+        order.append(v)
+        v = lines[v]
+    assert len(order) == len(lines)
+    origin = xy[order[0]]
+    ring = sum(_cross(origin, xy[a], xy[b]) for a, b in zip(order[1:-1], order[2:]))
+    assert twice == ring
+
+
+def test_seam_keeps_a_node_another_paving_boundary_holds():
+    """The seam rule behind the star's void: a seam merges its apex's next neighbour into
+    the previous one; when another paving boundary holds that node (a joint's node), the
+    seam is refused, since the other boundary would keep a node no quad has any more."""
+    from meshwright.quad.paving import _Paver
+
+    def paver():
+        pv = _Paver(np.zeros((0, 2)), as_size_field(1.0), 10**6)
+        pv.add_points(np.array([[9.0, 9.0], [2.0, -0.3], [0.0, 0.0], [2.0, 0.3], [4.0, 2.0],
+                                [4.0, -2.0], [3.0, -3.0], [2.0, -4.0], [1.0, -3.0]]), 0)
+        return pv
+
+    # Apex 2 at 17 degrees (every other corner above 40); its neighbours 3 (previous)
+    # and 1 (next, also on the other paving boundary).
+    front = np.array([5, 4, 3, 2, 1], dtype=np.int64)
+    other = np.array([1, 8, 7, 6], dtype=np.int64)
+    alone = paver()
+    assert alone.seam(front.copy(), [], 4).tolist() == [5, 4, 3] and alone.seams == 1  # alone, it is seamed
+    pv = paver()
+    kept = pv.seam(front.copy(), [other], 4)
+    assert kept.tolist() == front.tolist() and pv.seams == 0
+    assert pv.pts[1].tolist() == [2.0, -0.3]
+

@@ -245,6 +245,17 @@ def _first_clear(xy, p_i, p_j, a_ids, b_ids, ks, order, oa, ob):
     return None
 
 
+def _size_where_allowed(field, a, b, split):
+    """The size at the midpoints of the chords ``a`` to ``b`` that leave no angle below
+    :data:`CHORD_MIN_ANGLE` (infinite elsewhere: :func:`_ranked` never picks those): a
+    graded field costs a search per point, and a bridge asks it for every pair of nodes."""
+    ok = split >= CHORD_MIN_ANGLE
+    h = np.full(len(split), np.inf)
+    if ok.any():
+        h[ok] = field(0.5 * (a[ok] + b[ok]))
+    return h
+
+
 def _ranked(split, length, h, k):
     """Candidate chords, best first, or None: the smallest angle each leaves beside it,
     less penalties for a spacing off the size and for every node on it (short chords
@@ -276,9 +287,9 @@ def _best_chord(xy, g, field, oa, ob):
     i, j = i[keep], j[keep]
     d = p[j] - p[i]
     length = np.hypot(*d.T)
-    h = field(0.5 * (p[i] + p[j]))
-    k = _chord_nodes(length, h, parity=((j - i + 1) % 2))
     split = _split_angles(d, th[i], ang[i], th[j], ang[j])
+    h = _size_where_allowed(field, p[i], p[j], split)
+    k = _chord_nodes(length, h, parity=((j - i + 1) % 2))
     order = _ranked(split, length, h, k)
     if order is None:
         return None
@@ -364,9 +375,9 @@ def bridge(xy, outer, hole, field, oa, ob):
     i, j = np.divmod(np.arange(len(outer) * len(hole)), len(hole))
     d = pb[j] - pa[i]
     length = np.hypot(*d.T)
-    h = field(0.5 * (pa[i] + pb[j]))
-    k = _chord_nodes(length, h, None)
     split = _split_angles(d, tha[i], anga[i], thb[j], angb[j])
+    h = _size_where_allowed(field, pa[i], pb[j], split)
+    k = _chord_nodes(length, h, None)
     order = _ranked(split, length, h, k)
     if order is None:
         return None

@@ -3,7 +3,9 @@
 A candidate row of quads (Blacker and Stephenson 1991, step 3) is accepted only if none of
 its new edges crosses or touches an edge of any paving boundary or another new edge, and no
 node of a paving boundary lies inside or on one of its new quads (step 7's intersection
-check); every sign is the exact ``orient2d``.  :func:`facing_pairs` finds the paving
+check); every sign is the exact ``orient2d``; :func:`check_row` runs the whole check of
+one row (its new edges found, the crossings, the quads' convexity and the nodes inside
+them, the culprits traced back to the paving nodes they grew from) in one call.  :func:`facing_pairs` finds the paving
 nodes close enough to be joined and :func:`polish_nodes` is the cleanup's pattern search
 (quality rules, floating point; quads (q, 4) int64 with a vertex-to-quad table in CSR
 form, ``cell_ptr`` (n + 1,), ``cell_idx``).
@@ -22,7 +24,7 @@ from numba import njit
 
 from meshwright.core.predicates import orient2d
 
-__all__ = ["adjust_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "row_crossings", "row_nodes"]
+__all__ = ["adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "row_crossings", "row_nodes"]
 
 
 @njit(inline="always")
@@ -146,6 +148,143 @@ def nodes_in_quads(pts, quads, nodes):
 
 
 @njit(cache=True)
+def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
+    """Step 7 on a candidate row: which paving nodes its failing quads and edges trace to.
+
+    Parameters
+    ----------
+    pts : (n, 2) float64
+        Committed nodes (ids below ``n_old``) followed by the row's new nodes.
+    f : (k,) int64
+        The paving boundary the row grows from.
+    quads : (q, 4) int64
+        The row's quads, counter-clockwise.
+    owner : (n - n_old,) int64
+        The index into ``f`` each new node grew from.
+    n_old : int
+        Number of committed nodes.
+    sa, sb : (m,) int64
+        Edges of every paving boundary, ``f``'s included.
+    nodes : (r,) int64
+        The nodes of every paving boundary (repeats allowed).
+
+    Returns
+    -------
+    (k,) bool
+        Paving nodes (indices into ``f``) that are corners of a quad that is not strictly
+        convex or holds a paving node, or ends of a new edge that meets another new edge or
+        a paving-boundary edge, or grew such a new node; all False when the row is valid.
+    """
+    nq = quads.shape[0]
+    big = pts.shape[0]
+    k = f.shape[0]
+    # The row's edges, each once; an edge between two committed nodes is the paving
+    # boundary's own (a row quad spans f[i], f[i + 1]) and is not checked.
+    fkey = np.empty(k, dtype=np.int64)
+    for i in range(k):
+        a = f[i]
+        b = f[(i + 1) % k]
+        fkey[i] = min(a, b) * big + max(a, b)
+    fkey.sort()
+    keys = np.empty(4 * nq, dtype=np.int64)
+    m = 0
+    for c in range(nq):
+        for e in range(4):
+            a = quads[c, e]
+            b = quads[c, (e + 1) % 4]
+            key = min(a, b) * big + max(a, b)
+            if max(a, b) < n_old:
+                j = np.searchsorted(fkey, key)
+                if j < k and fkey[j] == key:
+                    continue
+            keys[m] = key
+            m += 1
+    keys = np.unique(keys[:m])
+    ne = keys.shape[0]
+    na = keys // big
+    nb = keys % big
+    # Only edges and nodes that reach the row's bounding box can meet it: a row around
+    # one airfoil skips the far field's long edges, which would widen every query's
+    # window in the sorted sweep of :func:`row_crossings`.
+    x0 = np.inf
+    x1 = -np.inf
+    y0 = np.inf
+    y1 = -np.inf
+    for c in range(nq):
+        for e in range(4):
+            v = quads[c, e]
+            x0 = min(x0, pts[v, 0])
+            x1 = max(x1, pts[v, 0])
+            y0 = min(y0, pts[v, 1])
+            y1 = max(y1, pts[v, 1])
+    ms = sa.shape[0]
+    ea = np.empty(ms + ne, dtype=np.int64)
+    eb = np.empty(ms + ne, dtype=np.int64)
+    me = 0
+    for j in range(ms):
+        a = sa[j]
+        b = sb[j]
+        if max(pts[a, 0], pts[b, 0]) < x0 or min(pts[a, 0], pts[b, 0]) > x1:
+            continue
+        if max(pts[a, 1], pts[b, 1]) < y0 or min(pts[a, 1], pts[b, 1]) > y1:
+            continue
+        ea[me] = a
+        eb[me] = b
+        me += 1
+    ea[me : me + ne] = na
+    eb[me : me + ne] = nb
+    near = np.empty(nodes.shape[0], dtype=np.int64)
+    mn = 0
+    for j in range(nodes.shape[0]):
+        v = nodes[j]
+        if x0 <= pts[v, 0] <= x1 and y0 <= pts[v, 1] <= y1:
+            near[mn] = v
+            mn += 1
+    cross = row_crossings(pts, na, nb, ea[: me + ne], eb[: me + ne])
+    inside = nodes_in_quads(pts, quads, near[:mn])
+    bad = np.zeros(k, dtype=np.bool_)
+    hit = np.zeros(big - n_old, dtype=np.bool_)
+    old = np.empty(4 * nq + 2 * ne, dtype=np.int64)
+    no = 0
+    for c in range(nq):
+        fail = inside[c]
+        for e in range(4):
+            if fail:
+                break
+            a = quads[c, (e + 3) % 4]
+            b = quads[c, e]
+            d = quads[c, (e + 1) % 4]
+            if orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[d, 0], pts[d, 1]) <= 0.0:
+                fail = True
+        if fail:
+            for e in range(4):
+                v = quads[c, e]
+                if v >= n_old:
+                    hit[v - n_old] = True
+                else:
+                    old[no] = v
+                    no += 1
+    for i in range(ne):
+        if cross[i]:
+            for v in (na[i], nb[i]):
+                if v >= n_old:
+                    hit[v - n_old] = True
+                else:
+                    old[no] = v
+                    no += 1
+    for v in range(big - n_old):
+        if hit[v]:
+            bad[owner[v]] = True
+    if no:
+        culprits = np.sort(old[:no])
+        for i in range(k):
+            j = np.searchsorted(culprits, f[i])
+            if j < no and culprits[j] == f[i]:
+                bad[i] = True
+    return bad
+
+
+@njit(cache=True)
 def facing_pairs(p, nrm, reach, ids, fid, pos, size, out_u, out_v, out_d):
     """Pairs of paving-node slots closer than both their ``reach``, facing each other
     (bisectors ``nrm`` opposed by more than ``acos(0.3)`` and each node in front of the
@@ -156,14 +295,13 @@ def facing_pairs(p, nrm, reach, ids, fid, pos, size, out_u, out_v, out_d):
     n = p.shape[0]
     order = np.argsort(p[:, 0])
     xs = p[order, 0]
-    rmax = 0.0
-    for i in range(n):
-        rmax = max(rmax, reach[i])
     cnt = 0
     for a in range(n):
         u = order[a]
-        k = np.searchsorted(xs, p[u, 0] - rmax)
-        while k < n and xs[k] <= p[u, 0] + rmax:
+        # A pair is closer than both reaches, so u's own bounds the window (one long
+        # reach in the far field would otherwise widen every node's).
+        k = np.searchsorted(xs, p[u, 0] - reach[u])
+        while k < n and xs[k] <= p[u, 0] + reach[u]:
             v = order[k]
             k += 1
             if v <= u or ids[u] == ids[v]:

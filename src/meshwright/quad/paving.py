@@ -38,7 +38,8 @@ Steps, as the chapter numbers them
    nodes still move, :data:`SETTLE`).
 5. **Seams.**  A floating paving node sharper than :data:`SEAM_ANGLE` is closed: its two
    neighbours merge at their midpoint if every quad around stays strictly convex, no
-   front edge moves across another and the boundary's region only shrinks.
+   front edge moves across another, the boundary's region only shrinks and the node
+   merged away lies on no other paving boundary (a joint's node lies on two).
 6. **Row adjustment.**  Along the row, the predicted new edge lengths are compared with
    the size field; their running surplus places *tucks* (a floating side node becomes a
    row end: two nodes fewer) and *wedges* (a floating side node becomes a corner: two
@@ -77,7 +78,8 @@ paving boundary (the loop it grew from, its length and first node), ``max_points
 itself.  The other caps end their step, and what is left goes to the void fill.
 
 Implementation: rows are built with NumPy over a boundary's nodes (one Python pass wires
-them); crossing, containment, joint and cleanup searches are Numba kernels
+them); a row's whole step-7 check (one call per row, bounded by the row's box), crossing,
+containment, joint and cleanup searches are Numba kernels
 (:mod:`meshwright.quad._paving_kernel`); closure, joining and cleanup pieces live in
 :mod:`meshwright.quad._paving_close`.
 
@@ -345,33 +347,12 @@ class _Paver:
     # -- step 7: checks -----------------------------------------------------------------
     def check_row(self, xy, f, quads, others, owner):
         """Step 7 on a candidate row: ('ok' | 'refused', indices into ``f`` of the paving
-        nodes whose new quads fail)."""
-        n_old = self.n
-        e = np.concatenate([quads[:, [k, (k + 1) % 4]] for k in range(4)])
-        g = shift_next(f)
-        lo, hi = np.minimum(e[:, 0], e[:, 1]), np.maximum(e[:, 0], e[:, 1])
-        n = len(xy)
-        # Edges as one int64 key each: a 1-D unique, not the row-wise one (a lexsort).
-        flat = lo * n + hi
-        # An edge with a new node is new; only those between two old nodes may be the
-        # paving boundary's own.
-        both_old = hi < n_old
-        old_key = np.minimum(f, g) * n + np.maximum(f, g)
-        drop = np.zeros(len(flat), dtype=bool)
-        drop[both_old] = np.isin(flat[both_old], old_key)
-        flat = np.unique(flat[~drop])
-        new = np.column_stack([flat // n, flat % n])
+        nodes whose new quads fail; :func:`~meshwright.quad._paving_kernel.check_row`)."""
         oa, ob = edges_of(others + [f])
-        sa = np.concatenate([oa, new[:, 0]])
-        sb = np.concatenate([ob, new[:, 1]])
-        cross = pk.row_crossings(xy, new[:, 0].copy(), new[:, 1].copy(), sa, sb)
-        nodes = np.unique(np.concatenate(others + [f])) if others else f
-        bad_q = ~convex(xy, quads) | pk.nodes_in_quads(xy, quads, nodes)
-        culprits = np.concatenate([quads[bad_q].ravel(), new[cross].ravel()])
-        if len(culprits):
-            idx = np.flatnonzero(np.isin(f, culprits))
-            grown = culprits[culprits >= n_old] - n_old
-            return "refused", np.unique(np.concatenate([idx, owner[grown]]))
+        nodes = np.concatenate(others + [f]) if others else f
+        bad = pk.check_row(xy, f, quads, owner, np.int64(self.n), oa, ob, nodes)
+        if bad.any():
+            return "refused", np.flatnonzero(bad)
         return "ok", None
 
     def row_with_repairs(self, f, others):
@@ -402,6 +383,10 @@ class _Paver:
         no seam moves a paving-boundary edge across another (``others``: the other
         paving boundaries)."""
         front = despike(front)
+        # A joint leaves its node on two paving boundaries: merged away by a seam of one,
+        # it would stay on the other, which then closes over a node no quad around it has
+        # any more (a tangled four-node void on a random star).
+        shared = np.concatenate(others) if others else np.zeros(0, dtype=np.int64)
         for _ in range(cap):
             if len(front) <= 2:
                 return front
@@ -411,7 +396,7 @@ class _Paver:
             for i in cand[np.argsort(ang[cand])].tolist():
                 k = len(front)
                 a, b = int(front[i - 1]), int(front[(i + 1) % k])
-                if a < self.n_fixed or b < self.n_fixed:
+                if a < self.n_fixed or b < self.n_fixed or (shared == b).any():
                     continue
                 at = 0.5 * (self.pts[a] + self.pts[b])
                 drop = {i, (i + 1) % k}
