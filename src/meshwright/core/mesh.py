@@ -25,6 +25,7 @@ a facet traverse it in opposite directions.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import NamedTuple
 
 import numpy as np
 
@@ -142,12 +143,41 @@ def _sort_groups(keys: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarra
     return order, group
 
 
+# Below this many rows NumPy's sort groups them (nothing to compile for small meshes); above
+# it the counting sort of :mod:`meshwright.core.facet_sort`, which gives the same order.
+_KERNEL_MIN = 1 << 15
+
+
+class _Grouped(NamedTuple):
+    """Rows grouped by vertex set: ``order``, ``group`` as :func:`_sort_groups` returns them,
+    and ``lookup`` = (start, code) of :func:`meshwright.core.facet_sort.sort_facets` for
+    membership queries, or None when NumPy sorted the rows."""
+
+    order: np.ndarray
+    group: np.ndarray
+    lookup: tuple | None
+
+
+def _group_rows(rows: np.ndarray, n_points: int) -> _Grouped:
+    """Group the rows (f, k) int of vertex ids in ``[0, n_points)`` by vertex set."""
+    f, k = rows.shape
+    if f >= _KERNEL_MIN:
+        from meshwright.core.facet_sort import fits, sort_facets
+
+        if fits(n_points, k) and rows.min() >= 0 and rows.max() < n_points:
+            order, group, start, code = sort_facets(rows, n_points)
+            return _Grouped(order, group, (start, code))
+    order, group = _sort_groups(np.sort(rows, axis=1).astype(np.int64), n_points)
+    return _Grouped(order, group, None)
+
+
 def _match_facets(facets: np.ndarray, n_points: int):
     """Pair facets that have the same vertex set.
 
     Parameters
     ----------
     facets : (f, k) int
+        Vertex ids in ``[0, n_points)``.
     n_points : int
 
     Returns
@@ -159,8 +189,20 @@ def _match_facets(facets: np.ndarray, n_points: int):
     order, group : (f,) int64
         As returned by :func:`_sort_groups`, to list the members of a group.
     """
-    keys = np.sort(facets, axis=1).astype(np.int64)
-    order, group = _sort_groups(keys, n_points)
+    count, partner, grouped = _match_grouped(facets, n_points)
+    return count, partner, grouped.order, grouped.group
+
+
+def _match_grouped(facets: np.ndarray, n_points: int):
+    """:func:`_match_facets` with the :class:`_Grouped` record (its lookup answers later
+    membership queries against these facets without sorting them again)."""
+    grouped = _group_rows(facets, n_points)
+    order, group = grouped.order, grouped.group
+    if grouped.lookup is not None:
+        from meshwright.core.facet_sort import counts_partners
+
+        count, partner = counts_partners(order, group)
+        return count, partner, grouped
     sizes = np.bincount(group) if len(group) else np.zeros(0, np.int64)
     count = np.empty(len(facets), np.int64)
     count[order] = sizes[group]
@@ -170,7 +212,7 @@ def _match_facets(facets: np.ndarray, n_points: int):
     pair = start[sizes[group[start]] == 2]
     partner[order[pair]] = order[pair + 1]
     partner[order[pair + 1]] = order[pair]
-    return count, partner, order, group
+    return count, partner, grouped
 
 
 def _raise_on_bad_pairs(facets, count, partner, order, group, describe) -> None:
@@ -183,8 +225,14 @@ def _raise_on_bad_pairs(facets, count, partner, order, group, describe) -> None:
         names = ", ".join(describe(f) for f in members)
         verts = ", ".join(str(int(v)) for v in np.sort(facets[over[0]]))
         raise ValidationError(f"{kind} ({verts}) is shared by {len(members)} cells: {names}")
-    code = _facet_orientation(facets)
-    same = np.flatnonzero((partner >= 0) & (code == code[np.maximum(partner, 0)]))
+    if len(facets) >= _KERNEL_MIN:
+        from meshwright.core.facet_sort import first_same_direction
+
+        first = first_same_direction(np.ascontiguousarray(facets), partner)
+        same = [first] if first >= 0 else []
+    else:
+        code = _facet_orientation(facets)
+        same = np.flatnonzero((partner >= 0) & (code == code[np.maximum(partner, 0)]))
     if len(same):
         f, g = same[0], partner[same[0]]
         verts = ", ".join(str(int(v)) for v in facets[f])
@@ -520,13 +568,14 @@ class Mesh:
             check_orientation_nonconvex(self)
         elif top and CELL_DIMS[top[0]] == self.dim:
             _check_orientation(self)
+        shared: dict = {}  # the facets grouped once, shared by the checks below
         if top:
-            _check_conformity(self, top)
-            _check_embedded(self, top)
+            _check_conformity(self, top, shared)
+            _check_embedded(self, top, shared)
         if self.dim == 3 and len(self.tetra):
             from meshwright.core.validate3d import check_tetra
 
-            check_tetra(self, check_delaunay)  # closed boundary, enclosed volume, Delaunay
+            check_tetra(self, check_delaunay, shared)  # closed boundary, enclosed volume, Delaunay
         elif check_delaunay:
             _check_delaunay(self)
 
@@ -666,13 +715,19 @@ def _check_orientation(mesh: Mesh) -> None:
             )
 
 
-def _check_conformity(mesh: Mesh, top: list[str]) -> None:
+def _check_conformity(mesh: Mesh, top: list[str], shared: dict | None = None) -> None:
+    """Conforming facets of the ``top`` cells, a boundary facet and a positive measure.
+
+    ``shared`` (one :meth:`Mesh.validate` call's dict) receives, per facet size k, the
+    facets, their counts and their :class:`_Grouped` record under ``("facets", k)``, so the
+    later checks match against them instead of sorting the facets again.
+    """
     per_size: dict[int, list] = {}
     for cell_type in top:
         facets = _cell_facets(mesh.cells[cell_type], _FACETS[cell_type])
         per_size.setdefault(facets.shape[1], []).append((cell_type, facets))
     n_boundary = 0
-    for groups in per_size.values():
+    for size, groups in per_size.items():
         facets = np.concatenate([f for _, f in groups])
         # Owner of every facet row: (cell type, cell index).
         owner_type = np.concatenate([np.full(len(f), i) for i, (_, f) in enumerate(groups)])
@@ -685,15 +740,24 @@ def _check_conformity(mesh: Mesh, top: list[str]) -> None:
             c = (f - offsets[i]) // nf[i]
             return _fmt_cell(cell_type, c, mesh.cells[cell_type][c])
 
-        count, partner, order, group = _match_facets(facets, mesh.n_points)
-        _raise_on_bad_pairs(facets, count, partner, order, group, describe)
+        count, partner, grouped = _match_grouped(facets, mesh.n_points)
+        _raise_on_bad_pairs(facets, count, partner, grouped.order, grouped.group, describe)
         n_boundary += int(np.count_nonzero(count == 1))
+        if shared is not None:
+            shared[("facets", size)] = (facets, count, grouped)
     if CELL_DIMS[top[0]] != mesh.dim:
         return  # a surface in 3-D may be closed and has no signed measure
     word = "edge" if mesh.dim == 2 else "face"
     if n_boundary == 0:
         raise ValidationError(f"mesh has no boundary {word}: a bounded {mesh.dim}-D mesh must have one")
-    total = mesh.area() if mesh.dim == 2 else mesh.volume()
+    if mesh.dim == 3 and top == ["tetra"] and shared is not None:
+        # the tets' volume terms once, for this check and the enclosed-volume balance
+        from meshwright.core.validate3d import tet_volume_terms
+
+        shared["tet_volume"] = tet_volume_terms(mesh.points, mesh.tetra)
+        total = shared["tet_volume"][0]
+    else:
+        total = mesh.area() if mesh.dim == 2 else mesh.volume()
     if not total > 0.0:
         raise ValidationError(f"total {'area' if mesh.dim == 2 else 'volume'} {total!r} is not positive")
 
@@ -705,8 +769,9 @@ def _rows_in(query: np.ndarray, table: np.ndarray, n_points: int) -> np.ndarray:
     -------
     (q,) bool
     """
-    keys = np.sort(np.concatenate([table, query]).astype(np.int64), axis=1)
-    order, group = _sort_groups(keys, n_points)
+    keys = np.concatenate([table, query]).astype(np.int64)
+    grouped = _group_rows(keys, n_points)
+    order, group = grouped.order, grouped.group
     in_table = np.zeros(group[-1] + 1 if len(group) else 0, dtype=bool)
     in_table[group[order < len(table)]] = True
     found = np.empty(len(keys), dtype=bool)
@@ -714,22 +779,38 @@ def _rows_in(query: np.ndarray, table: np.ndarray, n_points: int) -> np.ndarray:
     return found[len(table) :]
 
 
-def _check_embedded(mesh: Mesh, top: list[str]) -> None:
-    """Lower-dimensional cells must be edges / faces of the elements."""
-    edges = np.concatenate([_cell_facets(mesh.cells[t], _EDGES[t]) for t in top])
+def _check_embedded(mesh: Mesh, top: list[str], shared: dict | None = None) -> None:
+    """Lower-dimensional cells must be edges / faces of the elements.
+
+    Facets that :func:`_check_conformity` grouped (``shared``) answer the queries without
+    another sort; the elements' edges of a volume mesh are built only when it has lines.
+    """
     top_dim = CELL_DIMS[top[0]]
-    candidates = {"line": edges}
-    if top_dim == 3:
-        for face_type, owner in (("triangle", "tetra"), ("quad", "hexahedron")):
-            if owner in top:
-                candidates[face_type] = _cell_facets(mesh.cells[owner], _FACETS[owner])
-            else:
-                candidates[face_type] = np.zeros((0, CELL_NODES[face_type]), np.int64)
-    for cell_type, table in candidates.items():
+    for cell_type in ("line", "triangle", "quad"):
         block = mesh.cells_of(cell_type)
         if not len(block) or CELL_DIMS[cell_type] >= top_dim:
             continue
-        missing = np.flatnonzero(~_rows_in(block, table, mesh.n_points))
+        k = CELL_NODES[cell_type]
+        if cell_type == "line" and top_dim == 3:
+            table = np.concatenate([_cell_facets(mesh.cells[t], _EDGES[t]) for t in top])
+        elif top_dim == 3 and {"triangle": "tetra", "quad": "hexahedron"}[cell_type] not in top:
+            table = np.zeros((0, k), np.int64)
+        else:
+            # the facets of size k: the 2-D elements' edges, the tets' or hexahedra's faces
+            table = None
+        found = None
+        if table is None and shared is not None and ("facets", k) in shared:
+            facets, _, grouped = shared[("facets", k)]
+            if grouped.lookup is not None:
+                from meshwright.core.facet_sort import rows_found
+
+                found = rows_found(*grouped.lookup, block)
+            table = facets
+        if table is None:
+            table = np.concatenate([_cell_facets(mesh.cells[t], _FACETS[t]) for t in top if _FACETS[t].shape[1] == k])
+        if found is None:
+            found = _rows_in(block, table, mesh.n_points)
+        missing = np.flatnonzero(~found)
         if len(missing):
             c = int(missing[0])
             what = "an edge" if cell_type == "line" else "a face"
