@@ -394,36 +394,6 @@ def test_door_refuses_region_seeds_missing_size_and_bad_domains():
         decompose(_rect(), 0.1, 0)
 
 
-def test_pieces_are_written_with_references_and_resolved_idempotently(tmp_path):
-    from meshwright.distributed.part import PartMesh
-    from meshwright.distributed.writer import resolve_pieces, write_part
-
-    h5py = pytest.importorskip("h5py")
-    # Two skeleton points (ids 0, 1) and own points -1, -2: own j becomes offset + j.
-    pm = PartMesh(
-        3, np.array([[0.5, 0.5], [0.2, 0.8]]), np.array([[0, 1, -1], [1, -2, -1]], dtype=np.int64),
-        np.zeros(2, dtype=np.int32), np.array([[0, 1]], dtype=np.int64), np.ones(1, dtype=np.int32),
-        np.zeros(2, dtype=np.int32), (), 30.0, 0.0,
-    )
-    path = str(tmp_path / "p.h5")
-    write_part(pm, path)
-    assert sorted(q.name for q in tmp_path.iterdir()) == ["p.h5"], "temporary file left"
-    for _ in range(2):  # a numbering task Dask runs twice must not shift ids again
-        resolve_pieces([(path, 10)])
-        with h5py.File(path, "r") as f:
-            assert f["cells"][()].tolist() == [[0, 1, 10], [1, 11, 10]]
-            assert f["lines"][()].tolist() == [[0, 1]]
-
-
-def test_numbering_batches_cover_the_parts_in_order():
-    from meshwright.distributed.mesher import _batches
-
-    for weights, n in (([5, 1, 1, 1, 9, 2], 2), ([3] * 7, 3), ([1], 4), ([0, 0, 0], 2)):
-        groups = _batches(weights, n)
-        assert 1 <= len(groups) <= n
-        assert [i for g in groups for i in g] == list(range(len(weights)))
-
-
 def test_decomposition_balances_and_keeps_cut_angles():
     # A graded rectangle balances within the 1.10; so does the disk at 8 parts, where
     # the 60-degree rule forbids cutting near the rim (a line crosses the unit circle at >= 60

@@ -1,113 +1,94 @@
-"""Exchange rounds: split requests on interfaces turned into the same splits on both sides.
+"""Exchange rounds: the interface splits one part made, made by its neighbour too.
 
 Source: A. Chernikov and N. Chrisochoides, "Parallel 2D constrained Delaunay mesh generation",
 ACM TOMS 34(1), 2008 (PCDM: a part that must split an interface subsegment sends the split to
 its neighbour, which splits the same subsegment); here the messages go through the client in
 rounds, so the result does not depend on their timing.
 
-Rule: refinement splits a straight subsegment at its midpoint, recursively, so the points it
-put on an interface segment ``a -> b`` sit at dyadic fractions of it.  The split of a skeleton
-segment reproduces them: starting from ``[0, 1]``, an interval is halved while a requested point
-lies strictly inside it (away from its ends by :data:`_END_TOL` of its length), and the new
-points are ``a + m (b - a)`` for the dyadic ``m``: computed once, from the skeleton's own
-coordinates, so both parts get the same bits (an axis-parallel cut keeps its coordinate
-exactly).  Requests of both parts are merged; segments are processed in skeleton order and each
-split segment's pieces replace it in place, so the new skeleton ids depend only on the
-requests, never on which worker answered first.
+A split point is named ``(s, f)``: skeleton segment ``s`` and the dyadic fraction ``f``
+(:class:`fractions.Fraction`) of it where it lies (:mod:`meshwright.distributed.part`).  The
+client keeps every point made so far (:class:`Splits`, the union over the parts) and what
+each part has; after a round, every part beside a segment gets the points of it that it
+lacks, shallowest first (a point's two ends then exist in the part: they are the ends of its
+dyadic interval, and no point of the part lies inside that interval, or the part would have
+that interval's midpoint, the point itself).  The same point made by both sides must have the
+same coordinates (checked).  After the last round the points take global ids after the
+skeleton's, in ``(s, f)`` order: they depend only on the points, never on the workers.
+
+Layout: ``Splits.xy`` maps ``(s, f)`` to an ``(x, y)`` tuple of floats; ``have[i]`` is the set
+of names part ``i`` holds.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from meshwright.distributed.partition import Decomposition
+from meshwright.core.errors import MeshingError
+from meshwright.distributed.partition import KIND_INTERFACE, Decomposition
 
-__all__ = ["apply_splits", "split_fractions"]
-
-_END_TOL = 1e-3
-
-
-def split_fractions(f: np.ndarray) -> np.ndarray:
-    """Dyadic split positions in ``(0, 1)`` covering requested fractions ``f`` (module docstring).
-
-    Parameters
-    ----------
-    f : (k,) float64
-        Fractions along the segment of the points refinement put on it.
-
-    Returns
-    -------
-    (j,) float64
-        Sorted, at least one value when ``f`` holds a fraction inside ``(0, 1)``.
-    """
-    out = []
-    stack = [(0.0, 1.0)]
-    while stack:
-        lo, hi = stack.pop()
-        tol = _END_TOL * (hi - lo)
-        if not np.any((f > lo + tol) & (f < hi - tol)):
-            continue
-        m = 0.5 * (lo + hi)
-        out.append(m)
-        stack.append((lo, m))
-        stack.append((m, hi))
-    return np.sort(np.array(out, dtype=np.float64))
+__all__ = ["Splits"]
 
 
-def apply_splits(dec: Decomposition, requests: dict) -> tuple[Decomposition, np.ndarray]:
-    """The skeleton with the requested interface segments split, and the parts to mesh again.
+class Splits:
+    """The interface split points of a run and which part holds which (module docstring).
 
     Parameters
     ----------
     dec : Decomposition
-    requests : dict
-        Skeleton segment id -> (k, 2) float64 points refinement put on it (both parts merged).
-
-    Returns
-    -------
-    Decomposition
-        New skeleton: points appended, every split segment replaced in place by its pieces.
-    (r,) int32
-        Sorted parts on either side of a split segment.
     """
-    pts = [dec.points]
-    n = len(dec.points)
-    rows = []  # per old segment: the new rows (as arrays of end ids)
-    touched = []
-    for s in range(len(dec.segments)):
-        a, b = dec.segments[s]
-        if s not in requests:
-            rows.append(np.array([[a, b]], dtype=np.int64))
-            continue
-        pa, pb = dec.points[a], dec.points[b]
-        d = pb - pa
-        q = np.asarray(requests[s], dtype=np.float64).reshape(-1, 2)
-        f = ((q - pa) @ d) / (d @ d)
-        m = split_fractions(f)
-        if len(m) == 0:
-            rows.append(np.array([[a, b]], dtype=np.int64))
-            continue
-        new = pa + m[:, None] * d
-        # The cut's own coordinate stays exact (d is zero along it).
-        new[:, d == 0.0] = pa[d == 0.0]
-        ids = np.arange(n, n + len(m), dtype=np.int64)
-        n += len(m)
-        pts.append(new)
-        chain = np.concatenate([[a], ids, [b]])
-        rows.append(np.column_stack([chain[:-1], chain[1:]]))
-        touched.extend([int(dec.left[s]), int(dec.right[s])])
-    counts = np.array([len(r) for r in rows], dtype=np.int64)
-    old = np.repeat(np.arange(len(dec.segments)), counts)
-    new_dec = dec._replace(
-        points=np.ascontiguousarray(np.concatenate(pts)),
-        point_markers=np.concatenate([dec.point_markers, np.zeros(n - len(dec.points), dtype=np.int32)]),
-        segments=np.concatenate(rows),
-        kind=dec.kind[old],
-        left=dec.left[old],
-        right=dec.right[old],
-        markers=dec.markers[old],
-        curve=dec.curve[old],
-        params=dec.params[old],
-    )
-    parts = np.unique(np.array([p for p in touched if p >= 0], dtype=np.int32))
-    return new_dec, parts
+
+    def __init__(self, dec: Decomposition):
+        self.xy = {}
+        self.have = [set() for _ in range(dec.n_parts)]
+        iface = np.flatnonzero(dec.kind == KIND_INTERFACE)
+        # The two parts beside each interface segment.
+        self.sides = {int(s): (int(dec.left[s]), int(dec.right[s])) for s in iface.tolist()}
+
+    def add(self, i: int, names, xy: np.ndarray) -> None:
+        """Record the points part ``i`` made (``names`` (k,) of ``(s, f)``, ``xy`` (k, 2) float64)."""
+        for (s, f), (x, y) in zip(names, np.asarray(xy, dtype=np.float64).reshape(-1, 2).tolist()):
+            old = self.xy.setdefault((s, f), (x, y))
+            if old != (x, y):
+                raise MeshingError(
+                    f"part {i} split skeleton segment {s} at {f} at ({x!r}, {y!r}) but another part at "
+                    f"({old[0]!r}, {old[1]!r}): the two sides would not match"
+                )
+            self.have[i].add((s, f))
+
+    def lacking(self) -> dict:
+        """Per part that lacks some, the points of its segments it lacks, shallowest first.
+
+        Returns
+        -------
+        dict
+            Part -> list of ``(s, f, x, y)``, sorted by ``(denominator of f, s, f)``.  Making
+            them marks them held.
+        """
+        out = {}
+        for (s, f), (x, y) in self.xy.items():
+            for i in self.sides[s]:
+                if i >= 0 and (s, f) not in self.have[i]:
+                    out.setdefault(i, []).append((s, f, x, y))
+        for i, todo in out.items():
+            todo.sort(key=lambda t: (t[1].denominator, t[0], t[1]))
+            self.have[i].update((s, f) for s, f, _, _ in todo)
+        return dict(sorted(out.items()))
+
+    def numbered(self, n_skeleton: int) -> tuple[dict, np.ndarray]:
+        """Global ids of the points, after the skeleton's ``n_skeleton``, in ``(s, f)`` order.
+
+        Returns
+        -------
+        dict
+            ``(s, f) -> id`` (int64 range ``[n_skeleton, n_skeleton + k)``).
+        (k, 2) float64
+            Their coordinates in id order.
+        """
+        names = sorted(self.xy)
+        ids = {name: n_skeleton + k for k, name in enumerate(names)}
+        xy = np.array([self.xy[name] for name in names], dtype=np.float64).reshape(-1, 2)
+        return ids, xy
+
+    def of_part(self, i: int, ids: dict) -> dict:
+        """The ids of the points part ``i`` holds (what its writing task needs)."""
+        return {name: ids[name] for name in sorted(self.have[i])}

@@ -7,23 +7,28 @@ N. Chrisochoides, "Parallel 2D constrained Delaunay mesh generation", ACM TOMS 3
 (interface splits as messages, here deterministic rounds); the dask.distributed documentation
 ("Futures": data stays on the worker that made it, and tasks that depend on it run there).
 
-Pipeline (client work is O(boundary + parts); mesh bytes never reach the client)::
+Pipeline (client work is O(boundary + parts + interface splits); mesh bytes never reach
+the client)::
 
-    door checks --> decompose (client) --> round 0: one task per part (largest first): mesh,
-            write the piece with vertex references, return a small summary
-        --> while split requests: exchange (client merges requests, splits the skeleton),
-            only the parts beside a split mesh (and write) again (round r, at most max_rounds)
-        --> numbering (prefix sums of the parts' own point counts)
-        --> one task per worker resolves its batch of pieces' references to global ids
+    door checks --> decompose (client) --> round 0: one task per part (largest first): CDT,
+            refinement with the interfaces frozen, the splits it needed made and reported;
+            the part's state stays on its worker as a future, a small report comes back
+        --> while a part lacks a split its neighbour made: exchange (client), and only those
+            parts resume from their state (round r, at most max_rounds)
+        --> numbering (split points after the skeleton, prefix sums of the own point counts)
+        --> one task per part, where its state is: global ids, piece written
         --> client writes skeleton, VDS, XDMF
 
-Tasks: parts + workers (+ the parts of exchange rounds); the client waits on one ``gather``
-per phase.  No mesh is held in a worker's memory between tasks: the pieces on the shared
-file system are the state, so a worker lost mid-run costs Dask one task to run again.
+Tasks: parts (+ the resumed parts of exchange rounds) + one report task per part and round +
+parts (writing); the client waits on one ``gather`` per phase.  Every state is kept until
+the pieces are written (a neighbour's later split may need it); Dask counts its bytes
+(``PartState.__sizeof__``) against the worker's memory and may spill it.  A worker lost
+mid-run makes Dask run again the tasks whose results it held, from the same inputs.
 
 Determinism: part ``i`` is meshed with the seed ``SeedSequence([seed, i])`` gives, from a
-planar straight-line graph that depends only on the decomposition and the requests, so the
-files are the same bytes for any number of workers and on reruns (fixed ``parts`` and ``seed``).
+planar straight-line graph that depends only on the decomposition; the splits of a round
+depend only on the states, so the files are the same bytes for any number of workers and on
+reruns (fixed ``parts`` and ``seed``).
 """
 
 from __future__ import annotations
@@ -40,17 +45,17 @@ from meshwright.core.errors import InputError, MeshingError, MeshwrightError, Si
 from meshwright.core.mesh import Mesh
 from meshwright.core.validate_input import check_count, check_flag, check_seed
 from meshwright.distributed import cluster as _cluster
-from meshwright.distributed.exchange import apply_splits
+from meshwright.distributed.exchange import Splits
 from meshwright.distributed.numbering import part_offsets
-from meshwright.distributed.part import mesh_part
+from meshwright.distributed.part import (
+    report_of,
+    resume_part,
+    start_part,
+    write_part_state,
+)
 from meshwright.distributed.partition import decompose_domain, part_pslg
 from meshwright.distributed.simulate import lpt_makespan
-from meshwright.distributed.writer import (
-    part_path,
-    read_mesh_arrays,
-    resolve_pieces,
-    write_mesh,
-)
+from meshwright.distributed.writer import part_path, read_mesh_arrays, write_mesh
 from meshwright.tri.mesher import (
     DEFAULT_MAX_POINTS,
     MESH_METHODS,
@@ -78,18 +83,21 @@ class DistributedMesh:
         Vertices and triangles of the whole mesh.
     stats : dict
         ``parts``, ``workers``, ``rounds``, ``seconds`` (decompose, mesh, write, total),
-        ``part_seconds`` (one list per round: ``(part, seconds)`` of meshing and writing),
-        ``part_cpu_seconds`` (the same with the tasks' CPU seconds), ``round_seconds`` (client
-        wall time of each round: submit to the last summary), ``resolve_seconds`` (wall time
-        of the numbering tasks), ``client_write_seconds`` (the client's skeleton, virtual
-        datasets and XDMF), ``peak_rss`` (largest peak resident memory of a worker that ran
-        a part, bytes) and ``memory_limit`` (the smallest worker limit, 0 when unset),
-        ``write_seconds`` (per part: resolving its references), ``triangles`` and
-        ``predicted`` per part, ``imbalance`` (largest part's triangles over the mean),
-        ``worker_imbalance`` (the largest worker's triangles over the mean when the parts are
-        dealt to the workers largest first, as they are submitted: what E(P) pays),
-        ``predicted_imbalance``, ``min_angle``, ``min_cut_angle``, ``split_points``,
-        ``triangles_over_predicted`` (total over the serial prediction), ``bytes_written``.
+        ``part_seconds`` (one list per round: ``(part, seconds)`` of its meshing or resuming
+        task), ``part_cpu_seconds`` (the same with the tasks' CPU seconds), ``round_seconds``
+        (client wall time of each round: submit to the last report), ``resumed_parts`` (per
+        exchange round), ``resolve_seconds`` (wall time of the writing tasks),
+        ``client_write_seconds`` (the client's skeleton, virtual datasets and XDMF),
+        ``peak_rss`` (largest peak resident memory of a worker that ran a part, bytes),
+        ``memory_limit`` (the smallest worker limit, 0 when unset), ``state_bytes`` (the
+        largest part state kept between rounds), ``write_seconds`` and ``write_cpu_seconds``
+        (per part: numbering and writing its piece), ``triangles`` and ``predicted`` per
+        part, ``imbalance`` (largest part's triangles over the mean), ``worker_imbalance``
+        (the largest worker's triangles over the mean when the parts are dealt to the workers
+        largest first, as they are submitted: what E(P) pays), ``predicted_imbalance``,
+        ``min_angle``, ``min_cut_angle``, ``skeleton_points``, ``split_points`` (interface
+        points added by the rounds), ``triangles_over_predicted`` (total over the serial
+        prediction), ``bytes_written``.
     """
 
     def __init__(self, path: str, files: list[str], n_points: int, n_cells: int, stats: dict):
@@ -234,14 +242,6 @@ def _gather(c, futures: dict, what: str, progress: bool = False) -> dict:
     return dict(zip(keys, values))
 
 
-def _batches(weights, n: int) -> list[list[int]]:
-    """``range(len(weights))`` cut into at most ``n`` runs of consecutive indices of about equal weight."""
-    w = np.asarray(weights, dtype=np.float64) + 1.0
-    cum = np.cumsum(w)
-    k = np.minimum((cum - 0.5 * w) * n // cum[-1], n - 1).astype(np.int64)
-    return [np.flatnonzero(k == j).tolist() for j in range(n) if (k == j).any()]
-
-
 def triangulate(
     domain,
     size=None,
@@ -361,73 +361,74 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
     curves_f = c.scatter(dom.curves, broadcast=True, hash=False)
     field_f = c.scatter(field, broadcast=True, hash=False)
     seeds = [int(np.random.SeedSequence([seed, i]).generate_state(1)[0]) for i in range(P)]
-    summaries, part_seconds, part_cpu, round_walls = {}, [], [], []
-    todo = np.argsort(-dec.predicted, kind="stable")
-    rounds = 0
-    split_points = 0
-    n_skeleton0 = len(dec.points)
+    part_seconds, part_cpu, round_walls = [], [], []
+    splits = Splits(dec)
+    reports = {}
+    # Round 0, largest parts first: every part's state stays on its worker as a future.
+    states = {
+        i: c.submit(
+            start_part, part_pslg(dec, i, n_curves), curves_f, field_f, angle, seeds[i], cap,
+            key=f"meshwright-{token}-part-r0-{i}", pure=False,
+        )
+        for i in np.argsort(-dec.predicted, kind="stable").tolist()
+    }
     t_mesh = time.perf_counter()
+    todo = {i: None for i in states}
+    rounds = 0
     while True:
         t_round = time.perf_counter()
-        # One task per part: mesh, write the piece, return the summary (largest parts first).
-        futs = {
-            i: c.submit(
-                mesh_part, part_pslg(dec, i, n_curves), curves_f, field_f, angle, seeds[i], cap,
-                str(part_path(out_path, i)), key=f"meshwright-{token}-part-r{rounds}-{i}", pure=False,
-            )
-            for i in todo.tolist()
-        }
-        done = _gather(c, futs, f"round {rounds}", progress)
-        del futs
+        done = _gather(c, {i: c.submit(report_of, states[i], key=f"meshwright-{token}-report-r{rounds}-{i}")
+                           for i in todo}, f"round {rounds}", progress)
         round_walls.append(time.perf_counter() - t_round)
-        summaries.update(done)
-        part_seconds.append([(i, done[i].seconds + done[i].write_seconds) for i in sorted(done)])
+        for i in sorted(done):
+            splits.add(i, done[i].splits, done[i].xy)
+        reports.update(done)
+        part_seconds.append([(i, done[i].seconds) for i in sorted(done)])
         part_cpu.append([(i, done[i].cpu_seconds) for i in sorted(done)])
-        requests = {}
-        for i in sorted(summaries):
-            for s, xy in summaries[i].requests:
-                requests[s] = np.concatenate([requests[s], xy]) if s in requests else xy
-        if not requests:
+        todo = splits.lacking()
+        if not todo:
             break
         if rounds >= rounds_cap:
+            i, first = next(iter(todo.items()))
+            s = first[0][0]
             raise MeshingError(
                 f"interfaces still need splits after {rounds} exchange rounds (max_rounds = {rounds_cap}): "
-                f"{len(requests)} interface segment(s), e.g. skeleton segment {min(requests)} from "
-                f"{dec.points[dec.segments[min(requests), 0]].tolist()}; raise max_rounds or use fewer parts"
+                f"{len(todo)} part(s), e.g. part {i} on skeleton segment {s} from "
+                f"{dec.points[dec.segments[s, 0]].tolist()}; raise max_rounds or use fewer parts"
             )
-        n_before = len(dec.points)
-        # Only the parts beside a split segment mesh again; the others' pieces stay as written.
-        dec, todo = apply_splits(dec, requests)
-        split_points += len(dec.points) - n_before
         rounds += 1
+        # Only the parts beside a new split resume; the others' states stay as they are.
+        for i, lack in todo.items():
+            states[i] = c.submit(resume_part, states[i], lack, key=f"meshwright-{token}-part-r{rounds}-{i}",
+                                 pure=False)
     t_mesh = time.perf_counter() - t_mesh
     t_write = time.perf_counter()
-    pieces = [summaries[i] for i in range(P)]
-    offsets = part_offsets(len(dec.points), [p.n_points for p in pieces])
-    # References become global ids: a few tasks of consecutive parts, on any worker.
-    groups = _batches([p.n_triangles for p in pieces], workers)
-    fixes = {
-        j: c.submit(
-            resolve_pieces, [(pieces[i].path, int(offsets[i])) for i in g],
-            key=f"meshwright-{token}-resolve-{j}", pure=False,
+    split_ids, split_xy = splits.numbered(len(dec.points))
+    n_skeleton = len(dec.points) + len(split_xy)
+    offsets = part_offsets(n_skeleton, [reports[i].n_own for i in range(P)])
+    # One task per part, where its state is: global ids, then the piece.
+    writes = {
+        i: c.submit(
+            write_part_state, states[i], splits.of_part(i, split_ids), int(offsets[i]), str(part_path(out_path, i)),
+            key=f"meshwright-{token}-write-{i}", pure=False,
         )
-        for j, g in enumerate(groups)
+        for i in range(P)
     }
-    fixed = _gather(c, fixes, "numbering")
+    pieces_d = _gather(c, writes, "writing")
+    del states, writes
     t_resolve = time.perf_counter() - t_write
-    write_seconds = [0.0] * P
-    for j, g in enumerate(groups):
-        for i, sec in zip(g, fixed[j]):
-            write_seconds[i] = sec
+    pieces = [pieces_d[i] for i in range(P)]
     t_client = time.perf_counter()
-    files = write_mesh(out_path, dec.points, dec.point_markers, pieces) + [p.path for p in pieces]
+    points = np.concatenate([dec.points, split_xy])
+    markers = np.concatenate([dec.point_markers, np.zeros(len(split_xy), dtype=np.int32)])
+    files = write_mesh(out_path, points, markers, pieces) + [p.path for p in pieces]
     t_client = time.perf_counter() - t_client
     # Attempts of tasks that lost their worker leave temporary files behind.
     for tmp in out_path.parent.glob(f"{out_path.stem}_part*.h5.*.tmp"):
         tmp.unlink(missing_ok=True)
     t_write = time.perf_counter() - t_write
-    tris = np.array([summaries[i].n_triangles for i in range(P)], dtype=np.int64)
-    n_points = len(dec.points) + sum(p.n_points for p in pieces)
+    tris = np.array([p.n_triangles for p in pieces], dtype=np.int64)
+    n_points = n_skeleton + sum(p.n_points for p in pieces)
     stats = {
         "parts": P,
         "workers": workers,
@@ -440,19 +441,21 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
         "round_seconds": round_walls,
         "resolve_seconds": t_resolve,
         "client_write_seconds": t_client,
-        "peak_rss": int(max(summaries[i].peak_rss for i in range(P))),
+        "peak_rss": int(max(max(r.peak_rss for r in reports.values()), max(p.peak_rss for p in pieces))),
         "memory_limit": int(limit),
-        "write_seconds": write_seconds,
-        "resolve_batches": len(groups),
+        "state_bytes": int(max(r.state_bytes for r in reports.values())),
+        "write_seconds": [p.seconds for p in pieces],
+        "write_cpu_seconds": [p.cpu_seconds for p in pieces],
         "triangles": tris.tolist(),
         "predicted": dec.predicted.tolist(),
         "imbalance": float(tris.max() / tris.mean()),
         "worker_imbalance": float(lpt_makespan(tris, workers) * workers / tris.sum()) if tris.sum() else 1.0,
         "predicted_imbalance": dec.imbalance,
-        "min_angle": float(min(summaries[i].min_angle for i in range(P))),
+        "min_angle": float(min(p.min_angle for p in pieces)),
         "min_cut_angle": dec.min_cut_angle,
-        "skeleton_points": n_skeleton0,
-        "split_points": split_points,
+        "skeleton_points": len(dec.points),
+        "split_points": len(split_xy),
+        "resumed_parts": [sorted(i for i, _ in r) for r in part_seconds[1:]],
         "triangles_over_predicted": float(tris.sum() / dec.predicted.sum()),
         "bytes_written": int(sum(os.path.getsize(f) for f in files)),
     }

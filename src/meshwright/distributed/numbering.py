@@ -6,19 +6,19 @@ Sci. Comput. 27(4), 2006): interface and boundary vertices are numbered once, on
 before any part is meshed, so parts never compare coordinates (the float matching that fails
 in ParMmg, MmgTools/ParMmg#36).
 
-Layout: global vertex ids are int64.  The skeleton's ``n_s`` points take ids ``[0, n_s)``;
-part ``i``'s own ``q_i`` points take ``[o_i, o_i + q_i)`` with ``o_i = n_s + sum_{j < i} q_j``
-(an exclusive prefix sum in part order, so ids depend on the parts, never on the workers).
-A part's reference ``r`` (:mod:`meshwright.distributed.part`) maps to ``r`` when ``r >= 0``
-and to ``o_i - 1 - r`` otherwise.  Zero duplicate nodes holds by construction: each skeleton
-point has one id, and own points belong to one part.
+Layout: global vertex ids are int64.  The skeleton's ``n_s`` points (those of the
+decomposition, then the interface split points of the exchange rounds,
+:mod:`meshwright.distributed.exchange`) take ids ``[0, n_s)``; part ``i``'s own ``q_i``
+points take ``[o_i, o_i + q_i)`` with ``o_i = n_s + sum_{j < i} q_j`` (an exclusive prefix sum
+in part order, so ids depend on the parts, never on the workers).  Zero duplicate nodes holds
+by construction: each skeleton point has one id, and own points belong to one part.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["part_offsets", "resolve"]
+__all__ = ["part_offsets"]
 
 
 def part_offsets(n_skeleton: int, counts) -> np.ndarray:
@@ -38,8 +38,3 @@ def part_offsets(n_skeleton: int, counts) -> np.ndarray:
     c = np.asarray(counts, dtype=np.int64).ravel()
     return int(n_skeleton) + np.concatenate([[0], np.cumsum(c)[:-1]]).astype(np.int64)
 
-
-def resolve(ref: np.ndarray, offset: int) -> np.ndarray:
-    """Global ids (int64, same shape) of a part's vertex references (module docstring)."""
-    r = np.asarray(ref, dtype=np.int64)
-    return np.where(r >= 0, r, int(offset) - 1 - r)

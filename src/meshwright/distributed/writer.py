@@ -10,11 +10,10 @@ Files, for ``out = DIR/NAME.xdmf``:
 
 * ``DIR/NAME_partNNNNN.h5`` (one per part, written on a worker): ``points`` (q, 2) float64,
   ``point_marker`` (q,) int32, ``cells`` (t, 3) int64 global ids, ``cell_marker`` (t,) int32,
-  ``lines`` (l, 2) int64, ``line_marker`` (l,) int32.  The meshing task writes it with vertex
-  *references* (:mod:`meshwright.distributed.part`) into a temporary name renamed at the end
-  (a task Dask runs again after a lost worker never leaves half a file); once the prefix sums
-  are known, :func:`resolve_pieces` (a few tasks, any worker: the file system is shared)
-  rewrites ``cells`` and ``lines`` in place with global ids (idempotent: ids >= 0 stay);
+  ``lines`` (l, 2) int64, ``line_marker`` (l,) int32, all with global ids: the part's last
+  task writes it once the prefix sums are known (:mod:`meshwright.distributed.part`), into a
+  temporary name renamed at the end (a task Dask runs again after a lost worker never leaves
+  half a file);
 * ``DIR/NAME.h5`` (client): ``skeleton_points`` and ``skeleton_point_marker``, and the virtual
   datasets ``points`` (N, 2), ``point_marker`` (N,), ``cells`` (T, 3), ``cell_marker`` (T,),
   ``lines`` (L, 2), ``line_marker`` (L,) in global-id order (skeleton, then parts in order);
@@ -35,9 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshwright.distributed.numbering import resolve
-
-__all__ = ["part_path", "read_mesh_arrays", "resolve_pieces", "write_mesh", "write_part"]
+__all__ = ["part_path", "read_mesh_arrays", "write_mesh", "write_part"]
 
 _FIELDS = (
     ("points", 2, "<f8"),
@@ -70,7 +67,7 @@ def _virtual_dataset(f, name: str, layout, shape, dtype) -> None:
 
 
 def write_part(pm, path: str) -> int:
-    """Write one part's piece with vertex references (module docstring); returns its bytes.
+    """Write one part's piece (module docstring); returns its bytes.
 
     Parameters
     ----------
@@ -92,39 +89,6 @@ def write_part(pm, path: str) -> int:
         _dataset(f, "line_marker", pm.line_markers, "<i4")
     os.replace(tmp, path)
     return os.path.getsize(path)
-
-
-_CHUNK = 1 << 20  # rows resolved at a time: bounded memory for any piece
-
-
-def resolve_pieces(items) -> list[float]:
-    """Rewrite the references of pieces as global ids, in place (module docstring).
-
-    Parameters
-    ----------
-    items : sequence of (str, int)
-        Piece path and the first global id of its own points
-        (:func:`meshwright.distributed.numbering.part_offsets`).
-
-    Returns
-    -------
-    list of float
-        Seconds per piece.
-    """
-    import time
-
-    import h5py
-
-    out = []
-    for path, offset in items:
-        t0 = time.perf_counter()
-        with h5py.File(path, "r+") as f:
-            for name in ("cells", "lines"):
-                d = f[name]
-                for lo in range(0, d.shape[0], _CHUNK):
-                    d[lo : lo + _CHUNK] = resolve(d[lo : lo + _CHUNK], offset)
-        out.append(time.perf_counter() - t0)
-    return out
 
 
 def write_mesh(out: Path, skeleton_points: np.ndarray, skeleton_markers: np.ndarray, pieces) -> list[str]:
