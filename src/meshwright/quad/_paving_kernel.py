@@ -27,7 +27,7 @@ from meshwright.core.predicates import orient2d
 __all__ = ["adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "row_crossings", "row_nodes"]
 
 
-@njit(inline="always")
+@njit
 def _sgn(pts, a, b, c):
     o = orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1])
     if o > 0.0:
@@ -45,7 +45,7 @@ def _between(pts, a, b, c):
     )
 
 
-@njit(inline="always")
+@njit
 def _meet(pts, a, b, c, d):
     """Closed segments a b and c d share a point (exact)."""
     o1 = _sgn(pts, a, b, c)
@@ -61,6 +61,22 @@ def _meet(pts, a, b, c, d):
     if o3 == 0 and _between(pts, c, d, a):
         return True
     return o4 == 0 and _between(pts, c, d, b)
+
+
+@njit(inline="always")
+def _first_at_least(xs, x):
+    """Index of the first entry of sorted ``xs`` not below ``x`` (``np.searchsorted``'s
+    left side, written out: the generic one cost each kernel a second of first-run
+    compile)."""
+    lo = 0
+    hi = xs.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if xs[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
 
 
 @njit(cache=True)
@@ -88,7 +104,7 @@ def row_crossings(pts, na, nb, sa, sb):
         qx1 = max(pts[a, 0], pts[b, 0])
         qy0 = min(pts[a, 1], pts[b, 1])
         qy1 = max(pts[a, 1], pts[b, 1])
-        k = np.searchsorted(xs, qx0 - span)
+        k = _first_at_least(xs, qx0 - span)
         while k < m and xs[k] <= qx1:
             j = order[k]
             k += 1
@@ -128,7 +144,7 @@ def nodes_in_quads(pts, quads, nodes):
             x1 = max(x1, pts[v, 0])
             y0 = min(y0, pts[v, 1])
             y1 = max(y1, pts[v, 1])
-        k = np.searchsorted(xs, x0)
+        k = _first_at_least(xs, x0)
         while k < m and xs[k] <= x1:
             v = nodes[order[k]]
             k += 1
@@ -178,31 +194,22 @@ def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
     nq = quads.shape[0]
     big = pts.shape[0]
     k = f.shape[0]
-    # The row's edges, each once; an edge between two committed nodes is the paving
-    # boundary's own (a row quad spans f[i], f[i + 1]) and is not checked.
-    fkey = np.empty(k, dtype=np.int64)
-    for i in range(k):
-        a = f[i]
-        b = f[(i + 1) % k]
-        fkey[i] = min(a, b) * big + max(a, b)
-    fkey.sort()
-    keys = np.empty(4 * nq, dtype=np.int64)
-    m = 0
+    # The row's edges with a new end: row_nodes builds every edge between two committed
+    # nodes from two consecutive nodes of f (the paving boundary's own, not checked).  An
+    # edge shared by two quads is listed twice: a copy shares both ends with the other,
+    # which the crossing test skips, so no sort is needed (a sort and np.unique here
+    # cost seconds of first-run compile).
+    na = np.empty(4 * nq, dtype=np.int64)
+    nb = np.empty(4 * nq, dtype=np.int64)
+    ne = 0
     for c in range(nq):
         for e in range(4):
             a = quads[c, e]
             b = quads[c, (e + 1) % 4]
-            key = min(a, b) * big + max(a, b)
-            if max(a, b) < n_old:
-                j = np.searchsorted(fkey, key)
-                if j < k and fkey[j] == key:
-                    continue
-            keys[m] = key
-            m += 1
-    keys = np.unique(keys[:m])
-    ne = keys.shape[0]
-    na = keys // big
-    nb = keys % big
+            if a >= n_old or b >= n_old:
+                na[ne] = a
+                nb[ne] = b
+                ne += 1
     # Only edges and nodes that reach the row's bounding box can meet it: a row around
     # one airfoil skips the far field's long edges, which would widen every query's
     # window in the sorted sweep of :func:`row_crossings`.
@@ -231,8 +238,9 @@ def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
         ea[me] = a
         eb[me] = b
         me += 1
-    ea[me : me + ne] = na
-    eb[me : me + ne] = nb
+    for j in range(ne):
+        ea[me + j] = na[j]
+        eb[me + j] = nb[j]
     near = np.empty(nodes.shape[0], dtype=np.int64)
     mn = 0
     for j in range(nodes.shape[0]):
@@ -240,12 +248,11 @@ def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
         if x0 <= pts[v, 0] <= x1 and y0 <= pts[v, 1] <= y1:
             near[mn] = v
             mn += 1
-    cross = row_crossings(pts, na, nb, ea[: me + ne], eb[: me + ne])
+    cross = row_crossings(pts, na[:ne], nb[:ne], ea[: me + ne], eb[: me + ne])
     inside = nodes_in_quads(pts, quads, near[:mn])
-    bad = np.zeros(k, dtype=np.bool_)
-    hit = np.zeros(big - n_old, dtype=np.bool_)
-    old = np.empty(4 * nq + 2 * ne, dtype=np.int64)
-    no = 0
+    # Culprit nodes: new ones flag the paving node they grew from, committed ones
+    # themselves (a stamp over the committed nodes; f may hold a node twice).
+    hit = np.zeros(big, dtype=np.bool_)
     for c in range(nq):
         fail = inside[c]
         for e in range(4):
@@ -258,29 +265,18 @@ def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
                 fail = True
         if fail:
             for e in range(4):
-                v = quads[c, e]
-                if v >= n_old:
-                    hit[v - n_old] = True
-                else:
-                    old[no] = v
-                    no += 1
+                hit[quads[c, e]] = True
     for i in range(ne):
         if cross[i]:
-            for v in (na[i], nb[i]):
-                if v >= n_old:
-                    hit[v - n_old] = True
-                else:
-                    old[no] = v
-                    no += 1
-    for v in range(big - n_old):
+            hit[na[i]] = True
+            hit[nb[i]] = True
+    bad = np.zeros(k, dtype=np.bool_)
+    for v in range(n_old, big):
         if hit[v]:
-            bad[owner[v]] = True
-    if no:
-        culprits = np.sort(old[:no])
-        for i in range(k):
-            j = np.searchsorted(culprits, f[i])
-            if j < no and culprits[j] == f[i]:
-                bad[i] = True
+            bad[owner[v - n_old]] = True
+    for i in range(k):
+        if hit[f[i]]:
+            bad[i] = True
     return bad
 
 
@@ -300,7 +296,7 @@ def facing_pairs(p, nrm, reach, ids, fid, pos, size, out_u, out_v, out_d):
         u = order[a]
         # A pair is closer than both reaches, so u's own bounds the window (one long
         # reach in the far field would otherwise widen every node's).
-        k = np.searchsorted(xs, p[u, 0] - reach[u])
+        k = _first_at_least(xs, p[u, 0] - reach[u])
         while k < n and xs[k] <= p[u, 0] + reach[u]:
             v = order[k]
             k += 1
