@@ -4,6 +4,7 @@ Usage::
 
     python benchmarks/scale2d.py                       # n0 = 2e6 triangles per worker
     python benchmarks/scale2d.py --n0 500000 --repeat 3 --sim 4 8 16
+    python benchmarks/scale2d.py --n0 6250000 --no-serial --ceiling   # also the machine's own E(2)
 
 Two domains: a uniform rectangle ``[0, P] x [0, 1]`` (its size ``h`` chosen for ``P * n0``
 triangles) and a graded disk with two holes (a point-source size around one hole, scaled for
@@ -39,7 +40,12 @@ triangles) and a graded disk with two holes (a point-source size around one hole
 
 The machine may be shared: every number is printed with the load average
 (``os.getloadavg``) taken right before it, and a line per domain gives the task CPU seconds
-per triangle beside the wall seconds (a gap between them is CPU taken by other processes).
+per triangle beside the wall seconds (a gap between them is CPU taken by other processes),
+and the CPU Dask itself took beside the tasks (client, scheduler and nannies in the client
+process, the workers' event loops), in cores.  Each real run has its cluster to itself: the
+1-worker cluster is closed before the 2-worker one starts.  ``--ceiling`` first measures what
+the machine itself allows: one part's worth of triangles (``n0 / 4``) meshed serially by two
+plain processes at once against one alone (its E(2) ceiling, no Dask).
 On a cluster, ``--n0 6250000 --sim 16`` is the issue's 1e8 triangles on 16 workers.
 """
 
@@ -100,13 +106,27 @@ def load() -> str:
 
 
 def run_once(client, dom, size, parts: int, workdir: str):
-    """One real run: the mesh's stats, Dask's task count and the tail of the part tasks."""
+    """One real run: the mesh's stats, Dask's task count and the tail of the part tasks.
+
+    Also ``stats["overhead_cores"]``: CPU seconds of the client process (client, scheduler,
+    nannies) beyond the calling thread and of the worker processes beyond the tasks, over the
+    run's wall time: what Dask takes from the cores the parts could use.
+    """
     from distributed import get_task_stream
 
     from meshwright.distributed import triangulate
 
+    cpu_c, cpu_w = time.process_time(), client.run(time.process_time)
+    cpu_main = time.thread_time()
     with get_task_stream(client) as ts:
         dm = triangulate(dom, size, client=client, parts=parts, out=os.path.join(workdir, "mesh.xdmf"))
+    cpu_main = time.thread_time() - cpu_main
+    cpu_c, cpu_w = time.process_time() - cpu_c, {k: v - cpu_w[k] for k, v in client.run(time.process_time).items()}
+    s = dm.stats
+    tasks = sum(t for r in s["part_cpu_seconds"] for _, t in r) + sum(s["write_cpu_seconds"])
+    # The calling thread's own work (decomposition, submitting, the client's files) is not Dask's.
+    s["overhead_cores"] = (cpu_c - cpu_main + sum(cpu_w.values()) - tasks) / s["seconds"]["total"]
+    s["client_main_cpu"] = cpu_main
     ends = {}
     for t in ts.data:
         if "-part-r" in str(t["key"]):
@@ -163,6 +183,63 @@ def client_phases(dom, size, parts: int) -> tuple:
     return dec, t_dec, t_write, c_dec, c_write
 
 
+def _ceiling_child(n: float) -> None:
+    """One plain process: mesh the ``n``-triangle rectangle serially when told, print times."""
+    import json
+    import sys
+
+    import meshwright as mw
+
+    dom, h = rectangle(1, 5e4)
+    mw.triangulate(dom, h, min_angle=30.0)  # kernels loaded before timing
+    dom, h = rectangle(1, n)
+    print("ready", flush=True)
+    sys.stdin.readline()
+    t, c = time.perf_counter(), time.thread_time()
+    nt = len(mw.triangulate(dom, h, min_angle=30.0).cells["triangle"])
+    print(json.dumps({"wall": time.perf_counter() - t, "cpu": time.thread_time() - c, "triangles": nt}), flush=True)
+
+
+def ceiling(n: float, repeat: int) -> None:
+    """The machine's own E(2): the same serial mesh in two plain processes at once (no Dask)
+    against one alone, best of ``repeat``; prints wall and CPU seconds per 1e6 triangles."""
+    import json
+    import subprocess
+    import sys
+
+    def run(k):
+        procs = [
+            subprocess.Popen([sys.executable, __file__, "--ceiling-child", str(n)], stdin=subprocess.PIPE,
+                             stdout=subprocess.PIPE, text=True)
+            for _ in range(k)
+        ]
+        for p in procs:
+            if p.stdout.readline().strip() != "ready":
+                raise RuntimeError("a ceiling process failed to start")
+        for p in procs:
+            p.stdin.write("go\n")
+            p.stdin.flush()
+        out = [json.loads(p.stdout.readline()) for p in procs]
+        for p in procs:
+            p.wait()
+        return max(o["wall"] for o in out), sum(o["cpu"] for o in out) / k, out[0]["triangles"]
+
+    best = {}
+    for _ in range(repeat):
+        for k in (1, 2):
+            l0 = load()
+            wall, cpu, nt = run(k)
+            if k not in best or wall < best[k][0]:
+                best[k] = (wall, cpu, nt, l0)
+    (w1, c1, nt, l1), (w2, c2, _, l2) = best[1], best[2]
+    print(
+        f"machine ceiling ({nt} triangles, serial, plain processes): one alone {1e6 * w1 / nt:.3f} s wall / "
+        f"{1e6 * c1 / nt:.3f} s CPU per 1e6 ({l1}), two at once {1e6 * w2 / nt:.3f} / {1e6 * c2 / nt:.3f} ({l2}): "
+        f"E(2) ceiling {w1 / w2:.3f}",
+        flush=True,
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n0", type=float, default=2e6, help="triangles per worker")
@@ -171,79 +248,90 @@ def main() -> None:
     ap.add_argument("--domains", nargs="*", default=list(DOMAINS))
     ap.add_argument("--memory-limit", default="4GiB", help="per worker")
     ap.add_argument("--no-serial", action="store_true", help="skip the serial meshes of the real problems")
+    ap.add_argument("--ceiling", action="store_true",
+                    help="first mesh n0 / 4 triangles serially in one and in two plain processes (no Dask)")
+    ap.add_argument("--ceiling-child", type=float, help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.ceiling_child is not None:
+        _ceiling_child(args.ceiling_child)
+        return
+    if args.ceiling:
+        ceiling(args.n0 / PARTS_PER_WORKER, args.repeat)
 
     from meshwright.distributed import local_cluster, warm
     from meshwright.distributed.simulate import fit_costs, model_time
 
-    c1 = local_cluster(1, memory_limit=args.memory_limit)
-    c2 = local_cluster(2, memory_limit=args.memory_limit)
-    try:
-        warm(c1)
-        warm(c2)
-        print(
-            f"n0 = {args.n0:.3g} triangles per worker, {PARTS_PER_WORKER} parts per worker, best of {args.repeat}, "
-            f"worker memory limit {args.memory_limit}"
-        )
-        print(
-            "| domain | P | run | T (s) | E(P) | decompose / parts / rest (s) | imbalance part / worker | rounds "
-            "| triangles | over serial | min angle | triangles / predicted (spread) | peak memory / limit "
-            "| tasks, tail (s) | load |"
-        )
-        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-        notes = []
-        for name in args.domains:
-            make = DOMAINS[name]
-            real = {}
-            for P, c in ((1, c1), (2, c2)):
-                domP, sP = make(P, P * args.n0)
+    def cluster(P):
+        c = local_cluster(P, memory_limit=args.memory_limit)
+        warm(c)
+        return c
+
+    print(
+        f"n0 = {args.n0:.3g} triangles per worker, {PARTS_PER_WORKER} parts per worker, best of {args.repeat}, "
+        f"worker memory limit {args.memory_limit}"
+    )
+    print(
+        "| domain | P | run | T (s) | E(P) | decompose / parts / rest (s) | imbalance part / worker | rounds "
+        "| triangles | over serial | min angle | triangles / predicted (spread) | peak memory / limit "
+        "| tasks, tail (s) | load |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    notes = []
+    for name in args.domains:
+        make = DOMAINS[name]
+        real = {}
+        for P in (1, 2):
+            domP, sP = make(P, P * args.n0)
+            # One cluster at a time: an idle cluster beside the run would take CPU from it.
+            with cluster(P) as c:
                 l0 = load()
                 dm, ntask, tail = best(c, domP, sP, PARTS_PER_WORKER * P, args.repeat)
-                ser = None if args.no_serial else serial_count(domP, sP)
-                real[P] = dm
-                T = dm.stats["seconds"]["total"]
-                E = real[1].stats["seconds"]["total"] / T
-                real_row(name, P, T, E, dm, ser, ntask, tail, l0)
-            t1, t2 = (real[P].stats["seconds"]["total"] for P in (1, 2))
-            k1, k2 = fit_costs(real[1].stats), fit_costs(real[2].stats)
-            notes.append(
-                f"{name}: part tasks {1e6 * k1.seconds_per_triangle:.2f} / {1e6 * k2.seconds_per_triangle:.2f} s "
-                f"wall and {1e6 * k1.cpu_per_triangle:.2f} / {1e6 * k2.cpu_per_triangle:.2f} s CPU per 1e6 "
-                f"triangles at P = 1 / 2; numbering {1e6 * k1.resolve_per_triangle:.3f} / "
-                f"{1e6 * k2.resolve_per_triangle:.3f} s per 1e6; client overhead beyond the tasks "
-                f"{k1.round_overhead + k1.resolve_overhead:.3f} / {k2.round_overhead + k2.resolve_overhead:.3f} s; "
-                f"per-part spread of seconds per triangle {k1.rate_spread:.1%} / {k2.rate_spread:.1%} wall, "
-                f"{k1.cpu_rate_spread:.1%} / {k2.cpu_rate_spread:.1%} CPU"
-            )
-            # Validation: the model calibrated on P = 1 predicts the real P = 2 run.
-            s2 = real[2].stats
-            args2 = (s2["predicted"], 2, s2["seconds"]["decompose"], s2["client_write_seconds"])
-            m = model_time(k1, *args2)
-            model_row(name, 2, f"model from P = 1 costs ({m['total'] / t2 - 1:+.1%} vs real)", m, t1, k1, s2, load())
-            m = model_time(k1, *args2, rate=k2.seconds_per_triangle)
-            model_row(name, 2, f"model at the P = 2 part rate ({m['total'] / t2 - 1:+.1%} vs real)", m, t1, k1, s2,
-                      load())
-            s1 = real[1].stats
-            m1 = model_time(k1, s1["predicted"], 1, s1["seconds"]["decompose"], s1["client_write_seconds"],
-                            rate=k1.cpu_per_triangle, rate_spread=k1.cpu_rate_spread)
-            t1_cpu = m1["total"]
-            for P in args.sim:
-                domP, sP = make(P, P * args.n0)
-                l0 = load()
-                dec, t_dec, t_write, c_dec, c_write = client_phases(domP, sP, PARTS_PER_WORKER * P)
-                st = {"predicted": dec.predicted.tolist(), "imbalance": dec.imbalance}
-                m = model_time(k1, dec.predicted, P, t_dec, t_write)
-                model_row(name, P, "model from P = 1 costs", m, t1, k1, st, l0)
-                # Each worker on a core of its own: the tasks' CPU seconds per triangle, against
-                # T(1) modelled at the same rate (what an idle cluster would measure).
-                m = model_time(k1, dec.predicted, P, c_dec, c_write, rate=k1.cpu_per_triangle,
-                               rate_spread=k1.cpu_rate_spread)
-                model_row(name, P, "model at the P = 1 CPU rate", m, t1_cpu, k1, st, l0)
-        for line in notes:
-            print(line)
-    finally:
-        c1.close()
-        c2.close()
+            ser = None if args.no_serial else serial_count(domP, sP)
+            real[P] = dm
+            T = dm.stats["seconds"]["total"]
+            E = real[1].stats["seconds"]["total"] / T
+            real_row(name, P, T, E, dm, ser, ntask, tail, l0)
+        t1, t2 = (real[P].stats["seconds"]["total"] for P in (1, 2))
+        k1, k2 = fit_costs(real[1].stats), fit_costs(real[2].stats)
+        notes.append(
+            f"{name}: part tasks {1e6 * k1.seconds_per_triangle:.2f} / {1e6 * k2.seconds_per_triangle:.2f} s "
+            f"wall and {1e6 * k1.cpu_per_triangle:.2f} / {1e6 * k2.cpu_per_triangle:.2f} s CPU per 1e6 "
+            f"triangles at P = 1 / 2; numbering and writing pieces {1e6 * k1.resolve_per_triangle:.3f} / "
+            f"{1e6 * k2.resolve_per_triangle:.3f} s per 1e6; client overhead beyond the tasks "
+            f"{k1.round_overhead + k1.resolve_overhead:.3f} / {k2.round_overhead + k2.resolve_overhead:.3f} s; "
+            f"per-part spread of seconds per triangle {k1.rate_spread:.1%} / {k2.rate_spread:.1%} wall, "
+            f"{k1.cpu_rate_spread:.1%} / {k2.cpu_rate_spread:.1%} CPU; Dask's CPU beside the tasks "
+            f"{real[1].stats['overhead_cores']:.3f} / {real[2].stats['overhead_cores']:.3f} cores; rounds "
+            f"{real[1].stats['rounds']} / {real[2].stats['rounds']}, largest part state kept "
+            f"{real[1].stats['state_bytes'] / max(real[1].stats['triangles']):.0f} / "
+            f"{real[2].stats['state_bytes'] / max(real[2].stats['triangles']):.0f} B per triangle"
+        )
+        # Validation: the model calibrated on P = 1 predicts the real P = 2 run.
+        s2 = real[2].stats
+        args2 = (s2["predicted"], 2, s2["seconds"]["decompose"], s2["client_write_seconds"])
+        m = model_time(k1, *args2)
+        model_row(name, 2, f"model from P = 1 costs ({m['total'] / t2 - 1:+.1%} vs real)", m, t1, k1, s2, load())
+        m = model_time(k1, *args2, rate=k2.seconds_per_triangle)
+        model_row(name, 2, f"model at the P = 2 part rate ({m['total'] / t2 - 1:+.1%} vs real)", m, t1, k1, s2,
+                  load())
+        s1 = real[1].stats
+        m1 = model_time(k1, s1["predicted"], 1, s1["seconds"]["decompose"], s1["client_write_seconds"],
+                        rate=k1.cpu_per_triangle, rate_spread=k1.cpu_rate_spread)
+        t1_cpu = m1["total"]
+        for P in args.sim:
+            domP, sP = make(P, P * args.n0)
+            l0 = load()
+            dec, t_dec, t_write, c_dec, c_write = client_phases(domP, sP, PARTS_PER_WORKER * P)
+            st = {"predicted": dec.predicted.tolist(), "imbalance": dec.imbalance}
+            m = model_time(k1, dec.predicted, P, t_dec, t_write)
+            model_row(name, P, "model from P = 1 costs", m, t1, k1, st, l0)
+            # Each worker on a core of its own: the tasks' CPU seconds per triangle, against
+            # T(1) modelled at the same rate (what an idle cluster would measure).
+            m = model_time(k1, dec.predicted, P, c_dec, c_write, rate=k1.cpu_per_triangle,
+                           rate_spread=k1.cpu_rate_spread)
+            model_row(name, P, "model at the P = 1 CPU rate", m, t1_cpu, k1, st, l0)
+    for line in notes:
+        print(line)
 
 
 def real_row(name, P, T, E, dm, serial, ntasks, tail, l0) -> None:

@@ -156,15 +156,25 @@ def _bands():
 
 
 def test_four_workers_give_the_same_bytes_as_one(clients, tmp_path):
-    (tmp_path / "one").mkdir()
-    (tmp_path / "four").mkdir()
-    ref = triangulate(_rect(), 0.05, client=clients[1], parts=8, seed=5, out=tmp_path / "one" / "mesh.xdmf")
+    # A uniform size, and the graded bands whose parts resume after exchange rounds.
+    cases = {"uniform": (0.05, 8), "rounds": (_bands(), 4)}
+    ref, got = {}, {}
+    for name, (size, parts) in cases.items():
+        for n in (1, 2):
+            (tmp_path / f"{name}{n}").mkdir()
+            ref[name, n] = triangulate(
+                _rect(), size, client=clients[n], parts=parts, seed=5, out=tmp_path / f"{name}{n}" / "mesh.xdmf"
+            )
     with local_cluster(4, memory_limit="1GiB") as c4:
         warm(c4)
-        dm = triangulate(_rect(), 0.05, client=c4, parts=8, seed=5, out=tmp_path / "four" / "mesh.xdmf")
-    assert dm.stats["workers"] == 4
-    assert _digest(dm.files) == _digest(ref.files)
-    assert _check_mesh(dm.to_mesh(), holes=0) == 2
+        for name, (size, parts) in cases.items():
+            (tmp_path / f"{name}4").mkdir()
+            got[name] = triangulate(_rect(), size, client=c4, parts=parts, seed=5, out=tmp_path / f"{name}4" / "mesh.xdmf")
+    assert ref["rounds", 1].stats["rounds"] >= 1 and ref["rounds", 1].stats["split_points"] > 0
+    for name, dm in got.items():
+        assert dm.stats["workers"] == 4
+        assert _digest(dm.files) == _digest(ref[name, 1].files) == _digest(ref[name, 2].files), name
+        assert _check_mesh(dm.to_mesh(), holes=0) == 2
 
 
 class _KillOnce:
@@ -183,7 +193,10 @@ class _KillOnce:
             except ValueError:
                 pass  # on the client (decomposition)
             else:
-                open(self.marker, "w").close()
+                try:  # two workers may get here at once: only the one creating the marker dies
+                    os.close(os.open(self.marker, os.O_CREAT | os.O_EXCL))
+                except FileExistsError:
+                    return np.full(len(xy), self.h)
                 os.kill(os.getpid(), signal.SIGKILL)
         return np.full(len(xy), self.h)
 
@@ -206,6 +219,98 @@ def test_a_worker_killed_mid_run_changes_no_byte(clients, tmp_path):
     assert marker.exists(), "no worker was killed"
     assert _digest(dm.files) == _digest(ref.files)
     assert sorted(p.name for p in (tmp_path / "killed").iterdir()) == sorted(Path(f).name for f in dm.files)
+
+
+class _KillWhileResuming:
+    """The bands' size field, killing the worker process that evaluates it inside
+    ``resume_part`` (once, a marker file remembers): the round-0 state that task resumed is
+    lost with its worker, so Dask must mesh that part again and resume it."""
+
+    def __init__(self, marker: str):
+        self.field, self.marker = _bands(), marker
+
+    def __call__(self, xy):
+        if not os.path.exists(self.marker):
+            frame = sys._getframe()
+            while frame is not None and frame.f_code.co_name != "resume_part":
+                frame = frame.f_back
+            if frame is not None:
+                try:  # both parts resume at once: only the worker creating the marker dies
+                    os.close(os.open(self.marker, os.O_CREAT | os.O_EXCL))
+                except FileExistsError:
+                    return self.field(xy)
+                os.kill(os.getpid(), signal.SIGKILL)
+        return self.field(xy)
+
+
+def test_a_worker_killed_while_resuming_a_part_changes_no_byte(clients, tmp_path):
+    import cloudpickle
+
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    try:
+        (tmp_path / "ref").mkdir()
+        (tmp_path / "killed").mkdir()
+        ref = triangulate(_rect(), _bands(), client=clients[2], parts=2, out=tmp_path / "ref" / "m.xdmf")
+        marker = tmp_path / "killed.marker"
+        dm = triangulate(
+            _rect(), _KillWhileResuming(str(marker)), client=clients[2], parts=2, out=tmp_path / "killed" / "m.xdmf"
+        )
+    finally:
+        cloudpickle.unregister_pickle_by_value(sys.modules[__name__])
+    assert marker.exists(), "no worker was killed"
+    assert ref.stats["rounds"] >= 1
+    assert _digest(dm.files) == _digest(ref.files)
+
+
+def test_resumed_part_keeps_its_triangles_away_from_the_new_splits():
+    import pickle
+
+    from meshwright.distributed.exchange import Splits
+    from meshwright.distributed.part import resume_part, start_part
+    from meshwright.distributed.partition import part_pslg
+
+    dec = decompose(_rect(), _bands(), 2)
+    field = _bands()
+    curves = _rect().curves
+    states = [start_part(part_pslg(dec, i, len(curves)), curves, field, 30.0, 11 + i, 10**6) for i in range(2)]
+    splits = Splits(dec)
+    for i, st in enumerate(states):
+        splits.add(i, st.report.splits, st.report.xy)
+    todo = splits.lacking()
+    assert sorted(todo) == [0, 1], "each side lacks the other's splits"
+    for i, lack in todo.items():
+        before = states[i]
+        tri0 = {frozenset(map(tuple, before.ct.points[t].tolist())) for t in before.ct.triangles(True)}
+        after = resume_part(before, lack)
+        tri1 = {frozenset(map(tuple, after.ct.points[t].tolist())) for t in after.ct.triangles(True)}
+        new = np.array([[x, y] for _, _, x, y in lack])
+        # The split points are on the interface, and new in this part.
+        assert not any(tuple(p) in {v for t in tri0 for v in t} for p in new.tolist())
+        assert all(tuple(p) in {v for t in tri1 for v in t} for p in new.tolist())
+        far = {t for t in tri0 if min(math.dist(v, p) for v in t for p in new.tolist()) > 0.1}
+        assert len(far) > len(tri0) // 2
+        assert far <= tri1, "a triangle far from every new split point changed"
+        # The state it resumed from is untouched (Dask may run the task again), and a state
+        # that went through pickling (Dask spilling it) resumes to the same mesh.
+        assert tri0 == {frozenset(map(tuple, before.ct.points[t].tolist())) for t in before.ct.triangles(True)}
+        again = resume_part(pickle.loads(pickle.dumps(before)), lack)
+        assert np.array_equal(again.ct.points, after.ct.points)
+        assert np.array_equal(again.ct.triangles(True), after.ct.triangles(True))
+        assert sys.getsizeof(after) >= after.ct.state.pts.nbytes + after.ct.state.tri.nbytes
+
+
+def test_local_clusters_leave_the_cores_to_the_parts(clients):
+    import dask
+
+    def settings():
+        return (
+            dask.config.get("distributed.worker.profile.enabled"),
+            dask.config.get("distributed.admin.tick.interval"),
+        )
+
+    # Also on workers the nanny restarted (the tests that kill one ran before).
+    for c in clients.values():
+        assert set(c.run(settings).values()) == {(False, "1s")}
 
 
 def test_graded_size_across_a_cut_forces_exchange_rounds(clients, tmp_path):

@@ -25,6 +25,7 @@ managed memory, counted by their ``__sizeof__`` and spilled by Dask when a worke
 from __future__ import annotations
 
 import contextlib
+import copy
 import os
 
 from meshwright.core.errors import InputError
@@ -84,9 +85,15 @@ def local_cluster(n_workers: int | None = None, memory_limit="auto"):
 
     n = (os.cpu_count() or 1) if n_workers is None else check_count(n_workers, "n_workers", 1)
     with dask.config.set(LOCAL_CLUSTER_CONFIG):
+        # A nanny merges the configuration it is given over dask's global one, one level deep,
+        # and hands the result to every worker process it (re)starts: a copy of the whole
+        # "distributed" section outlives this block (dask.config.set restores the global
+        # section in place on exit, which a worker restarted later would otherwise see).
+        workers = {"distributed": copy.deepcopy(dask.config.get("distributed"))}
         # A client given cluster keywords owns the LocalCluster it starts and closes it with itself.
         return Client(
-            n_workers=n, threads_per_worker=1, processes=True, memory_limit=memory_limit, dashboard_address=":0"
+            n_workers=n, threads_per_worker=1, processes=True, memory_limit=memory_limit, dashboard_address=":0",
+            config=workers,
         )
 
 
@@ -143,17 +150,37 @@ def worker_memory_limit(client) -> int:
 
 
 def _warm_once() -> float:
-    """Compile (or load from the cache) the kernels a part uses by meshing a small square, and
-    import h5py (the writing tasks' first import would otherwise count as their time)."""
+    """Compile (or load from the cache) the kernels a part uses by meshing the two parts of a
+    small rectangle whose size forces interface splits and a resumed round, and import h5py
+    (the first task to use either would otherwise count the loading as its time)."""
     import time
 
     import h5py  # noqa: F401
 
+    from meshwright.distributed.exchange import Splits
+    from meshwright.distributed.mesher import _check_domain
+    from meshwright.distributed.part import part_mesh, resume_part, start_part
+    from meshwright.distributed.partition import decompose_domain, part_pslg
     from meshwright.geometry.shapes import polygon
-    from meshwright.tri.mesher import triangulate
+    from meshwright.sizing.boundary import gradation
 
     t0 = time.perf_counter()
-    triangulate(polygon([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]), 0.25, min_angle=30.0)
+    # Fine near the cut on both sides, unevenly: each part needs splits the other lacks.
+    src = [[0.96, 0.5], [1.05, 0.3]]
+    dom, field = _check_domain(polygon([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]]), gradation(src, 0.01, 3.0))
+    dec = decompose_domain(dom, field, 2)
+    states = [start_part(part_pslg(dec, i, len(dom.curves)), dom.curves, field, 30.0, i, 10**6) for i in range(2)]
+    splits = Splits(dec)
+    todo = range(2)
+    for _ in range(4):
+        for i in todo:
+            splits.add(i, states[i].report.splits, states[i].report.xy)
+        todo = splits.lacking()
+        for i, lack in todo.items():
+            states[i] = resume_part(states[i], lack)
+    ids, xy = splits.numbered(len(dec.points))
+    for i, st in enumerate(states):
+        part_mesh(st, splits.of_part(i, ids), len(dec.points) + len(xy))
     return time.perf_counter() - t0
 
 

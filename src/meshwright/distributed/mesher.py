@@ -339,6 +339,10 @@ def triangulate(
         return _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, cap)
 
 
+def _identity(x):
+    return x
+
+
 def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, cap) -> DistributedMesh:
     t_start = time.perf_counter()
     workers = len(c.scheduler_info()["workers"])
@@ -358,8 +362,10 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
         )
     token = uuid.uuid4().hex[:12]
     n_curves = len(dom.curves)
-    curves_f = c.scatter(dom.curves, broadcast=True, hash=False)
-    field_f = c.scatter(field, broadcast=True, hash=False)
+    # Tasks holding the curves and the field, not scattered data: Dask can compute them again
+    # if every worker that held them dies.
+    curves_f = c.submit(_identity, dom.curves, key=f"meshwright-{token}-curves", pure=False)
+    field_f = c.submit(_identity, field, key=f"meshwright-{token}-field", pure=False)
     seeds = [int(np.random.SeedSequence([seed, i]).generate_state(1)[0]) for i in range(P)]
     part_seconds, part_cpu, round_walls = [], [], []
     splits = Splits(dec)
