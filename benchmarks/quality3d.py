@@ -7,6 +7,7 @@ Usage::
     python benchmarks/quality3d.py --levels 4 --repeat 1
     python benchmarks/quality3d.py --levels 5 --tets 1000000   # every mesher calibrated to ~1e6 tets
     python benchmarks/quality3d.py --levels 5 --factor gmsh-hxt=0.67 --factor meshwright=0.885
+    python benchmarks/quality3d.py --levels 5 --repeat 1 --no-jit --factor meshwright=0.885 --methods meshwright
 
 Case: the unit sphere as :func:`meshwright.geometry.sphere` triangulates it (icosahedron
 subdivided ``level`` times, vertices on the true sphere; level 3: 1280 faces, level 4:
@@ -202,6 +203,7 @@ def main(argv=None) -> int:
     ap.add_argument("--no-jit", action="store_true", help="skip the JIT compile-time measurement")
     ap.add_argument("--tets", type=int, metavar="N", help="calibrate each mesher's size factor to about N tets")
     ap.add_argument("--factor", action="append", default=[], metavar="NAME=F", help="a mesher's size factor (size F h)")
+    ap.add_argument("--methods", nargs="+", metavar="NAME", help="run only these meshers (meshwright, tetgen, gmsh-delaunay, gmsh-hxt)")
     args = ap.parse_args(argv)
     factors = {}
     for item in args.factor:
@@ -220,6 +222,11 @@ def main(argv=None) -> int:
         print(f"JIT: import + first tetrahedralize, cold cache {cold:.2f} s, warm cache {cached:.2f} s\n")
 
     found = methods(args.radius_edge)
+    if args.methods:
+        unknown = sorted(set(args.methods) - set(found))
+        if unknown:
+            ap.error(f"--methods: {', '.join(unknown)} not available; choose from {', '.join(found)}")
+        found = {name: fn for name, fn in found.items() if name in args.methods}
     warm, hw = sphere_case(1)
     for fn in found.values():
         fn(warm, hw)

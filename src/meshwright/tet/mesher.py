@@ -313,12 +313,13 @@ def _run_delaunay(job: _Job) -> Mesh:
     # stop at its pass cap (another call would flip on).
     state = None
     changed = True
+    kept = set()  # flat tets unflatten moved out: recovery's Lawson flips leave them so
     while refine:
         rounds += 1
         if rounds > REFINE_ROUNDS:
             raise MeshingError(f"Delaunay refinement did not finish in {REFINE_ROUNDS} rounds ({tz.points.shape[0]} vertices)")
         if changed:
-            faces, where, flat, state, settled = _unflatten(job, tz, faces, parent, where, axis, origins)
+            faces, where, flat, state, settled = _unflatten(job, tz, faces, parent, where, axis, origins, kept)
             barrier, face_of, solid, vmax, _ = state
             tets = tz.tetrahedra
             nbr = tz.neighbors
@@ -393,16 +394,16 @@ def _run_delaunay(job: _Job) -> Mesh:
         if added == 0:
             break
         caps_only = False
-        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins)
+        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins, kept=kept)
         changed = True
     if bar is not None:
         bar.close()
     if changed:
-        faces, where, _, state, _ = _unflatten(job, tz, faces, parent, where, axis, origins)
+        faces, where, _, state, _ = _unflatten(job, tz, faces, parent, where, axis, origins, kept)
     return _to_mesh(job, tz, faces, parent, where, state)
 
 
-def _unflatten(job: _Job, tz, faces, parent, where, axis, origins):
+def _unflatten(job: _Job, tz, faces, parent, where, axis, origins, kept: set):
     """Move flat solid tets lying on an input face out of the solid by flipping its subfaces.
 
     Steiner points on a general plane are off it by round-off, so four nearly cocircular
@@ -414,7 +415,9 @@ def _unflatten(job: _Job, tz, faces, parent, where, axis, origins):
     exterior side; the boundary keeps its vertices and its input face.  When the two subfaces
     lie in two different but exactly coplanar input faces (a wall rectangle's two triangles)
     the flip would cross their common input edge: such a tet's first subface is returned to be
-    split instead, which breaks the cocircular tie.
+    split instead, which breaks the cocircular tie.  The flipped tets' vertex quadruples are
+    added to ``kept``, which recovery's Lawson flips leave alone (they flipped every such
+    pair back, and each round paid a second classification to flip it again).
 
     Returns the subfaces (m, 3) int32, their positions ``where`` (m,) int64, the subfaces
     (s,) int64 to split, the barrier flags, ``face_of``, solid flags, volume bounds and region
@@ -474,6 +477,7 @@ def _unflatten(job: _Job, tz, faces, parent, where, axis, origins):
             for f, k, tri in ((a, slots[i, 2], new[0]), (b, slots[i, 3], new[1])):
                 faces[f] = tri
                 where[f] = 4 * t + k
+            kept.add(tuple(sorted(int(v) for v in tets[t])))
             flipped += 1
         if flipped == 0:
             break

@@ -319,7 +319,7 @@ def flip_to_match(pts, tets, nbr, vt, faces, parent, in_faces, ends, axis, face_
 
 
 @njit(cache=True)
-def lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, n_edges):
+def lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, n_edges, kept):
     r"""One pass of Lawson's edge flips toward the 2-D Delaunay triangulation of each input face.
 
     The subfaces of an input face are flipped, pair by pair (each face at most once per
@@ -345,6 +345,10 @@ def lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, n_edges):
     face_edges : (m, 3) int64
         As :func:`unique_edges` gives.
     n_edges : int
+    kept : (K, 4) int64
+        Sorted vertex quadruples, rows in lexicographic order: a pair of subfaces on one of
+        them is not flipped (the flat tets :func:`meshwright.tet.mesher` moved out of the
+        solid by taking the other diagonal; flipping back undid that every round).
 
     Returns
     -------
@@ -382,6 +386,8 @@ def lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, n_edges):
                 continue
             if _folds_onto_edge(faces, parent, in_faces, ends, face_edges, first, second, f, k, g, h % 3):
                 continue
+            if kept.shape[0] and _is_kept(kept, r, p, q, s):
+                continue
             faces[f, 0], faces[f, 1], faces[f, 2] = r, p, s
             faces[g, 0], faces[g, 1], faces[g, 2] = r, s, q
             touched[f] = True
@@ -391,20 +397,49 @@ def lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, n_edges):
     return flips
 
 
-def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, in_faces: np.ndarray, ends: np.ndarray, axis: np.ndarray) -> int:
+@njit(cache=True)
+def _is_kept(kept, r, p, q, s):
+    """Whether the sorted quadruple of r, p, q, s is a row of ``kept`` (binary search)."""
+    row = np.array([r, p, q, s], dtype=np.int64)
+    row.sort()
+    lo = 0
+    hi = kept.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        c = 0
+        while c < 4 and kept[mid, c] == row[c]:
+            c += 1
+        if c == 4:
+            return True
+        if kept[mid, c] < row[c]:
+            lo = mid + 1
+        else:
+            hi = mid
+    return False
+
+
+def lawson(pts: np.ndarray, faces: np.ndarray, parent: np.ndarray, in_faces: np.ndarray, ends: np.ndarray, axis: np.ndarray, kept=None) -> int:
     """:func:`lawson_pass` until no flip is left (at most :data:`LAWSON_PASSES`); total flips.
 
     ``faces`` is modified in place.  The cap only bounds the work: Lawson's flips terminate,
-    and subfaces still missing afterwards are split.
+    and subfaces still missing afterwards are split.  ``kept``: quadruples not to flip
+    (:func:`lawson_pass`), an iterable of 4 vertex ids each.
     """
+    kept = _kept_rows(kept)
     total = 0
     for _ in range(LAWSON_PASSES):
         _, face_edges = unique_edges(faces)
-        n = lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, int(face_edges.max()) + 1)
+        n = lawson_pass(pts, faces, parent, in_faces, ends, axis, face_edges, int(face_edges.max()) + 1, kept)
         total += n
         if n == 0:
             break
     return total
+
+
+def _kept_rows(kept) -> np.ndarray:
+    """(K, 4) int64 sorted quadruples in lexicographic row order, from an iterable of 4 ids."""
+    rows = np.sort(np.array(sorted(kept or ()), dtype=np.int64).reshape(-1, 4), axis=1)
+    return np.ascontiguousarray(rows[np.lexsort(rows.T[::-1])])
 
 
 def dominant_axes(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -555,7 +590,7 @@ def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex, origi
     return faces2, parent2, int(sel.size)
 
 
-def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, origins, rounds: int = RECOVERY_ROUNDS):
+def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, origins, rounds: int = RECOVERY_ROUNDS, kept=None):
     """Split missing subfaces until every one is a face of the tetrahedralization ``tz``.
 
     Parameters
@@ -575,13 +610,15 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
     origins : SplitOrigins
         Updated with the midpoints inserted.
     rounds : int
+    kept : iterable of 4 vertex ids, optional
+        Quadruples whose subface pair :func:`lawson` leaves as it is.
 
     Returns
     -------
     faces, parent, where : the recovered subfaces and :func:`find_faces` of each.
     """
     faces = np.array(faces, dtype=np.int32)  # flips change it in place
-    lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis)
+    lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis, kept)
     splits = 0
     for _ in range(8 * rounds):
         tets = tz.tetrahedra
@@ -614,7 +651,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         if tz.points.shape[0] + int(mark.sum()) > max_points:
             raise_cap(max_points, "boundary recovery")
         faces, parent, _ = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
-        lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis)
+        lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis, kept)
     f = int(np.flatnonzero(missing)[0])
     raise MeshingError(
         f"boundary recovery did not converge in {rounds} rounds: subface {fmt_point(tz.points[faces[f, 0]])}, "
