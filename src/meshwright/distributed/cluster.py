@@ -159,7 +159,12 @@ def _warm_once() -> float:
 
     from meshwright.distributed.exchange import Splits
     from meshwright.distributed.mesher import _check_domain
-    from meshwright.distributed.part import part_mesh, resume_part, start_part
+    from meshwright.distributed.part import (
+        min_angle_of,
+        part_mesh,
+        resume_part,
+        start_part,
+    )
     from meshwright.distributed.partition import decompose_domain, part_pslg
     from meshwright.geometry.shapes import polygon
     from meshwright.sizing.boundary import gradation
@@ -181,6 +186,7 @@ def _warm_once() -> float:
     ids, xy = splits.numbered(len(dec.points))
     for i, st in enumerate(states):
         part_mesh(st, splits.of_part(i, ids), len(dec.points) + len(xy))
+        min_angle_of(st.ct.points, st.ct.triangles(True))
     return time.perf_counter() - t0
 
 

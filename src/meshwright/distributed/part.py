@@ -40,6 +40,7 @@ from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
 
 from meshwright.core.errors import MeshingError
 from meshwright.distributed.writer import write_part
@@ -48,8 +49,8 @@ from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.ruppert import refine, split_subsegment
 
 __all__ = [
-    "INTERFACE_CURVE", "MAX_LOCAL_SPLITS", "PartMesh", "PartReport", "PartState", "PartSummary", "part_mesh",
-    "report_of", "resume_part", "start_part", "write_part_state",
+    "INTERFACE_CURVE", "MAX_LOCAL_SPLITS", "PartMesh", "PartReport", "PartState", "PartSummary", "min_angle_of",
+    "part_mesh", "report_of", "resume_part", "start_part", "write_part_state",
 ]
 
 INTERFACE_CURVE = Line((0.0, 0.0), (1.0, 0.0))  # straight: interface splits are midpoints
@@ -189,30 +190,29 @@ def _peak_rss() -> int:
     return int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024
 
 
-def _min_angle(xy: np.ndarray, tris: np.ndarray) -> float:
-    """Smallest angle (degrees) of triangles ``tris`` (t, 3) over points ``xy`` (n, 2)."""
-    if len(tris) == 0:
+@njit(cache=True, nogil=True)
+def _largest_cosine(pts, tri):
+    """Largest cosine of a triangle's smallest angle over triangles ``tri`` (3 t,) int32 of
+    ``pts`` (n, 2) float64: that angle is opposite the shortest side ``a``, ``cos = (b^2 + c^2 -
+    a^2) / (2 b c)`` from the squared sides alone."""
+    worst = -1.0
+    for t in range(tri.shape[0] // 3):
+        u, v, w = tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]
+        a2 = (pts[v, 0] - pts[u, 0]) ** 2 + (pts[v, 1] - pts[u, 1]) ** 2
+        b2 = (pts[w, 0] - pts[v, 0]) ** 2 + (pts[w, 1] - pts[v, 1]) ** 2
+        c2 = (pts[u, 0] - pts[w, 0]) ** 2 + (pts[u, 1] - pts[w, 1]) ** 2
+        m = min(a2, b2, c2)
+        cos = (a2 + b2 + c2 - 2.0 * m) / (2.0 * np.sqrt(a2 * b2 * c2 / m))
+        worst = max(worst, cos)
+    return worst
+
+
+def min_angle_of(points: np.ndarray, triangles: np.ndarray) -> float:
+    """Smallest angle (degrees) of ``triangles`` (t, 3) int over ``points`` (n, 2) float64."""
+    if len(triangles) == 0:
         return 180.0
-    p = xy[tris]
-    e = np.roll(p, -1, axis=1) - p
-    prev = np.roll(e, 1, axis=1)
-    cross = np.abs(prev[..., 0] * e[..., 1] - prev[..., 1] * e[..., 0])
-    dot = -(prev * e).sum(axis=2)
-    return float(np.degrees(np.arctan2(cross, dot)).min())
-
-
-def _known(st: PartState) -> np.ndarray:
-    """(nv,) bool: vertices with a global id before numbering (skeleton and interface splits)."""
-    known = np.zeros(st.ct.n_points, dtype=bool)
-    known[st.ct.index_map] = True
-    known[np.fromiter(st.names.values(), dtype=np.int64, count=len(st.names))] = True
-    return known
-
-
-def _used(ct) -> np.ndarray:
-    used = np.zeros(ct.n_points, dtype=bool)
-    used[ct.triangles(True).ravel()] = True
-    return used
+    tri = np.ascontiguousarray(triangles, dtype=np.int32).ravel()
+    return float(np.degrees(np.arccos(min(1.0, _largest_cosine(np.ascontiguousarray(points), tri)))))
 
 
 def _split(st: PartState, s: int, fa: Fraction, fb: Fraction, xy) -> Fraction:
@@ -248,12 +248,17 @@ def _settle(st: PartState, made: list) -> None:
 
 
 def _report(st: PartState, made: list, t0: float, cpu0: float) -> PartReport:
-    pts = st.ct.points
-    xy = np.array([pts[st.names[k]] for k in made], dtype=np.float64).reshape(-1, 2)
-    used = _used(st.ct)
+    ct = st.ct
+    xy = np.array([ct.points[st.names[k]] for k in made], dtype=np.float64).reshape(-1, 2)
+    tris = ct.triangles(True)
+    # Own vertices: used by a triangle, neither skeleton points nor interface splits.
+    own = np.zeros(ct.n_points, dtype=bool)
+    own[tris.ravel()] = True
+    own[ct.index_map] = False
+    own[np.fromiter(st.names.values(), dtype=np.int64, count=len(st.names))] = False
     return PartReport(
-        st.pslg.index, tuple(made), xy, int(np.count_nonzero(used & ~_known(st))), int(st.ct.triangles(True).shape[0]),
-        time.perf_counter() - t0, time.thread_time() - cpu0, _peak_rss(), st.__sizeof__(),
+        st.pslg.index, tuple(made), xy, int(np.count_nonzero(own)), len(tris), time.perf_counter() - t0,
+        time.thread_time() - cpu0, _peak_rss(), st.__sizeof__(),
     )
 
 
@@ -393,11 +398,10 @@ def write_part_state(state: PartState, split_ids: dict, offset: int, path: str) 
     PartSummary
     """
     t0, cpu0 = time.perf_counter(), time.thread_time()
-    pm = part_mesh(state, split_ids, offset)
+    pm, angle = part_mesh(state, split_ids, offset), min_angle_of(state.ct.points, state.ct.triangles(True))
     write_part(pm, path)
-    xy = state.ct.points
     return PartSummary(
-        pm.index, len(pm.points), len(pm.triangles), len(pm.lines), _min_angle(xy, state.ct.triangles(True)),
-        time.perf_counter() - t0, time.thread_time() - cpu0, str(path), _peak_rss(),
+        pm.index, len(pm.points), len(pm.triangles), len(pm.lines), angle, time.perf_counter() - t0,
+        time.thread_time() - cpu0, str(path), _peak_rss(),
     )
 
