@@ -112,6 +112,7 @@ def test_rectangle_on_two_workers_is_a_valid_mesh(clients, tmp_path):
     assert mesh.n_points == dm.n_points and len(mesh.cells["triangle"]) == dm.n_cells
     assert _check_mesh(mesh, holes=0) == 2
     assert _min_angle_deg(mesh.points, mesh.cells["triangle"]) >= 30.0 - 1e-9
+    assert math.isclose(dm.stats["min_angle"], _min_angle_deg(mesh.points, mesh.cells["triangle"]), abs_tol=1e-9)
     # Markers as the sides they lie on (the serial mesher's segment markers).
     mid = mesh.points[mesh.cells["line"]].mean(axis=1)
     side = np.select([mid[:, 1] == 0, mid[:, 0] == 2, mid[:, 1] == 1, mid[:, 0] == 0], SIDE_MARKERS, -1)
