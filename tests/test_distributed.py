@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 pytest.importorskip("dask")
 pytest.importorskip("distributed")
@@ -275,8 +277,8 @@ def test_resumed_part_keeps_its_triangles_away_from_the_new_splits():
     curves = _rect().curves
     states = [start_part(part_pslg(dec, i, len(curves)), curves, field, 30.0, 11 + i, 10**6) for i in range(2)]
     splits = Splits(dec)
-    for i, st in enumerate(states):
-        splits.add(i, st.report.splits, st.report.xy)
+    for i, state in enumerate(states):
+        splits.add(i, state.report.splits, state.report.xy)
     todo = splits.lacking()
     assert sorted(todo) == [0, 1], "each side lacks the other's splits"
     for i, lack in todo.items():
@@ -298,6 +300,67 @@ def test_resumed_part_keeps_its_triangles_away_from_the_new_splits():
         assert np.array_equal(again.ct.points, after.ct.points)
         assert np.array_equal(again.ct.triangles(True), after.ct.triangles(True))
         assert sys.getsizeof(after) >= after.ct.state.pts.nbytes + after.ct.state.tri.nbytes
+
+
+def _dyadic_splits(choices):
+    """Fractions made by splitting, at its midpoint, gap ``c mod gaps`` of [0, 1] for each ``c``."""
+    chain = [Fraction(0), Fraction(1)]
+    made = []
+    for c in choices:
+        k = c % (len(chain) - 1)
+        f = (chain[k] + chain[k + 1]) / 2
+        chain.insert(k + 1, f)
+        made.append(f)
+    return made
+
+
+@given(
+    st.lists(st.integers(0, 10**6), max_size=12),
+    st.lists(st.integers(0, 10**6), max_size=12),
+    st.lists(st.integers(0, 10**6), max_size=6),
+)
+@settings(max_examples=60, deadline=None)
+def test_exchange_gives_each_side_the_other_sides_splits_in_an_order_it_can_make(a, b, c):
+    from types import SimpleNamespace
+
+    from meshwright.distributed.exchange import Splits
+
+    # Interface segment 0 between parts 0 and 1, segment 1 between parts 1 and 2.
+    dec = SimpleNamespace(n_parts=3, kind=np.array([2, 2]), left=np.array([0, 1]), right=np.array([1, 2]))
+    ends = {0: ((0.0, 0.0), (1.0, 0.3)), 1: ((1.0, 0.3), (0.2, 1.7))}
+    memo = {}
+
+    def xy(s, f):
+        """Coordinates by midpoints of the interval ends, as both sides compute them."""
+        if f in (0, 1):
+            return ends[s][int(f)]
+        if (s, f) not in memo:
+            h = Fraction(1, f.denominator)
+            (x0, y0), (x1, y1) = xy(s, f - h), xy(s, f + h)
+            memo[s, f] = (0.5 * (x0 + x1), 0.5 * (y0 + y1))
+        return memo[s, f]
+
+    made = {0: [(0, f) for f in _dyadic_splits(a)], 1: [(0, f) for f in _dyadic_splits(b)] + [(1, f) for f in
+            _dyadic_splits(c)], 2: []}
+    splits = Splits(dec)
+    for i, names in made.items():
+        splits.add(i, names, np.array([xy(s, f) for s, f in names]).reshape(-1, 2))
+    chains = {(i, s): sorted({Fraction(0), Fraction(1)} | {f for t, f in made[i] if t == s}) for i in range(3) for s in
+              (0, 1)}
+    for i, todo in splits.lacking().items():
+        for s, f, x, y in todo:
+            chain = chains[i, s]
+            k = next(j for j, g in enumerate(chain) if g > f)
+            assert chain[k - 1] < f and (chain[k - 1] + chain[k]) / 2 == f, "not the midpoint of a subsegment"
+            assert (x, y) == xy(s, f)
+            chain.insert(k, f)
+    for s, (i, j) in ((0, (0, 1)), (1, (1, 2))):
+        assert chains[i, s] == chains[j, s], "the two sides of a segment differ"
+    assert splits.lacking() == {}
+    ids, coords = splits.numbered(10)
+    names = sorted({n for m in made.values() for n in m})
+    assert list(ids) == names and list(ids.values()) == list(range(10, 10 + len(names)))
+    assert [tuple(p) for p in coords.tolist()] == [xy(s, f) for s, f in names]
 
 
 def test_local_clusters_leave_the_cores_to_the_parts(clients):
