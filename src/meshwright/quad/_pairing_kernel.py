@@ -49,7 +49,10 @@ def corner_ok(xy, p, c, n):
     return orient2d(xy[p, 0], xy[p, 1], xy[c, 0], xy[c, 1], xy[n, 0], xy[n, 1]) > 0.0
 
 
-@njit(inline="always")
+# quad_sj, quad_ok, corner_flat and _pair_score are calls, not inlined IR: inlined at
+# their dozens of nested call sites they cost 7 s of first-run compile (27 -> 20 s CPU for
+# the first pairing, tri kernels cached); the benchmark cases run no slower.
+@njit
 def quad_sj(xy, a, b, c, d):
     """Scaled Jacobian of quad (a, b, c, d): the smallest corner sine, <= 0 when not convex."""
     v = (a, b, c, d)
@@ -70,7 +73,7 @@ def quad_sj(xy, a, b, c, d):
     return worst
 
 
-@njit(inline="always")
+@njit
 def corner_flat(xy, p, c, n):
     """Whether corner c (previous p, next n) of a counter-clockwise polygon is wider than
     150 degrees (sine below :data:`FLAT` on the obtuse side, or reflex)."""
@@ -87,7 +90,7 @@ def corner_flat(xy, p, c, n):
     return sine < 0.0 or (cosine < 0.0 and sine < FLAT)
 
 
-@njit(inline="always")
+@njit
 def quad_ok(xy, a, b, c, d):
     """Whether quad (a, b, c, d) has four distinct nodes and strictly convex corners (exact)."""
     if a == b or a == c or a == d or b == c or b == d or c == d:
@@ -114,7 +117,7 @@ def pair_quad(tri, nbr, t, k):
     return a, b, d, c
 
 
-@njit(inline="always")
+@njit
 def _pair_score(xy, tri, nbr, t, k, qmin):
     """Scaled Jacobian of the pair (t, side k), or -1 when not allowed: below ``qmin``, not
     strictly convex (allowed with the score 0 when ``qmin < 0``: the chapter's quads with
