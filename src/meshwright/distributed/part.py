@@ -13,13 +13,16 @@ makes the same split (:mod:`meshwright.distributed.exchange`).
 
 Splits of an interface: a held subsegment ``a-b`` is split at ``0.5 * (P[a] + P[b])``, the
 serial refinement's midpoint.  Both ends of every interface subsegment lie at dyadic
-fractions of their skeleton segment ``s``, so a split point is named by ``(s, f)`` with ``f`` a :class:`fractions.Fraction`, and
-its coordinates, computed from the same two points by the same formula, are the same bits in
-both parts (fractions run from the segment's end with the smaller skeleton id, which both
-parts know).  The part makes the splits it needs itself (:func:`_settle`: refine, split what
-is held, refine again, until nothing is held) and reports them; a neighbour makes them in
-the next round (:func:`resume_part`), which may need more: rounds end when both sides of
-every interface hold the same points.
+fractions of their skeleton segment ``s`` (counted from its end with the smaller skeleton id,
+which both parts know), so a split point is named by ``(s, f)`` with ``f`` a
+:class:`fractions.Fraction`, and its coordinates, computed from the same two points by the
+same formula, are the same bits in both parts.  The part makes the splits it needs itself
+(:func:`_settle`: refine, split what is held, refine again, until nothing is held) and
+reports them; a neighbour makes them in the next round (:func:`resume_part`), which may need
+more: rounds end when both sides of every interface hold the same points.
+
+Invariants: a part never splits an interface subsegment except at its midpoint; every vertex
+on an interface has a name (``PartState.names``); a state handed to a task is never modified.
 
 State between rounds (:class:`PartState`): the triangulation stays on its worker as a Dask
 future (``__sizeof__`` gives its bytes, so Dask counts it against the worker's memory and
@@ -317,7 +320,8 @@ def resume_part(state: PartState, splits) -> PartState:
         would not match), or no settling within :data:`MAX_LOCAL_SPLITS` passes.
     """
     t0, cpu0 = time.perf_counter(), time.thread_time()
-    st = copy.deepcopy(state)
+    # The size field and the graph are only read: shared, not copied (the memo maps them to themselves).
+    st = copy.deepcopy(state, {id(state.field): state.field, id(state.pslg): state.pslg})
     for s, f, x, y in splits:
         half = Fraction(1, f.denominator)
         fa, fb = f - half, f + half
