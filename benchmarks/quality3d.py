@@ -7,7 +7,7 @@ Usage::
     python benchmarks/quality3d.py --levels 4 --repeat 1
     python benchmarks/quality3d.py --levels 5 --tets 1000000   # every mesher calibrated to ~1e6 tets
     python benchmarks/quality3d.py --levels 5 --factor gmsh-hxt=0.67 --factor meshwright=0.885
-    python benchmarks/quality3d.py --levels 5 --repeat 1 --no-jit --factor meshwright=0.885 --methods meshwright
+    python benchmarks/quality3d.py --levels 5 --repeat 1 --no-jit --factor meshwright=0.885 --methods meshwright --stages
 
 Case: the unit sphere as :func:`meshwright.geometry.sphere` triangulates it (icosahedron
 subdivided ``level`` times, vertices on the true sphere; level 3: 1280 faces, level 4:
@@ -59,6 +59,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 
 import numpy as np
 
@@ -178,6 +179,64 @@ def methods(radius_edge: float) -> dict:
     return found
 
 
+# meshwright stage functions timed by --stages: (module, attribute, label)
+STAGES = [
+    ("meshwright.tet.mesher", "_unflatten", "unflatten (subface flags, classification, flat-tet flips)"),
+    ("meshwright.tet.mesher", "classify", "  of which classify"),
+    ("meshwright.tet.mesher", "circumspheres", "circumspheres"),
+    ("meshwright.tet.mesher", "_bad", "bad tets"),
+    ("meshwright.tet.mesher", "_new_caps", "crease caps"),
+    ("meshwright.tet.mesher", "refine_in_queue", "refinement queue kernel"),
+    ("meshwright.tet.mesher", "recover", "boundary recovery"),
+    ("meshwright.tet.mesher", "bisect_marked", "subface splits"),
+    ("meshwright.tet.mesher", "_remove_slivers", "sliver stage (with the final validation)"),
+    ("meshwright.core.mesh.Mesh", "validate", "  of which Mesh.validate"),
+    ("meshwright.tet.tetrahedralization.Tetrahedralization", "__init__", "initial Delaunay"),
+]
+
+
+def staged(fn):
+    """``fn`` wrapped so that each call also returns {label: [seconds, calls]} of :data:`STAGES`."""
+    import functools
+    import importlib
+    import time
+
+    def run(*args):
+        acc: dict = {}
+        saved = []
+        for where, name, label in STAGES:
+            parts = where.split(".")
+            for cut in range(len(parts), 0, -1):
+                try:
+                    owner = importlib.import_module(".".join(parts[:cut]))
+                    break
+                except ImportError:
+                    continue
+            for attr in parts[cut:]:
+                owner = getattr(owner, attr)
+            orig = getattr(owner, name)
+
+            @functools.wraps(orig)
+            def timed(*a, _orig=orig, _label=label, **k):
+                t0 = time.perf_counter()
+                try:
+                    return _orig(*a, **k)
+                finally:
+                    cell = acc.setdefault(_label, [0.0, 0])
+                    cell[0] += time.perf_counter() - t0
+                    cell[1] += 1
+
+            saved.append((owner, name, orig))
+            setattr(owner, name, timed)
+        try:
+            return fn(*args), acc
+        finally:
+            for owner, name, orig in saved:
+                setattr(owner, name, orig)
+
+    return run
+
+
 def quality_row(points: np.ndarray, tets: np.ndarray) -> dict:
     """Summary of the tetra quality measures of one mesh."""
     from meshwright.core.quality import tetra_quality
@@ -204,6 +263,7 @@ def main(argv=None) -> int:
     ap.add_argument("--tets", type=int, metavar="N", help="calibrate each mesher's size factor to about N tets")
     ap.add_argument("--factor", action="append", default=[], metavar="NAME=F", help="a mesher's size factor (size F h)")
     ap.add_argument("--methods", nargs="+", metavar="NAME", help="run only these meshers (meshwright, tetgen, gmsh-delaunay, gmsh-hxt)")
+    ap.add_argument("--stages", action="store_true", help="also print meshwright's seconds per stage (its best run)")
     args = ap.parse_args(argv)
     factors = {}
     for item in args.factor:
@@ -231,6 +291,7 @@ def main(argv=None) -> int:
     for fn in found.values():
         fn(warm, hw)
     rows = []
+    stage_rows: list = []
     for level in args.levels or (LEVELS_QUICK if args.quick else LEVELS_FULL):
         surface, h = sphere_case(level)
         results = {}
@@ -239,7 +300,21 @@ def main(argv=None) -> int:
                 f = factors.get(name, 1.0)
                 if args.tets:
                     f = calibrate(fn, surface, h, args.tets, f, name)
-                t, (points, tets) = best_time(lambda fn=fn, s=surface, hf=f * h: fn(s, hf), args.repeat if level < 5 else 1)
+                if args.stages and name == "meshwright":
+                    runs = []
+                    for _ in range(args.repeat if level < 5 else 1):
+                        t0 = time.perf_counter()
+                        out, acc = staged(fn)(surface, f * h)
+                        runs.append((time.perf_counter() - t0, out, acc))
+                    t, (points, tets), acc = min(runs, key=lambda r: r[0])
+                    stage_rows += [
+                        [f"L{level}", label, f"{acc[label][0]:.3f}", str(acc[label][1]), f"{100 * acc[label][0] / t:.1f}"]
+                        for _, _, label in STAGES
+                        if label in acc
+                    ]
+                    stage_rows.append([f"L{level}", "total", f"{t:.3f}", "1", "100.0"])
+                else:
+                    t, (points, tets) = best_time(lambda fn=fn, s=surface, hf=f * h: fn(s, hf), args.repeat if level < 5 else 1)
             except MeshwrightError as exc:  # a row saying why beats losing the other columns
                 print(f"{name} failed on level {level}: {exc}", file=sys.stderr)
                 continue
@@ -289,6 +364,9 @@ def main(argv=None) -> int:
         ],
         rows,
     )
+    if stage_rows:
+        print()
+        print_table(["case", "meshwright stage", "seconds", "calls", "% of the run"], stage_rows)
     return 0
 
 
