@@ -525,6 +525,20 @@ def test_part_above_the_memory_limit_is_refused_before_meshing(clients, tmp_path
         triangulate(_rect(), 0.0005, client=clients[1], parts=1, out=tmp_path / "big.xdmf")
 
 
+def test_memory_check_counts_the_states_a_worker_keeps():
+    from meshwright.distributed.cluster import BYTES_PER_TRIANGLE, MEMORY_FRACTION
+    from meshwright.distributed.mesher import _check_memory
+
+    limit = 2**31
+    # Parts that fit alone: n triangles at the running peak use 90 % of the budget.
+    n = 0.9 * MEMORY_FRACTION * limit / BYTES_PER_TRIANGLE
+    _check_memory(np.full(4, n), 4, limit)  # one part per worker: no state kept beside it
+    _check_memory(np.full(4, n), 4, 0)  # no limit
+    # Two parts per worker: the other part's state does not fit beside the running one.
+    with pytest.raises(MeshingError, match=r"part 2 would need .* beside .* states of its worker's other parts"):
+        _check_memory(np.array([n / 2, n / 3, n, n / 4]), 2, limit)
+
+
 @pytest.mark.parametrize(
     "kwargs, error, match",
     [

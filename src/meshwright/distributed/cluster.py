@@ -19,7 +19,9 @@ loop thread took 4-6 % of a core (0.5 % without).  Apply the same keys to a clus
 Memory a Numba task allocates is unmanaged (it cannot spill), so a part must fit in
 :data:`MEMORY_FRACTION` of its worker's ``memory_limit``; :func:`worker_memory_limit` reads the
 smallest limit of a cluster.  The part states kept between exchange rounds are task results:
-managed memory, counted by their ``__sizeof__`` and spilled by Dask when a worker is short.
+managed memory, counted by their ``__sizeof__`` (Dask may spill them); the check before
+meshing counts the states of the other parts a worker keeps (:data:`STATE_BYTES_PER_TRIANGLE`)
+beside the part it meshes.
 """
 
 from __future__ import annotations
@@ -32,8 +34,8 @@ from meshwright.core.errors import InputError
 from meshwright.core.validate_input import check_count
 
 __all__ = [
-    "BYTES_PER_TRIANGLE", "LOCAL_CLUSTER_CONFIG", "MEMORY_FRACTION", "local_cluster", "resolve_client", "warm",
-    "worker_memory_limit",
+    "BYTES_PER_TRIANGLE", "LOCAL_CLUSTER_CONFIG", "MEMORY_FRACTION", "STATE_BYTES_PER_TRIANGLE", "local_cluster",
+    "resolve_client", "warm", "worker_memory_limit",
 ]
 
 MEMORY_FRACTION = 0.6  # largest share of a worker's memory_limit a part may need
@@ -41,6 +43,10 @@ MEMORY_FRACTION = 0.6  # largest share of a worker's memory_limit a part may nee
 # a warmed worker's memory: 407 B measured on 1.5e6-triangle parts (a rectangle and the graded
 # disk); the arrays grown by doubling are briefly held twice.
 BYTES_PER_TRIANGLE = 420
+# A part's state kept between exchange rounds (its CDT with the refinement's spare room): 88-130 B
+# per triangle measured on the rectangle, 229-271 B on the graded disk (more room reserved
+# toward the size field's estimate), 5e5-2e6 triangles per worker.
+STATE_BYTES_PER_TRIANGLE = 280
 # The dask configuration of the local clusters started here (module docstring): what the
 # workers would spend on the dashboard's profiler and on frequent checks goes to the parts.
 LOCAL_CLUSTER_CONFIG = {

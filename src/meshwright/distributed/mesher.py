@@ -303,8 +303,9 @@ def triangulate(
     GeometryError, SizeError, FormatError
         As :func:`meshwright.triangulate`'s door.
     MeshingError
-        A part predicted to need more than 60 % of a worker's memory limit (part, bytes and
-        limit named), more than ``max_rounds`` exchange rounds, a part hitting ``max_points``
+        A part predicted to need, beside the states of the other parts its worker keeps,
+        more than 60 % of a worker's memory limit (part, bytes and limit named), more than
+        ``max_rounds`` exchange rounds, a part hitting ``max_points``
         (part named), or no cut position.
     """
     if not isinstance(method, str) or method not in MESH_METHODS:
@@ -339,6 +340,36 @@ def triangulate(
         return _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, cap)
 
 
+def _check_memory(predicted: np.ndarray, workers: int, limit: int) -> None:
+    """Refuse parts that would not fit their worker (``limit`` bytes, 0: no limit).
+
+    A worker meshes one part while it keeps the states of the others it was dealt (up to
+    ``ceil(parts / workers)``, all kept until the pieces are written): the largest part's
+    peak (:data:`~meshwright.distributed.cluster.BYTES_PER_TRIANGLE`) plus the states of the
+    next largest (:data:`~meshwright.distributed.cluster.STATE_BYTES_PER_TRIANGLE`) must fit
+    in :data:`~meshwright.distributed.cluster.MEMORY_FRACTION` of the limit.
+
+    Parameters
+    ----------
+    predicted : (p,) float64
+        Predicted triangles per part.
+    workers : int
+    limit : int
+    """
+    order = np.argsort(-predicted, kind="stable")
+    i = int(order[0])
+    need = predicted[i] * _cluster.BYTES_PER_TRIANGLE
+    kept = predicted[order[1 : -(-len(predicted) // workers)]].sum() * _cluster.STATE_BYTES_PER_TRIANGLE
+    if limit and need + kept > _cluster.MEMORY_FRACTION * limit:
+        raise MeshingError(
+            f"part {i} would need about {need / 2**20:.0f} MiB ({predicted[i]:.3g} triangles at "
+            f"{_cluster.BYTES_PER_TRIANGLE} B) beside {kept / 2**20:.0f} MiB of the states of its worker's other "
+            f"parts ({_cluster.STATE_BYTES_PER_TRIANGLE} B a triangle) but a worker's memory limit is "
+            f"{limit / 2**20:.0f} MiB (a part may use {_cluster.MEMORY_FRACTION:.0%}); use more workers or "
+            "workers with more memory"
+        )
+
+
 def _identity(x):
     return x
 
@@ -352,14 +383,7 @@ def _run(c, dom, field, n_parts, angle, seed, out_path, rounds_cap, progress, ca
     dec = decompose_domain(dom, field, P)
     t_dec = time.perf_counter() - t_start
     limit = _cluster.worker_memory_limit(c)
-    need = dec.predicted * _cluster.BYTES_PER_TRIANGLE
-    if limit and need.max() > _cluster.MEMORY_FRACTION * limit:
-        i = int(np.argmax(need))
-        raise MeshingError(
-            f"part {i} would need about {need[i] / 2**20:.0f} MiB ({dec.predicted[i]:.3g} triangles at "
-            f"{_cluster.BYTES_PER_TRIANGLE} B) but a worker's memory limit is {limit / 2**20:.0f} MiB "
-            f"(a part may use {_cluster.MEMORY_FRACTION:.0%}); use more parts or workers with more memory"
-        )
+    _check_memory(dec.predicted, workers, limit)
     token = uuid.uuid4().hex[:12]
     n_curves = len(dom.curves)
     # Tasks holding the curves and the field, not scattered data: Dask can compute them again
