@@ -161,6 +161,8 @@ class PartState:
         Its interface segments (pslg rows, the CDT's segment ids).
     names : dict
         ``(s, Fraction) -> vertex`` for every vertex on an interface, ends included.
+    report : PartReport
+        Of the task that made this state (None until it is set).
     """
 
     def __init__(self, pslg, ct, field, min_angle: float, max_points: int):
@@ -238,15 +240,17 @@ def _settle(st: PartState, made: list) -> None:
         edges, ids = st.ct.held
         if len(edges) == 0:
             return
-        xy = st.ct.points.copy()
         for (a, b), j in zip(edges.tolist(), ids.tolist()):
             s = int(st.pslg.skeleton_segment[j])
-            f = _split(st, s, frac[(s, a)], frac[(s, b)], 0.5 * (xy[a] + xy[b]))
+            # Read the points anew: a split may have moved them to larger arrays.
+            pts = st.ct.points
+            f = _split(st, s, frac[(s, a)], frac[(s, b)], 0.5 * (pts[a] + pts[b]))
             frac[(s, st.names[(s, f)])] = f
             made.append((s, f))
+    x, y = st.ct.points[a]
     raise MeshingError(
         f"part {st.pslg.index}: refinement still needs interface splits after {MAX_LOCAL_SPLITS} passes "
-        f"(near ({xy[a, 0]:.17g}, {xy[a, 1]:.17g})): the size field cannot be met along the cut"
+        f"(near ({x:.17g}, {y:.17g})): the size field cannot be met along the cut"
     )
 
 
