@@ -11,7 +11,13 @@ from hypothesis import strategies as st
 
 import meshwright.core.mesh as core_mesh
 from meshwright.core.errors import ValidationError
-from meshwright.core.facet_sort import counts_partners, first_same_direction, fits, rows_found, sort_facets
+from meshwright.core.facet_sort import (
+    counts_partners,
+    first_same_direction,
+    fits,
+    rows_found,
+    sort_facets,
+)
 from meshwright.core.mesh import Mesh
 
 rows_strategy = st.integers(2, 4).flatmap(

@@ -81,7 +81,7 @@ def test_exactly_cospherical_points_are_not_claimed():
         shift = float(rng.integers(-1000, 1000)) / 8.0
         pts = [[shift + scale * c for c in sphere[i]] for i in idx]
         assert _oracle(pts) == 0
-        det, proven = insphere_dd(*[float(v) for p in pts for v in p])
+        _, proven = insphere_dd(*[float(v) for p in pts for v in p])
         assert not proven
         assert insphere(*[float(v) for p in pts for v in p]) == 0.0
 

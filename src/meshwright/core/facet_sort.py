@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["fits", "sort_facets", "rows_found", "counts_partners", "first_same_direction"]
+__all__ = ["counts_partners", "first_same_direction", "fits", "rows_found", "sort_facets"]
 
 _INSERTION_MAX = 24  # larger buckets are merge sorted (insertion sort is quadratic in the bucket)
 

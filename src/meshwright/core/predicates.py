@@ -71,7 +71,16 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from meshwright.core.exact_stages2d import DD_ERRBOUND, _dw_add, _dw_minor, _dw_mul, _two_diff, incircle_dd, incircle_eft, orient2d_eft
+from meshwright.core.exact_stages2d import (
+    DD_ERRBOUND,
+    _dw_add,
+    _dw_minor,
+    _dw_mul,
+    _two_diff,
+    incircle_dd,
+    incircle_eft,
+    orient2d_eft,
+)
 from meshwright.core.expansion import (
     EPSILON,
     MAX_EXPANSION_LENGTH,

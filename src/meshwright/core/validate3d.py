@@ -28,10 +28,16 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import InputError, ValidationError
-from meshwright.core.mesh import _KERNEL_MIN, _fmt_cell, _fmt_point, _sort_groups, build_neighbors_tet
+from meshwright.core.mesh import (
+    _KERNEL_MIN,
+    _fmt_cell,
+    _fmt_point,
+    _sort_groups,
+    build_neighbors_tet,
+)
 from meshwright.core.predicates import insphere
 
-__all__ = ["check_tetra", "check_closed_surface", "check_enclosed_volume", "check_delaunay_tetra", "tet_volume_terms"]
+__all__ = ["check_closed_surface", "check_delaunay_tetra", "check_enclosed_volume", "check_tetra", "tet_volume_terms"]
 
 # Relative tolerance of the volume balance: both sums are exact identities of the same
 # numbers, so they differ only by the rounding of O(m) products.
