@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.flat import GHOST, grown
 from meshwright.core.predicates import orient2d
 from meshwright.tri import watson
@@ -162,13 +163,13 @@ def insert_batch(order, start, stop, vbase, s, vmap):
     rows = s.pts.shape[0]
     # The bundle's fields are read once (and after each growth), never per point: a field
     # read is an atomic reference-count pair (see insert_arrays).
-    pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
+    pts, tri, nbr, circ, rank, cons, meta, work, vmark = borrowed(s)
     for i in range(start, stop):
         v = order[i] if order.shape[0] > 0 else i
         st = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t)
         while st == NEED_SPACE:
             s = make_room(s, rows)
-            pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
+            pts, tri, nbr, circ, rank, cons, meta, work, vmark = borrowed(s)
             st = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t)
         if st >= 0:
             vmap[v - vbase] = v

@@ -50,6 +50,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.expansion import diff_into, estimate, expansion_sum, mul_small
 from meshwright.core.flat import GHOST, grown_rows, index3, next3, prev3
 from meshwright.core.predicates import CCW_ERRBOUND_A
@@ -325,6 +326,7 @@ def insert_points(xy, i0, out, s, c):
         ``(i, status)``: ``R_DONE`` with i = len(xy), or ``R_ROOM`` (grow both bundles) /
         ``R_BROKEN`` at point i (nothing of point i was inserted).
     """
+    s, c = borrowed(s), borrowed(c)
     pts, tri, nbr, cons, meta, treg, vseg, vpar = s.pts, s.tri, s.nbr, s.cons, s.meta, c.treg, c.vseg, c.vpar
     rows, slots = room_of(s, c)
     for i in range(i0, xy.shape[0]):

@@ -45,6 +45,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.heap import heap_pop as core_heap_pop
 from meshwright.core.heap import heap_push as core_heap_push
 from meshwright.core.predicates import orient2d
@@ -565,6 +566,7 @@ def advance(fs, par):
     evaluation of the size field) waits; when only waiting faces are left, or enough nodes
     are new, Python evaluates the field (``R_SYNC``) and the waiting faces return.
     """
+    fs, par = borrowed(fs), borrowed(par)
     pts, face, falive, qmeta, qhead, hkey = fs.pts, fs.face, fs.falive, fs.qmeta, fs.qhead, fs.hkey
     hface, wkey, wface, tri, meta = fs.hface, fs.wkey, fs.wface, fs.tri, fs.meta
     for i in range(meta[M_NW]):

@@ -101,6 +101,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.flat import GHOST, back3, grown_rows, index3, next3, prev3
 from meshwright.core.geom2d import orient_filtered
 from meshwright.core.predicates import orient2d
@@ -547,6 +548,7 @@ def insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t):
     about 30 per point through the bundle entries.  A call, not inlined: one compiled copy
     of the insertion body.  Same contract as :func:`insert_vertex`.
     """
+    pts, tri, nbr, circ, rank, cons, meta, work, vmark = borrowed((pts, tri, nbr, circ, rank, cons, meta, work, vmark))
     if _short(pts, tri, nbr, circ, cons, meta, vmark):
         return NEED_SPACE
     t0, _ = _walk(pts, tri, nbr, cons, meta, t, pts[v, 0], pts[v, 1], False)
@@ -603,6 +605,7 @@ def split_edge(v, h, s):
         scratch); or ``BROKEN``: refused, v lies strictly inside neither triangle of the edge,
         and nothing was modified.
     """
+    s = borrowed(s)
     if _short_of_space(s):
         return NEED_SPACE
     _mark_split(h, s.tri, s.cons, s.meta)

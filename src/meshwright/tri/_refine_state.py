@@ -34,6 +34,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.bucket_queue import bq_push
 from meshwright.core.flat import GHOST, back3, index3, next3, prev3
 from meshwright.core.geom2d import circumcentre, corners, off_centre
@@ -229,6 +230,7 @@ def examine(v, tn, s, c, r):
     triangle: a call handing a helper the bundles' seventeen arrays costs a reference-count
     pair per array, which measured four times the test itself.
     """
+    s, c, r = borrowed(s), borrowed(c), borrowed(r)
     pts, tri, nbr, cons, rank = s.pts, s.tri, s.nbr, s.cons, s.rank
     vtri, treg, vseg, seg, rarea = c.vtri, c.treg, c.vseg, c.seg, c.rarea
     qhead, qnext, qval, qhdr, sq, pend, pcen, st, prm, fz, held = r

@@ -61,6 +61,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.bucket_queue import Q_N, bq_pop, new_queue
 from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.flat import GHOST, grown_rows, next3, prev3
@@ -70,9 +71,9 @@ from meshwright.tri._kernel2d import BROKEN, DUP_BASE, M_NTRI, M_NV, NEED_SPACE,
 from meshwright.tri._kernel2d import _short as _no_room
 from meshwright.tri._refine_caps import Caps
 from meshwright.tri._refine_state import (
-    EQUILATERAL, QB, MODE_CONFORM, MODE_RUPPERT, P_AMAX, P_CT, P_CX, P_CY, P_LEN, P_OFF, P_SIN2, P_TA, P_TB, P_WX,
-    P_WY, S_CREADY, S_HN, S_LEN, S_MAXPTS, S_MAXSTEPS, S_MODE, S_NIN, S_PN, S_QN, S_REQ_A, S_REQ_B, S_REQ_P, S_SIZED,
-    S_SKIPPED, S_STEPS, RefineState, hold_subsegment, requeue, apply_sizes, examine, push_seg, steiner_point
+    EQUILATERAL, MODE_CONFORM, MODE_RUPPERT, P_AMAX, P_CT, P_CX, P_CY, P_LEN, P_OFF, P_SIN2, P_TA, P_TB, P_WX, P_WY, QB,
+    S_CREADY, S_HN, S_LEN, S_MAXPTS, S_MAXSTEPS, S_MODE, S_NIN, S_PN, S_QN, S_REQ_A, S_REQ_B, S_REQ_P, S_SIZED,
+    S_SKIPPED, S_STEPS, RefineState, apply_sizes, examine, hold_subsegment, push_seg, requeue, steiner_point,
 )
 
 __all__ = ["refine", "conform", "split_subsegment", "RefineState"]
@@ -136,6 +137,7 @@ def refine_loop(s, c, r):
     """
     # Every array once, here, and the array forms of walk / cavity / fan below (the bundle
     # forms read the fields again per point).
+    s, c, r = borrowed(s), borrowed(c), borrowed(r)
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
     vtri, treg = c.vtri, c.treg
     qhead, qnext, qval, qhdr, sq, pend, _, st, prm, fz, held = r
