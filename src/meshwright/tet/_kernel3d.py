@@ -80,6 +80,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.flat import GHOST, TET_FACES
 from meshwright.core.predicates import orient3d, orient3d_stage_a
 from meshwright.core.rng import xorshift32
@@ -483,6 +484,7 @@ def insert_vertex(s, v, t):
         ``DUP_BASE - w`` when v coincides with vertex w.  Only success modifies the
         tetrahedralization.
     """
+    s = borrowed(s)
     return _insert(s.pts, s.tet, s.nbr, s.sph, s.rank, s.meta, s.cav, s.bnd, s.twin, s.vloc, s.etab, s.vmark, s.free, v, t)
 
 
@@ -509,7 +511,7 @@ def insert_batch(s, order, start, stop, vbase, vmap):
         the array ``meta[M_NEED]`` names and call again from i); ``BROKEN`` at position i
         (the tetrahedralization is unchanged by ``order[i]``, later vertices not inserted).
     """
-    pts, tet, nbr, sph, rank, meta, cav, bnd, twin, vloc, etab, vmark, free = s
+    pts, tet, nbr, sph, rank, meta, cav, bnd, twin, vloc, etab, vmark, free = borrowed(s)
     t = meta[M_LAST]
     for i in range(start, stop):
         v = order[i]

@@ -42,6 +42,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.bucket_queue import Q_N, bq_pop, bq_push
 from meshwright.core.flat import TET_FACES
 from meshwright.core.predicates import orient3d
@@ -273,7 +274,8 @@ def refine_queue(s, bar, sol, vbound, head, nxt, qval, hdr, enc, out, re2, rmax2
         ``vbound`` with the tets) or ``BROKEN``.  On every return the queue holds every bad
         tet not yet handled (the entry being handled is pushed back first).
     """
-    pts, tet, nbr, sph, rank, meta, cav, bnd, twin, vloc, etab, vmark, free = s
+    pts, tet, nbr, sph, rank, meta, cav, bnd, twin, vloc, etab, vmark, free = borrowed(s)
+    bar, sol, vbound, head, nxt, qval, hdr, enc, out = borrowed((bar, sol, vbound, head, nxt, qval, hdr, enc, out))
     state = np.int64(rng_state) & 0xFFFFFFFF
     ccap = cav.shape[0]
     fcap = bnd.shape[0] // 4
