@@ -4,8 +4,10 @@ State between calls, the method's :class:`FrontalState` bundle (the kernel retur
 ``F_ROOM`` whenever the constrained triangulation or the heap must grow, and is called
 again):
 
-    acc    (3 cap,) int32    vertex triple of the triangle accepted in each slot (a slot
-                             reused by a later insertion no longer matches)
+    acc    (cap,) int8       1 where the slot's triangle is accepted; every slot an
+                             insertion or a removal rewrites is classified again (the
+                             new vertex's star, the removal's new triangles), which
+                             resets it, and a moved triangle takes its flag along
     ratio  (cap,) float64    R sqrt(3) / h of each slot's triangle, set when it is made
     hkey   (hcap,) float64   min-heap (:mod:`meshwright.core.heap`) of -ratio (largest
     htri   (hcap, 4) int32   circumradius / ideal first); payload: slot and vertex triple
@@ -20,10 +22,12 @@ again):
     free   (rows,) int32     stack of dead rows (removed scaffold vertices), reused first
     vbg    (rows,) int32     a background triangle at or near each vertex (-1: not yet),
                              where every size query near the vertex starts its walk
-    qtri   (3 cap,) int32    vertex triple of the triangle each slot has a live heap entry
-                             for (cleared when it is popped or classified again): a
-                             triangle already queued with its key is not pushed twice
+    queued (cap,) int8       1 where the slot's triangle has a live heap entry (cleared
+                             when it is popped or classified again, and at a slot a
+                             triangle moves into): a queued triangle is not pushed twice
     scr    (SCRATCH,) int32  scratch of :func:`meshwright.tri._scaffold.remove_vertex`
+    stack  (STACK,) int32    scratch of the disc searches (a kernel's own allocation could
+                             not be borrowed, see below)
 
 The scaffold: before the front starts, :func:`seed_scaffold` inserts coarse interior points
 (spacing about ``par[P_SCAF]`` h, in Hilbert order), so that the unmeshed interior is made of
@@ -40,6 +44,11 @@ The constrained triangulation is passed as its two bundles, ``s`` (``TriState``)
 (``CdtState``) of :class:`~meshwright.tri.cdt.ConstrainedTriangulation`.  ``bg`` is the
 background grid's kernel tuple (:meth:`meshwright.sizing.BackgroundGrid.kernel_args`) plus
 the walk's hint, passed as one tuple argument.
+
+Every kernel first replaces its bundles by :func:`meshwright.core.borrowed.borrowed` views
+of them: the per-step helpers are inlined and branch, so each array they take was an
+atomic reference-count pair per call (about 20 % of the disk's run); the views have none.
+The caller keeps the arrays alive for the whole call, and no view leaves it.
 """
 
 from __future__ import annotations
@@ -49,8 +58,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from meshwright.core.borrowed import borrowed
 from meshwright.core.flat import GHOST
-from meshwright.core.geom2d import circumcircle, corners, segment_dist2
+from meshwright.core.geom2d import circumcentre_offset, corners, segment_dist2
 from meshwright.core.heap import heap_pop, heap_push
 from meshwright.sizing.background import interpolate_walk
 from meshwright.tri import _encroach as enc
@@ -70,6 +80,7 @@ from meshwright.tri._scaffold import KMAX, move_row, move_slot, remove_vertex
 F_DONE, F_ROOM, F_BROKEN, F_POINTS = range(4)
 FM_HN, FM_STAMP, FM_ADDED, FM_NFREE, FM_NSCAF, FM_REMOVED, FM_KEPT, FM_CURSOR, FM_LEN = range(9)
 P_ACCEPT, P_SPACING, P_MAX_POINTS, P_CONST, P_CLEAR, P_SCAF, P_LIFT, P_LEN = range(8)
+STACK = 4096  # triangles a disc search keeps pending (more: the disc is crowded)
 HEAP_ROOM = 4 * KMAX + 64  # free heap entries needed before a step (a removal pushes up to 4 KMAX)
 _SQRT3 = np.sqrt(3.0)
 _NEAR_NONE = -1
@@ -90,12 +101,15 @@ class FrontalState(NamedTuple):
     free: np.ndarray
     scr: np.ndarray
     vbg: np.ndarray
-    qtri: np.ndarray
+    queued: np.ndarray
+    stack: np.ndarray
 
 
 @njit(inline="always")
-def _settled(t, tri, acc):
-    return acc[3 * t] == tri[3 * t] and acc[3 * t + 1] == tri[3 * t + 1] and acc[3 * t + 2] == tri[3 * t + 2]
+def _settled(t, acc):
+    # A byte per slot, not the accepted vertex triple: the checks of a neighbour's state
+    # were 11 % of the run's samples, mostly cache misses (disk, 289k triangles).
+    return acc[t] != 0
 
 
 @njit(inline="always")
@@ -105,9 +119,11 @@ def _inside(t, tri, treg):
 
 @njit(inline="always")
 def _radius(pts, tri, t):
-    """Circumradius of triangle slot t."""
+    """Circumradius of triangle slot t (a square root: libm's overflow-safe ``hypot`` was
+    3 % of the disk's run)."""
     ax, ay, bx, by, cx, cy = corners(pts, tri, t)
-    return circumcircle(ax, ay, bx, by, cx, cy)[2]
+    ox, oy = circumcentre_offset(bx - ax, by - ay, cx - ax, cy - ay)
+    return np.sqrt(ox * ox + oy * oy)
 
 
 @njit(inline="always")
@@ -126,7 +142,7 @@ def _front_edge(t, pts, tri, nbr, treg, acc):
     blen = -1.0
     for e in range(3):
         n = nbr[3 * t + e]
-        if _inside(n, tri, treg) and not _settled(n, tri, acc):
+        if _inside(n, tri, treg) and not _settled(n, acc):
             continue
         a = tri[3 * t + (e + 1) % 3]
         b = tri[3 * t + (e + 2) % 3]
@@ -138,11 +154,10 @@ def _front_edge(t, pts, tri, nbr, treg, acc):
 
 
 @njit(inline="always")
-def _push(hkey, htri, fmeta, key, t, tri, qtri):
-    if qtri[3 * t] == tri[3 * t] and qtri[3 * t + 1] == tri[3 * t + 1] and qtri[3 * t + 2] == tri[3 * t + 2]:
+def _push(hkey, htri, fmeta, key, t, tri, queued):
+    if queued[t] != 0:
         return
-    for k in range(3):
-        qtri[3 * t + k] = tri[3 * t + k]
+    queued[t] = 1
     i = heap_push(hkey, htri, fmeta[FM_HN], key)
     fmeta[FM_HN] += 1
     htri[i, 0] = t
@@ -177,14 +192,17 @@ def _hint_of(t, tri, vbg):
 
 
 @njit(inline="always")
-def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, qtri):
+def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, queued):
     """Store slot t's ``R sqrt(3) / h`` in ``ratio[t]``; accept t if it is within ACCEPT and
     has no scaffold vertex."""
-    qtri[3 * t] = -2  # a key from before (a scaffold vertex's lift) no longer holds
+    queued[t] = 0  # a key from before (a scaffold vertex's lift, a former triangle) no longer holds
+    acc[t] = 0
     r = _radius(pts, tri, t)
-    gx = (pts[tri[3 * t], 0] + pts[tri[3 * t + 1], 0] + pts[tri[3 * t + 2], 0]) / 3.0
-    gy = (pts[tri[3 * t], 1] + pts[tri[3 * t + 1], 1] + pts[tri[3 * t + 2], 1]) / 3.0
-    h = _size(par, bg, _hint_of(t, tri, vbg), gx, gy)
+    h = par[P_CONST]
+    if h <= 0.0:
+        gx = (pts[tri[3 * t], 0] + pts[tri[3 * t + 1], 0] + pts[tri[3 * t + 2], 0]) / 3.0
+        gy = (pts[tri[3 * t], 1] + pts[tri[3 * t + 1], 1] + pts[tri[3 * t + 2], 1]) / 3.0
+        h = _size(par, bg, _hint_of(t, tri, vbg), gx, gy)
     ratio[t] = r * _SQRT3 / h
     if _scaffold_of(t, tri, vflag) >= 0:
         # Waits before every scaffold-free triangle, as the triangles spanning the open
@@ -192,16 +210,18 @@ def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, qtri):
         # against 0.9968 on the disk at h = 0.01).
         ratio[t] += par[P_LIFT]
     elif ratio[t] <= par[P_ACCEPT]:
-        for k in range(3):
-            acc[3 * t + k] = tri[3 * t + k]
+        acc[t] = 1
 
 
 @njit(inline="always")
-def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri):
-    """Queue slot t (ratio known since it was made) if it waits on the front."""
-    if not _inside(t, tri, treg) or _settled(t, tri, acc) or _front_edge(t, pts, tri, nbr, treg, acc) < 0:
+def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued):
+    """Queue slot t (ratio known since it was made) if it waits on the front (and is not
+    queued yet: checked first, it spares most front-edge searches)."""
+    if not _inside(t, tri, treg) or queued[t] != 0 or _settled(t, acc):
         return
-    _push(hkey, htri, fmeta, -ratio[t], t, tri, qtri)
+    if _front_edge(t, pts, tri, nbr, treg, acc) < 0:
+        return
+    _push(hkey, htri, fmeta, -ratio[t], t, tri, queued)
 
 
 @njit(cache=True)
@@ -209,9 +229,10 @@ def start(s, c, f, bg):
     """Locate the vertices that have no background triangle yet (in row order: along the
     boundary loops, each walk short), accept the right-sized inside triangles and push the
     others that touch the front."""
+    s, c, f, bg = borrowed(s), borrowed(c), borrowed(f), borrowed(bg)
     pts, tri, nbr, treg = s.pts, s.tri, s.nbr, c.treg
     acc, ratio, hkey, htri, fmeta, par, vflag, vbg = f.acc, f.ratio, f.hkey, f.htri, f.fmeta, f.par, f.vflag, f.vbg
-    qtri = f.qtri
+    queued = f.queued
     if par[P_CONST] == 0.0:
         for v in range(s.meta[M_NV]):
             if vbg[v] < 0 and c.vtri[v] >= 0:
@@ -220,20 +241,22 @@ def start(s, c, f, bg):
     ntri = s.meta[M_NTRI]
     for t in range(ntri):
         if _inside(t, tri, treg):
-            classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, qtri)
+            classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, queued)
     for t in range(ntri):
-        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
+        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
 
 
 @njit(inline="always")
-def _near(px, py, rclear, rspace, host, pts, tri, nbr, treg, vflag, stamp, fmeta, stack):
+def _near(px, py, rclear, rspace, rseg, host, pts, tri, nbr, cons, treg, vflag, stamp, fmeta, stack):
     """Search the triangles the disc of radius ``max(rclear, rspace)`` about p reaches from
     host: a scaffold vertex within rclear, ``_NEAR_CROWDED`` when another vertex lies within
-    rspace, else ``_NEAR_NONE``."""
+    rspace or a constrained edge of a triangle the disc reaches lies within ``rseg`` (0: no
+    such test), else ``_NEAR_NONE``."""
     fmeta[FM_STAMP] += 1
     mark = fmeta[FM_STAMP]
     rc2 = rclear * rclear
     rs2 = rspace * rspace
+    rg2 = rseg * rseg
     r2 = max(rc2, rs2)
     top = 1
     stack[0] = host
@@ -251,11 +274,17 @@ def _near(px, py, rclear, rspace, host, pts, tri, nbr, treg, vflag, stamp, fmeta
                 return _NEAR_CROWDED
         for e in range(3):
             n = nbr[3 * t + e]
-            if not _inside(n, tri, treg) or stamp[n] == mark:
+            fence = cons[3 * t + e] != 0 or not _inside(n, tri, treg)
+            if (fence and rg2 == 0.0) or (not fence and stamp[n] == mark):
                 continue
             a = tri[3 * t + (e + 1) % 3]
             b = tri[3 * t + (e + 2) % 3]
-            if segment_dist2(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py) < r2:
+            d2 = segment_dist2(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py)
+            if fence:
+                if d2 < rg2:
+                    return _NEAR_CROWDED
+                continue
+            if d2 < r2:
                 if top >= stack.shape[0]:
                     return _NEAR_CROWDED  # a disc this crowded is too close anyway
                 stamp[n] = mark
@@ -306,10 +335,10 @@ def seed_scaffold(xy, i0, s, c, f, bg):
     (int, int)
         ``(i, F_DONE)`` with i = len(xy), or ``(i, F_ROOM)`` / ``(i, F_BROKEN)`` at point i.
     """
+    s, c, f, bg = borrowed(s), borrowed(c), borrowed(f), borrowed(bg)
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
     vtri, treg, vseg, vpar, vacute = c.vtri, c.treg, c.vseg, c.vpar, c.vacute
-    stamp, fmeta, par, vflag, free, vbg = f.stamp, f.fmeta, f.par, f.vflag, f.free, f.vbg
-    stack = np.empty(4096, dtype=np.int32)
+    stamp, fmeta, par, vflag, free, vbg, stack = f.stamp, f.fmeta, f.par, f.vflag, f.free, f.vbg, f.stack
     rows, slots = enc.room_of(s, c)
     for i in range(i0, xy.shape[0]):
         ntri = meta[M_NTRI]
@@ -327,7 +356,7 @@ def seed_scaffold(xy, i0, s, c, f, bg):
             continue
         # The candidates come in Hilbert order: the last walk's end is a near start.
         r = 0.5 * par[P_SCAF] * _size(par, bg, -1, px, py)
-        if _near(px, py, r, r, host, pts, tri, nbr, treg, vflag, stamp, fmeta, stack) != _NEAR_NONE:
+        if _near(px, py, r, r, 0.0, host, pts, tri, nbr, cons, treg, vflag, stamp, fmeta, stack) != _NEAR_NONE:
             continue
         v = _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark, vtri, treg, vseg, vpar,
                        vacute, free, fmeta, vflag, rows)
@@ -343,7 +372,7 @@ def seed_scaffold(xy, i0, s, c, f, bg):
 
 
 @njit(inline="always")
-def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, qtri):
+def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, queued):
     """Classify the new star of vertex v, then queue it and its outer neighbours on the front."""
     s0 = vtri[v]
     sl = s0
@@ -352,7 +381,7 @@ def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, pa
         while tri[3 * sl + k] != v:
             k += 1
         if _inside(sl, tri, treg):
-            classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg, qtri)
+            classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg, queued)
         sl = nbr[3 * sl + (k + 1) % 3]
         if sl == s0 or sl < 0:
             break
@@ -361,15 +390,15 @@ def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, pa
         k = 0
         while tri[3 * sl + k] != v:
             k += 1
-        _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
-        _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
+        _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
+        _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
         sl = nbr[3 * sl + (k + 1) % 3]
         if sl == s0 or sl < 0:
             break
 
 
 @njit(cache=True)
-def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, qtri, free,
+def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, queued, free,
           scr, s, c):
     """Remove scaffold vertex v, refill the freed slots from the end, queue the new front.
 
@@ -386,7 +415,7 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmet
     k = remove_vertex(v, s, c, scr)
     if k < 0:
         fmeta[FM_KEPT] += 1
-        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, qtri)
+        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, queued)
         return
     fmeta[FM_REMOVED] += 1
     free[fmeta[FM_NFREE]] = v
@@ -398,21 +427,21 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmet
         last = meta[M_NTRI] - 1
         if fs != last:
             move_slot(last, fs, tri, nbr, cons, treg, vtri, meta)
-            for j in range(3):
-                acc[3 * fs + j] = acc[3 * last + j]
+            acc[fs] = acc[last]
+            queued[fs] = 0  # an entry of the moved triangle names its old slot: stale
             ratio[fs] = ratio[last]
             for q in range(k - 2):
                 if st[q] == last:
                     st[q] = fs
-            _push_if_front(fs, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
+            _push_if_front(fs, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
         meta[M_NTRI] = last
     for q in range(k - 2):
-        classify(st[q], pts, tri, acc, ratio, par, bg, vflag, vbg, qtri)
+        classify(st[q], pts, tri, acc, ratio, par, bg, vflag, vbg, queued)
     for q in range(k - 2):
         t = st[q]
-        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
+        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
         for j in range(3):
-            _push_if_front(nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
+            _push_if_front(nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
 
 
 @njit(cache=True)
@@ -423,17 +452,17 @@ def run(s, c, f, bg):
     The bundles' fields are read once here and handed to the per-step helpers as arrays:
     a field read inside a loop costs a reference-count pair per iteration.
     """
-    stack = np.empty(4096, dtype=np.int32)
+    s, c, f, bg = borrowed(s), borrowed(c), borrowed(f), borrowed(bg)
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
     vtri, treg, vseg, vpar, vacute = c.vtri, c.treg, c.vseg, c.vpar, c.vacute
     acc, ratio, hkey, htri, stamp, fmeta, par = f.acc, f.ratio, f.hkey, f.htri, f.stamp, f.fmeta, f.par
-    vflag, free, scr, vbg, qtri = f.vflag, f.free, f.scr, f.vbg, f.qtri
+    vflag, free, scr, vbg, queued, stack = f.vflag, f.free, f.scr, f.vbg, f.queued, f.stack
     rows, slots = enc.room_of(s, c)
     rows = min(rows, vflag.shape[0], free.shape[0], vbg.shape[0])
     while True:
         ntri = meta[M_NTRI]
         if (
-            fmeta[FM_HN] + HEAP_ROOM > hkey.shape[0] or acc.shape[0] < 3 * (ntri + 2) or qtri.shape[0] < 3 * (ntri + 2)
+            fmeta[FM_HN] + HEAP_ROOM > hkey.shape[0] or acc.shape[0] < ntri + 2 or queued.shape[0] < ntri + 2
             or stamp.shape[0] < ntri + 2 or ratio.shape[0] < ntri + 2 or ntri + 2 > slots
         ):
             return F_ROOM
@@ -449,7 +478,7 @@ def run(s, c, f, bg):
                 fmeta[FM_NSCAF] = 0
                 continue
             _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                  qtri, free, scr, s, c)
+                  queued, free, scr, s, c)
             continue
         if meta[M_NV] - fmeta[FM_NFREE] - fmeta[FM_NSCAF] >= par[P_MAX_POINTS]:
             return F_POINTS
@@ -458,8 +487,8 @@ def run(s, c, f, bg):
         fmeta[FM_HN] -= 1
         if t >= ntri or tri[3 * t] != a0 or tri[3 * t + 1] != b0 or tri[3 * t + 2] != c0:
             continue
-        qtri[3 * t] = -2
-        if not _inside(t, tri, treg) or _settled(t, tri, acc):
+        queued[t] = 0
+        if not _inside(t, tri, treg) or _settled(t, acc):
             continue
         e = _front_edge(t, pts, tri, nbr, treg, acc)
         if e < 0:
@@ -472,7 +501,7 @@ def run(s, c, f, bg):
         b = tri[3 * t + (e + 2) % 3]
         h = _size(par, bg, vbg[a], 0.5 * (pts[a, 0] + pts[b, 0]), 0.5 * (pts[a, 1] + pts[b, 1]))
         near_bg = bg[11][0]
-        blen = np.hypot(pts[b, 0] - pts[a, 0], pts[b, 1] - pts[a, 1])
+        blen = np.sqrt((pts[b, 0] - pts[a, 0]) ** 2 + (pts[b, 1] - pts[a, 1]) ** 2)
         p = 0.5 * blen
         nx = -(pts[b, 1] - pts[a, 1]) / blen
         ny = (pts[b, 0] - pts[a, 0]) / blen
@@ -483,13 +512,17 @@ def run(s, c, f, bg):
         host, _ = _walk(pts, tri, nbr, cons, meta, t, px, py, False)
         near = _NEAR_CROWDED
         if _inside(host, tri, treg) and _on_constraint(pts, tri, cons, host, px, py) < 0:
-            near = _near(px, py, par[P_CLEAR] * h, par[P_SPACING] * h, host, pts, tri, nbr, treg, vflag, stamp,
-                         fmeta, stack)
+            # Half the front edge's half-length from every constrained edge: the point is
+            # at least that from its own front edge, and a spike's Rebay point landed 3e-14
+            # off the opposite side (stress reproducer 3200dccf8449: the flat triangle made
+            # the final min-angle pass fail).
+            near = _near(px, py, par[P_CLEAR] * h, par[P_SPACING] * h, 0.5 * p, host, pts, tri, nbr, cons, treg,
+                         vflag, stamp, fmeta, stack)
         if near >= 0:
             # A scaffold vertex in the way: remove it and try t again (if it survived).
-            _push(hkey, htri, fmeta, -ratio[t], t, tri, qtri)
+            _push(hkey, htri, fmeta, -ratio[t], t, tri, queued)
             _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                  qtri, free, scr, s, c)
+                  queued, free, scr, s, c)
             continue
         if near == _NEAR_CROWDED:
             # No room for a point: the triangle stays as it is and joins the accepted ones,
@@ -497,17 +530,16 @@ def run(s, c, f, bg):
             sv = _scaffold_of(t, tri, vflag)
             if sv >= 0:
                 _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                      qtri, free, scr, s, c)
+                      queued, free, scr, s, c)
                 continue
+            acc[t] = 1
             for k in range(3):
-                acc[3 * t + k] = tri[3 * t + k]
-            for k in range(3):
-                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, qtri)
+                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
             continue
         v = _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark, vtri, treg, vseg, vpar,
                        vacute, free, fmeta, vflag, rows)
         if v == NEED_SPACE:
-            _push(hkey, htri, fmeta, -ratio[t], t, tri, qtri)
+            _push(hkey, htri, fmeta, -ratio[t], t, tri, queued)
             return F_ROOM
         if v == BROKEN:
             return F_BROKEN
@@ -515,7 +547,7 @@ def run(s, c, f, bg):
             continue  # the point was already a vertex
         fmeta[FM_ADDED] += 1
         vbg[v] = near_bg  # the front edge's midpoint is within about h of v
-        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, qtri)
+        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, queued)
 
 
 @njit(cache=True)

@@ -220,7 +220,7 @@ def _grown(f: fk.FrontalState, ct) -> fk.FrontalState:
     if int(f.fmeta[fk.FM_HN]) + fk.HEAP_ROOM > len(hkey):
         hkey = grown_rows(hkey, 2 * len(hkey))
     return f._replace(
-        acc=grown_rows(f.acc, 3 * slots, -2), qtri=grown_rows(f.qtri, 3 * slots, -2), stamp=grown_rows(f.stamp, slots, 0),
+        acc=grown_rows(f.acc, slots, 0), queued=grown_rows(f.queued, slots, 0), stamp=grown_rows(f.stamp, slots, 0),
         ratio=grown_rows(f.ratio, slots, 0.0), hkey=hkey, htri=grown_rows(f.htri, len(hkey)),
         vflag=grown_rows(f.vflag, rows, 0), free=grown_rows(f.free, rows, 0), vbg=grown_rows(f.vbg, rows, -1),
     )
@@ -371,12 +371,12 @@ def frontal_delaunay(ct, size, *, max_points: int | None = None, scaffold: bool 
     rows = len(ct.state.pts)
     hcap = max(1024, slots)
     f = fk.FrontalState(
-        acc=np.full(3 * slots, -2, dtype=np.int32),  # no triple matches: nothing accepted yet
+        acc=np.zeros(slots, dtype=np.int8),
         ratio=np.zeros(slots), hkey=np.empty(hcap), htri=np.empty((hcap, 4), dtype=np.int32),
         stamp=np.zeros(slots, dtype=np.int64), fmeta=np.zeros(fk.FM_LEN, dtype=np.int64), par=par,
         vflag=np.zeros(rows, dtype=np.int8), free=np.zeros(rows, dtype=np.int32),
         scr=np.zeros(SCRATCH, dtype=np.int32), vbg=np.full(rows, -1, dtype=np.int32),
-        qtri=np.full(3 * slots, -2, dtype=np.int32),
+        queued=np.zeros(slots, dtype=np.int8), stack=np.empty(fk.STACK, dtype=np.int32),
     )
     seeded = 0
     if scaffold:
