@@ -98,3 +98,46 @@ def test_frozen_must_be_segment_ids(bad):
     ct = cdt_build(SQUARE, SIDES)
     with pytest.raises(InputError, match="frozen"):
         refine(ct, min_angle=30.0, frozen=bad)
+
+
+def _rounds(ct, shrink):
+    """The rounds of the test above; ``shrink`` trims the arrays after every refine call."""
+    refine(ct, min_angle=30.0, size=_size, frozen=[1])
+    for _ in range(12):
+        if shrink:
+            ct.shrink()
+            s, c = ct.state, ct.constraints
+            # Trimmed to what is used: no spare vertex rows, triangle slots or pieces.
+            assert s.pts.shape[0] == ct.n_points and c.vtri.shape[0] == ct.n_points
+            assert s.tri.shape[0] == s.nbr.shape[0] == s.cons.shape[0] == 3 * c.treg.shape[0]
+        edges, _ = ct.held
+        if not len(edges):
+            return ct
+        xy = ct.points.copy()
+        for a, b in edges:
+            split_subsegment(ct, int(a), int(b), 0.5 * (xy[a] + xy[b]))
+        refine(ct, min_angle=30.0, size=_size, frozen=[1])
+    raise AssertionError("rounds did not converge")
+
+
+def test_shrink_between_rounds_gives_the_same_triangulation():
+    plain, trimmed = cdt_build(SQUARE, SIDES), cdt_build(SQUARE, SIDES)
+    plain.classify()
+    trimmed.classify()
+    _rounds(plain, False)
+    _rounds(trimmed, True)
+    assert np.array_equal(plain.points, trimmed.points)
+    assert np.array_equal(plain.triangles(True), trimmed.triangles(True))
+    assert np.array_equal(plain.triangle_markers(True), trimmed.triangle_markers(True))
+    for got, want in zip(trimmed.segments(), plain.segments()):
+        assert np.array_equal(got, want)
+    def nbytes(ct):
+        return sum(a.nbytes for a in tuple(ct.state) + tuple(ct.constraints))
+
+    assert nbytes(trimmed.shrink()) < nbytes(plain)
+    # Still usable after the trim: insertion and a finer refinement grow it again.
+    trimmed.insert_point(0.25, 0.5)
+    refine(trimmed, min_angle=30.0, size=0.05)
+    mesh = trimmed.to_mesh()
+    mesh.validate()
+    assert np.isclose(mesh.area(), 1.0, rtol=1e-12)

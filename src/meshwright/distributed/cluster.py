@@ -43,10 +43,10 @@ MEMORY_FRACTION = 0.6  # largest share of a worker's memory_limit a part may nee
 # a warmed worker's memory: 407 B measured on 1.5e6-triangle parts (a rectangle and the graded
 # disk); the arrays grown by doubling are briefly held twice.
 BYTES_PER_TRIANGLE = 420
-# A part's state kept between exchange rounds (its CDT with the refinement's spare room): 88-130 B
-# per triangle measured on the rectangle, 229-271 B on the graded disk (more room reserved
-# toward the size field's estimate), 5e5-2e6 triangles per worker.
-STATE_BYTES_PER_TRIANGLE = 280
+# A part's state kept between exchange rounds (its CDT, trimmed by ``shrink``): 60 B per
+# triangle measured on the rectangle and the graded disk (2.5e5-triangle parts); 88-271 B
+# before the trim, the refinement's spare room.  Counted with a margin.
+STATE_BYTES_PER_TRIANGLE = 96
 # The dask configuration of the local clusters started here (module docstring): what the
 # workers would spend on the dashboard's profiler and on frequent checks goes to the parts.
 LOCAL_CLUSTER_CONFIG = {

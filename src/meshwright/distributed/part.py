@@ -297,6 +297,8 @@ def start_part(pslg, curves, field, min_angle: float, seed: int, max_points: int
     st = PartState(pslg, ct, field, min_angle, max_points)
     made = []
     _settle(st, made)
+    # Kept on the worker until the pieces are written: without the refinement's spare room.
+    st.ct.shrink()
     st.report = _report(st, made, t0, cpu0)
     return st
 
@@ -339,6 +341,8 @@ def resume_part(state: PartState, splits) -> PartState:
         _split(st, s, fa, fb, mid)
     made = []
     _settle(st, made)
+    # Kept on the worker until the pieces are written: without the refinement's spare room.
+    st.ct.shrink()
     st.report = _report(st, made, t0, cpu0)
     return st
 

@@ -10,6 +10,7 @@ curves=None, duplicates="merge") -> ConstrainedTriangulation``
     ``close_hull(segment_id=-1) -> self``     constrain the free convex-hull edges
     ``insert_point(x, y) -> int``, ``insert_points(xy) -> (k,) int32``  constrained insertion
     ``split_segment(a, b, xy=None) -> int``   split subsegment ab (default: its split point)
+    ``reserve(rows=0, slots=0)`` / ``shrink() -> self``   grow / trim the arrays' spare room
     ``points`` (nv, 2), ``index_map`` (n,), ``triangles(inside=True)`` (nt, 3),
     ``neighbors(inside=True)`` (nt, 3), ``triangle_markers(inside=True)`` (nt,),
     ``segments() -> (edges (k, 2), ids (k,))``, ``to_mesh(segment_markers=None) -> Mesh``
@@ -296,6 +297,30 @@ class ConstrainedTriangulation:
         self.state = grow(self.state, rows, slots)
         s = self.state
         self.constraints = enc.grow(self.constraints, s.pts.shape[0], s.tri.shape[0] // 3)
+
+    def shrink(self) -> ConstrainedTriangulation:
+        """Release the spare room: every array trimmed to the vertices, triangle slots and
+        pieces in use (copies, so the larger arrays are freed).
+
+        For a triangulation kept between calls (the distributed mesher keeps each part's
+        between exchange rounds): refinement reserves room toward its size field's estimate,
+        up to twice what it uses.  Nothing a kernel decides depends on the room, so a later
+        insertion or refinement gives the same triangles, growing the arrays again by doubling.
+        Arrays taken from :attr:`state` or :attr:`constraints` before the call are stale after it.
+        """
+        s, c = self.state, self.constraints
+        nv, ntri, npc = int(s.meta[M_NV]), int(s.meta[M_NTRI]), self._np
+        self.state = s._replace(
+            pts=s.pts[:nv].copy(), tri=s.tri[: 3 * ntri].copy(), nbr=s.nbr[: 3 * ntri].copy(),
+            cons=s.cons[: 3 * ntri].copy(), circ=s.circ[: 4 * ntri].copy(),
+            vmark=np.empty(nv + 1, dtype=np.int32),
+        )
+        self.constraints = c._replace(
+            vtri=c.vtri[:nv].copy(), vseg=c.vseg[:nv].copy(), vpar=c.vpar[:nv].copy(),
+            vacute=c.vacute[:nv].copy(), treg=c.treg[:ntri].copy(), seg=c.seg[:npc].copy(),
+            seg_in=c.seg_in[:npc].copy(),
+        )
+        return self
 
     # ------------------------------------------------------------------ classification
     def classify(self, segment_sides=None, holes=None, regions=None) -> ConstrainedTriangulation:
