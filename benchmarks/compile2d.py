@@ -5,6 +5,7 @@ Usage::
     python benchmarks/compile2d.py                 # every case, cold then cached
     python benchmarks/compile2d.py --cases delaunay front
     python benchmarks/compile2d.py --no-all        # skip the all-methods-in-one-process row
+    python benchmarks/compile2d.py --profile 25 --no-all --cases delaunay   # where it goes
 
 Each case runs in a fresh process.  *Cold* gives it an empty ``NUMBA_CACHE_DIR`` (nothing
 compiled yet: a new user's first call); *cached* reruns it with the cache the cold run left
@@ -47,6 +48,28 @@ CASES = {
 
 CHILD = r"""
 import json, sys, time
+from numba.core import event as ev
+
+class Compiles(ev.Listener):
+    # Self CPU seconds and signature count per compiled function (nested compiles subtracted).
+    def __init__(self):
+        self.stack, self.self_s, self.count = [], {}, {}
+
+    def on_start(self, event):
+        self.stack.append([time.process_time(), 0.0])
+
+    def on_end(self, event):
+        t0, nested = self.stack.pop()
+        total = time.process_time() - t0
+        if self.stack:
+            self.stack[-1][1] += total
+        d = event.data["dispatcher"]
+        name = f"{d.py_func.__module__}.{d.py_func.__qualname__}"
+        self.self_s[name] = self.self_s.get(name, 0.0) + total - nested
+        self.count[name] = self.count.get(name, 0) + 1
+
+rec = Compiles()
+ev.register("numba:compile", rec)
 w0 = time.perf_counter(); c0 = time.process_time()
 import numpy as np
 import meshwright as mw
@@ -56,6 +79,7 @@ for code in json.loads(sys.argv[1]):
     w = time.perf_counter(); c = time.process_time()
     exec(code)
     out["calls"].append([time.perf_counter() - w, time.process_time() - c])
+out["compiles"] = sorted(([k, v, rec.count[k]] for k, v in rec.self_s.items()), key=lambda r: -r[1])
 print(json.dumps(out))
 """
 
@@ -71,16 +95,31 @@ def run_child(snippets: list[str], cache: str) -> dict:
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
+def _print_profile(name: str, cold: dict, top: int) -> None:
+    """The ``top`` costliest compiled functions of a cold run, self CPU seconds first."""
+    rows = cold["compiles"]
+    total = sum(r[1] for r in rows)
+    print(f"\n{name}: {len(rows)} functions compiled, {total:.1f} s CPU in numba:compile", file=sys.stderr)
+    for fn, sec, count in rows[:top]:
+        print(f"  {sec:7.2f} s  x{count}  {fn}", file=sys.stderr)
+    sys.stderr.flush()
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", nargs="*", choices=sorted(CASES), default=list(CASES))
     ap.add_argument("--no-all", action="store_true", help="skip the all-methods-in-one-process row")
+    ap.add_argument("--profile", type=int, default=0, metavar="N",
+                    help="print the N costliest compiled functions of each cold case")
+    ap.add_argument("--cold-only", action="store_true", help="skip the cached reruns")
     args = ap.parse_args()
     rows = []
     for name in args.cases:
         with tempfile.TemporaryDirectory() as cache:
             cold = run_child([CASES[name]], cache)
-            warm = run_child([CASES[name]], cache)
+            warm = cold if args.cold_only else run_child([CASES[name]], cache)
+        if args.profile:
+            _print_profile(name, cold, args.profile)
         rows.append(
             [
                 name,
@@ -96,7 +135,9 @@ def main() -> None:
         snippets = [CASES[n] for n in args.cases]
         with tempfile.TemporaryDirectory() as cache:
             cold = run_child(snippets, cache)
-            warm = run_child(snippets, cache)
+            warm = cold if args.cold_only else run_child(snippets, cache)
+        if args.profile:
+            _print_profile("all cases", cold, args.profile)
         cw = cold["import_wall"] + sum(c[0] for c in cold["calls"])
         cc = cold["import_cpu"] + sum(c[1] for c in cold["calls"])
         ww = warm["import_wall"] + sum(c[0] for c in warm["calls"])
