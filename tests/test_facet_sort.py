@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import meshwright.core.mesh as core_mesh
+import meshwright.core.validate_cells as core_cells
 from meshwright.core.errors import ValidationError
 from meshwright.core.facet_sort import (
     counts_partners,
@@ -130,6 +131,6 @@ def test_validate_same_result_on_both_paths(monkeypatch, defect):
             cells["triangle"] = np.vstack([tri, tri[:1]])
     mesh = Mesh(pts, cells)
     numpy_path = _message(mesh)
-    monkeypatch.setattr(core_mesh, "_KERNEL_MIN", 1)
+    monkeypatch.setattr(core_cells, "_KERNEL_MIN", 1)
     assert _message(mesh) == numpy_path
     assert (numpy_path is None) == (defect == "none"), numpy_path

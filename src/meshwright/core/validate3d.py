@@ -28,14 +28,14 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import InputError, ValidationError
-from meshwright.core.mesh import (
+from meshwright.core.mesh import build_neighbors_tet
+from meshwright.core.predicates import insphere
+from meshwright.core.validate_cells import (
     _KERNEL_MIN,
     _fmt_cell,
     _fmt_point,
     _sort_groups,
-    build_neighbors_tet,
 )
-from meshwright.core.predicates import insphere
 
 __all__ = ["check_closed_surface", "check_delaunay_tetra", "check_enclosed_volume", "check_tetra", "tet_volume_terms"]
 

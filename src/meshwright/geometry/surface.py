@@ -19,7 +19,7 @@ naming the points, edge, faces and coordinates at fault.
 :meth:`Surface.inside` is the same even-odd ray parity for arbitrary query points.
 
 The edge matching is the one of :mod:`meshwright.core.validate3d`
-(:func:`~meshwright.core.mesh._sort_groups` over sorted directed-edge keys).  The sign of a
+(:func:`~meshwright.core.validate_cells._sort_groups` over sorted directed-edge keys).  The sign of a
 shell's volume is the floating-point divergence-theorem sum certified by an a-priori bound
 on its rounding error (Higham, *Accuracy and Stability of Numerical Algorithms*, 2002,
 ch. 4): a sum within the bound is refused, never guessed.
@@ -34,8 +34,9 @@ from __future__ import annotations
 import numpy as np
 
 from meshwright.core.errors import GeometryError, InputError, fmt_point
-from meshwright.core.mesh import Mesh, _facet_orientation, _sort_groups
+from meshwright.core.mesh import Mesh
 from meshwright.core.spatial_sort import hilbert_order
+from meshwright.core.validate_cells import _facet_orientation, _sort_groups
 from meshwright.core.validate_input import as_cells, as_exact_points, check_flag
 from meshwright.geometry._surface_kernels import (
     HIT_CROSS,
@@ -70,7 +71,7 @@ class EdgeGroups:
     tail, head : (3 m,) int64
         Directed edge ``3 f + k`` runs from corner k to corner k + 1 of face f.
     order, group : (3 m,) int64
-        :func:`~meshwright.core.mesh._sort_groups` of the undirected keys.
+        :func:`~meshwright.core.validate_cells._sort_groups` of the undirected keys.
     count : (3 m,) int64
         Number of directed edges (faces) on each directed edge's undirected edge.
     first, second : (e,) int64

@@ -39,7 +39,8 @@ import numpy as np
 
 from meshwright.core.errors import InputError, MeshingError, ValidationError
 from meshwright.core.flat import TET_FACES
-from meshwright.core.mesh import Mesh, _rows_in, build_neighbors_tet
+from meshwright.core.mesh import Mesh, build_neighbors_tet
+from meshwright.core.validate_cells import _rows_in
 from meshwright.tet import _flips
 
 __all__ = ["remove_slivers", "SliverReport", "LEFT_REASONS"]
