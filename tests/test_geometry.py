@@ -328,6 +328,27 @@ def test_discretize_graded_size():
         assert (disc.points == corner).all(axis=1).sum() == 1
 
 
+def test_discretize_size_graded_from_a_tiny_corner_asks_few_points():
+    # Size 1e-7 at the corner (0, 0), growing linearly away from it (a graded field): the
+    # integration table must grade too.  Splitting each side uniformly at its smaller end
+    # size asked the field at 2e7 points (the stress harness's 1e-6 features hung on it).
+    d = rectangle(0, 0, 1, 1)
+    asked = []
+
+    def h(xy):
+        asked.append(len(xy))
+        return 1e-7 + 0.2 * np.hypot(xy[:, 0], xy[:, 1])
+
+    disc = d.discretize(h)
+    assert sum(asked) < 50_000
+    mid = 0.5 * (disc.points[disc.segments[:, 0]] + disc.points[disc.segments[:, 1]])
+    ratio = seg_lengths(disc) / h(mid)
+    assert ratio.min() > 0.5 and ratio.max() < 2.0
+    # The spacing reaches the corner's size: the shortest segment is within a few h(0).
+    assert seg_lengths(disc).min() < 1e-6
+    assert_valid_pslg(disc)
+
+
 def test_discretize_split_stays_on_curve():
     d = ellipse((0, 0), 2.0, 1.0)
     disc = d.discretize(0.2)
