@@ -43,7 +43,14 @@ from meshwright.tet.recovery import (
     recover,
     unique_edges,
 )
-from meshwright.tet.refine3d import SIZE_FACTOR, circumspheres, crease_caps, refine_in_queue, select_points
+from meshwright.tet.refine3d import (
+    SIZE_FACTOR,
+    circumspheres,
+    crease_caps,
+    flag_counts,
+    refine_in_queue,
+    select_points,
+)
 from meshwright.tet.tetrahedralization import Tetrahedralization
 
 __all__ = ["REFINE_ROUNDS", "SLIVER_MODES", "TET_METHODS", "TetMethod", "tetrahedralize"]
@@ -431,7 +438,7 @@ def _unflatten(job: _Job, tz, faces, parent, where, axis, origins, kept: set):
         nbr = tz.neighbors
         barrier, face_of = _barrier(tets.shape[0], nbr, where)
         solid, region, vmax = classify(tz, barrier, job.holes, job.regions)
-        cand = np.flatnonzero(solid & (barrier.sum(axis=1) == 2))
+        cand = np.flatnonzero(solid & (flag_counts(barrier) == 2))
         if cand.size == 0:
             break
         slots = np.argsort(~barrier[cand], axis=1, kind="stable")
