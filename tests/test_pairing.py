@@ -21,10 +21,14 @@ from meshwright.geometry import airfoil_in_farfield, circle, circles, naca_loop,
 from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.enhancement import enhance
-from meshwright.quad.pairing import ParityError, make_loops_even, pair_domain, pair_triangles
+from meshwright.quad.pairing import (
+    ParityError,
+    make_loops_even,
+    pair_domain,
+    pair_triangles,
+)
 from meshwright.sizing import BackgroundGrid, gradation
 from meshwright.sizing.field import as_size_field
-
 
 # ------------------------------------------------------------------ independent oracles
 
@@ -220,9 +224,90 @@ def test_augmenting_path_repairs_a_stranding_pairing():
 
     nbr[:] = build_neighbors(tris)
     mate = np.array([-1, 2, 1, -1], dtype=np.int32)  # the middle pair strands both ends
-    gained = pk.augment(xy, tris.ravel(), nbr.ravel(), mate, 0.0, 100)
+    gained = pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, 0.0, 100)
     assert gained == 1
     assert mate.tolist() == [1, 0, 3, 2]
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(4, 60))
+def test_dual_neighbours_match_a_dictionary_of_directed_edges(seed, npts):
+    rng = np.random.default_rng(seed)
+    xy = rng.random((npts, 2))
+    tris = mw.delaunay(xy).triangles.astype(np.int32)
+    rng.shuffle(tris)
+    n = len(xy)
+    edges = {(int(t[(k + 1) % 3]), int(t[(k + 2) % 3])): (i, k) for i, t in enumerate(tris) for k in range(3)}
+    pick = [e for e in edges if rng.random() < 0.2]
+    blocked = {(min(e), max(e)) for e in pick}
+    bkey = np.array(sorted(a * n + b for a, b in blocked), dtype=np.int64)
+    nbr, bad = pk.dual_neighbours(tris.ravel(), n, bkey)
+    assert bad == -1
+    for (u, w), (i, k) in edges.items():
+        twin = edges.get((w, u))
+        want = -1 if twin is None or (min(u, w), max(u, w)) in blocked else twin[0]
+        assert nbr[3 * i + k] == want
+
+
+def test_dual_neighbours_name_an_inconsistent_triangle():
+    # Triangle 1 traverses 0 -> 1 as triangle 0 does (flipped orientation).
+    tris = np.array([[0, 1, 2], [1, 3, 0], [0, 1, 4]], dtype=np.int32)
+    _, bad = pk.dual_neighbours(tris.ravel(), 5, np.zeros(0, dtype=np.int64))
+    assert bad == 0
+    # Edge 0-1 shared by three triangles: 1 -> 0 twice.
+    tris = np.array([[0, 1, 2], [1, 0, 3], [1, 0, 4]], dtype=np.int32)
+    _, bad = pk.dual_neighbours(tris.ravel(), 5, np.zeros(0, dtype=np.int64))
+    assert bad == 0
+    tris = np.array([[0, 1, 2], [1, 0, 3]], dtype=np.int32)
+    nbr, bad = pk.dual_neighbours(tris.ravel(), 4, np.zeros(0, dtype=np.int64))
+    assert bad == -1 and nbr.tolist() == [-1, -1, 1, -1, -1, 0]
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(5, 40))
+def test_side_score_table_classifies_every_side(seed, npts):
+    """The rounds' table of raw scores (one per side) against Fractions and math: a side
+    on the boundary or blocked takes no pair, a strictly convex pair scores its scaled
+    Jacobian, a pair with a reflex or straight corner the REFLEX mark, and a corner wider
+    than 150 degrees between two boundary sides forbids the pair; twins agree."""
+    from meshwright.core.mesh import build_neighbors
+
+    rng = np.random.default_rng(seed)
+    xy = rng.random((npts, 2))
+    tris = mw.delaunay(xy).triangles.astype(np.int32)
+    nbr = build_neighbors(tris).astype(np.int32)
+    nbr[rng.random(nbr.shape) < 0.1] = -1  # blocked sides (one side of a pair is enough to check)
+    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel()).reshape(-1, 3)
+
+    def wide(p, c, n):  # corner c (previous p, next n) wider than 150 degrees, or reflex
+        a = math.degrees(math.atan2(*reversed([(n[0] - c[0]) * (p[0] - c[0]) + (n[1] - c[1]) * (p[1] - c[1]),
+                                                (n[0] - c[0]) * (p[1] - c[1]) - (n[1] - c[1]) * (p[0] - c[0])])))
+        return a < 0 or a > 150.0
+
+    for t in range(len(tris)):
+        for k in range(3):
+            s = int(nbr[t, k])
+            back = s >= 0 and t in nbr[s].tolist()
+            if not back:
+                assert raw[t, k] == pk.NO_PAIR
+                continue
+            j = nbr[s].tolist().index(t)
+            assert raw[t, k] == raw[s, j]
+            a, b, c = (int(v) for v in (tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]))
+            d = int(tris[s, j])
+            jb, jc = tris[s].tolist().index(b), tris[s].tolist().index(c)
+            flat = (nbr[t, (k + 2) % 3] < 0 and nbr[s, jc] < 0 and wide(xy[a], xy[b], xy[d])) or (
+                nbr[t, (k + 1) % 3] < 0 and nbr[s, jb] < 0 and wide(xy[d], xy[c], xy[a]))
+            if flat:
+                assert raw[t, k] == pk.NO_PAIR
+            elif _strictly_convex(xy, (a, b, d, c)):
+                assert raw[t, k] == pytest.approx(_min_scaled_jacobian(xy, [(a, b, d, c)]), abs=1e-12)
+            else:
+                assert raw[t, k] == pk.REFLEX
+            for qmin in (0.5, 0.0, -1.0):
+                want = -1.0 if flat else (raw[t, k] if raw[t, k] >= qmin else -1.0) if raw[t, k] != pk.REFLEX else (
+                    0.0 if qmin < 0 else -1.0)
+                assert pk.pair_score(xy, tris.ravel(), nbr.ravel(), t, k, qmin) == want
 
 
 def _max_matching_brute_force(nt, adj):
@@ -260,7 +345,7 @@ def test_augmenting_paths_reach_a_maximum_pairing(seed, npts):
     ]
     assert all(t in adj[s] for t in range(nt) for s in adj[t])  # an allowed pair is allowed both ways
     mate = np.full(nt, -1, dtype=np.int32)
-    pk.augment(xy, tris.ravel(), nbr.ravel(), mate, -1.0, 10**6)
+    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, -1.0, 10**6)
     for t in range(nt):
         if mate[t] >= 0:
             assert mate[mate[t]] == t and int(mate[t]) in adj[t]
@@ -314,7 +399,7 @@ def test_augmenting_paths_reach_a_maximum_pairing_through_blossoms(seed, qmin):
     ]
     assert all(t in adj[s] for t in range(nt) for s in adj[t])  # an allowed pair is allowed both ways
     mate = np.full(nt, -1, dtype=np.int32)
-    pk.augment(xy, tris.ravel(), nbr.ravel(), mate, qmin, 10**6)
+    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, qmin, 10**6)
     for t in range(nt):
         if mate[t] >= 0:
             assert mate[mate[t]] == t and int(mate[t]) in adj[t]
@@ -563,11 +648,21 @@ def test_sliding_smoother_keeps_quads_convex_on_the_curve_and_the_minimum():
     assert np.abs(moved[on] - xy[on]).max() > 1e-4
 
 
+def test_node_quads_lists_each_nodes_live_quads_in_order():
+    rng = np.random.default_rng(5)
+    quads = np.array([rng.choice(12, 4, replace=False) for _ in range(40)], dtype=np.int32)
+    alive = (rng.random(40) < 0.7).astype(np.int8)
+    off, idx = pk.node_quads(quads, alive, 13)
+    for v in range(13):
+        want = [q for q in range(40) if alive[q] and v in quads[q].tolist()]
+        assert idx[off[v] : off[v + 1]].tolist() == want
+
+
 def test_enhancement_worklist_decides_as_full_passes():
     """enhance() examines, after its first pass, only the quads next to the last pass's
     changes; the same passes over every quad (dirty flags reset to all) must give the same
     nodes and quads, on raw pairings of a disk and an airfoil with hundreds of operations."""
-    from meshwright.quad.enhancement import ACCEPT, ENHANCE_PASSES, SWAP_GAIN, _node_quads
+    from meshwright.quad.enhancement import ACCEPT, ENHANCE_PASSES, SWAP_GAIN
 
     cases = [(circle(), 0.05), (airfoil_in_farfield("0012", radius=3.0), 0.15)]
     for dom, h in cases:
@@ -584,7 +679,7 @@ def test_enhancement_worklist_decides_as_full_passes():
         tri_node = np.zeros(len(p), dtype=np.int8)
         tri_node[t3[left].ravel()] = 1
         for _ in range(ENHANCE_PASSES):
-            off, idx = _node_quads(qd, alive, len(p))
+            off, idx = pk.node_quads(qd, alive, len(p))
             got = pk.enhance_pass(
                 p, qd, alive, bnd.astype(np.int8), off, idx, tri_node, ACCEPT, SWAP_GAIN, np.ones(len(qd), np.int8)
             )

@@ -15,6 +15,9 @@ nbr    : flat int32, ``nbr[3*t + k]`` the triangle across the side opposite vert
          the boundary; ``nbr`` of a side that is a constraint (a ``line`` cell) is -1 too,
          so no pair is ever formed across a boundary or an interior segment.
 mate   : (nt,) int32, the triangle t is paired with, -1 while unpaired.
+raw    : flat float64 like ``nbr``, ``raw[3*t + k]`` the raw score of the pair across that
+         side (:func:`side_scores`: scaled Jacobian, :data:`REFLEX` or :data:`NO_PAIR`);
+         the pairing rounds read it instead of scoring a side at every visit.
 quad   : (m, 4) int32 counter-clockwise quadrilaterals; ``alive`` (m,) int8.
 bnd    : (n,) int8, 1 for a node on the boundary, on an interior segment or given as an
          interior point (never moved or removed by the enhancement).
@@ -36,10 +39,27 @@ from numba import njit
 from meshwright.core.predicates import orient2d
 
 FLAT = 0.5  # a corner between two boundary sides needs this sine (angle <= 150 degrees)
+NO_PAIR = -2.0  # raw score of a side no pair may take (below any scaled Jacobian)
+REFLEX = -3.0  # raw score of a pair with a corner of 180 degrees or more
 
 __all__ = [
-    "FLAT", "corner_ok", "corner_flat", "quad_sj", "quad_ok", "pair_quad", "pair_score", "greedy_pairs", "augment",
-    "enhance_pass", "dual_neighbours",
+    "FLAT",
+    "NO_PAIR",
+    "REFLEX",
+    "augment",
+    "corner_flat",
+    "corner_ok",
+    "dual_neighbours",
+    "enhance_pass",
+    "greedy_pairs",
+    "node_quads",
+    "pair_quad",
+    "pair_score",
+    "quad_ok",
+    "quad_sj",
+    "rescore",
+    "score_of",
+    "side_scores",
 ]
 
 
@@ -49,7 +69,7 @@ def corner_ok(xy, p, c, n):
     return orient2d(xy[p, 0], xy[p, 1], xy[c, 0], xy[c, 1], xy[n, 0], xy[n, 1]) > 0.0
 
 
-# quad_sj, quad_ok, corner_flat and _pair_score are calls, not inlined IR: inlined at
+# quad_sj, quad_ok, corner_flat and _raw_score are calls, not inlined IR: inlined at
 # their dozens of nested call sites they cost 7 s of first-run compile (27 -> 20 s CPU for
 # the first pairing, tri kernels cached); the benchmark cases run no slower.
 @njit
@@ -118,22 +138,15 @@ def pair_quad(tri, nbr, t, k):
 
 
 @njit
-def _pair_score(xy, tri, nbr, t, k, qmin):
-    """Scaled Jacobian of the pair (t, side k), or -1 when not allowed: below ``qmin``, not
-    strictly convex (allowed with the score 0 when ``qmin < 0``: the chapter's quads with
-    a corner of 180 degrees or more, left to enhancement and smoothing), or with a corner
-    wider than 150 degrees between two boundary sides (a boundary node left in one quad
-    at a nearly straight boundary, which no later step can open)."""
+def _raw_score(xy, tri, nbr, t, k):
+    """Raw score of the pair (t, side k), independent of the round's bound: the scaled
+    Jacobian of a strictly convex pair, :data:`REFLEX` for a pair with a corner of 180
+    degrees or more, :data:`NO_PAIR` when no pair is allowed there (no neighbour, or a
+    corner wider than 150 degrees between two boundary sides: a boundary node left in one
+    quad at a nearly straight boundary, which no later step can open)."""
     a, b, d, c = pair_quad(tri, nbr, t, k)
     if a < 0 or d < 0:
-        return -1.0
-    # Corners a and d are those of the two triangles, already counter-clockwise.
-    if corner_ok(xy, a, b, d) and corner_ok(xy, d, c, a):
-        q = quad_sj(xy, a, b, d, c)
-    elif qmin < 0.0:
-        q = 0.0
-    else:
-        return -1.0
+        return NO_PAIR
     s = nbr[3 * t + k]
     jb = 0
     jc = 0
@@ -144,25 +157,91 @@ def _pair_score(xy, tri, nbr, t, k, qmin):
             jc = j
     # Corner b lies between t's side opposite c and s's side opposite c; likewise for c.
     if nbr[3 * t + (k + 2) % 3] < 0 and nbr[3 * s + jc] < 0 and corner_flat(xy, a, b, d):
-        return -1.0
+        return NO_PAIR
     if nbr[3 * t + (k + 1) % 3] < 0 and nbr[3 * s + jb] < 0 and corner_flat(xy, d, c, a):
+        return NO_PAIR
+    # Corners a and d are those of the two triangles, already counter-clockwise.
+    if corner_ok(xy, a, b, d) and corner_ok(xy, d, c, a):
+        return quad_sj(xy, a, b, d, c)
+    return REFLEX
+
+
+@njit(inline="always")
+def score_of(r, qmin):
+    """The score of a pair of raw score ``r`` in a round of bound ``qmin``: its scaled
+    Jacobian, 0 for a reflex pair when ``qmin < 0`` (the chapter's quads with a corner of
+    180 degrees or more, left to enhancement and smoothing), -1 when not allowed."""
+    if r == NO_PAIR:
         return -1.0
+    q = r
+    if r == REFLEX:
+        if qmin >= 0.0:
+            return -1.0
+        q = 0.0
     return q if q >= qmin else -1.0
 
 
 @njit(cache=True)
-def pair_score(xy, tri, nbr, t, k, qmin):
-    """:func:`_pair_score` for callers outside the kernels (one compiled copy)."""
-    return _pair_score(xy, tri, nbr, t, k, qmin)
+def side_scores(xy, tri, nbr):
+    """Raw scores (:func:`_raw_score`) of every side, flat (3 t,) float64 like ``nbr``.
+
+    A pair's quad and its tests are the same seen from either triangle, so each shared
+    side is scored once and copied to its twin.  The rounds read this table instead of
+    scoring a side at every visit (the greedy pass scores each side from up to four
+    triangles, every chain search again); it is rebuilt whenever ``tri`` or ``nbr`` change.
+    """
+    nt = tri.shape[0] // 3
+    raw = np.empty(3 * nt, dtype=np.float64)
+    for t in range(nt):
+        for k in range(3):
+            s = nbr[3 * t + k]
+            if s < 0:
+                raw[3 * t + k] = NO_PAIR
+                continue
+            if s < t:
+                twin = -1
+                for j in range(3):
+                    if nbr[3 * s + j] == t:
+                        twin = j
+                if twin >= 0:
+                    raw[3 * t + k] = raw[3 * s + twin]
+                    continue
+            raw[3 * t + k] = _raw_score(xy, tri, nbr, t, k)
+    return raw
 
 
 @njit(cache=True)
-def greedy_pairs(xy, tri, nbr, mate, qmin):
+def rescore(raw, xy, tri, nbr, changed):
+    """Score again, in ``raw``, every side of the triangles ``changed`` (k,) int64 and
+    their twins, after a flip gave those triangles new vertices.  A flip keeps every
+    side's boundary status (the flipped diagonal is interior), so no other side's raw
+    score changes."""
+    for i in range(changed.shape[0]):
+        t = changed[i]
+        for k in range(3):
+            r = _raw_score(xy, tri, nbr, t, k)
+            raw[3 * t + k] = r
+            s = nbr[3 * t + k]
+            if s >= 0:
+                for j in range(3):
+                    if nbr[3 * s + j] == t:
+                        raw[3 * s + j] = r
+
+
+@njit(cache=True)
+def pair_score(xy, tri, nbr, t, k, qmin):
+    """Score of the pair (t, side k) in a round of bound ``qmin`` (:func:`score_of`), for
+    callers outside the kernels."""
+    return score_of(_raw_score(xy, tri, nbr, t, k), qmin)
+
+
+@njit(cache=True)
+def greedy_pairs(raw, nbr, mate, qmin):
     """Pair triangles in the order the front made them (Zhu's first and second triangle).
 
     Triangle t, the first of a pair, takes the unpaired neighbour that is its only chance
     (a neighbour with no other free partner), else the one giving the best quadrilateral.
-    Returns the number of pairs made.
+    ``raw`` is :func:`side_scores`' table.  Returns the number of pairs made.
     """
     nt = mate.shape[0]
     made = 0
@@ -176,13 +255,13 @@ def greedy_pairs(xy, tri, nbr, mate, qmin):
             s = nbr[3 * t + k]
             if s < 0 or mate[s] >= 0:
                 continue
-            q = _pair_score(xy, tri, nbr, t, k, qmin)
+            q = score_of(raw[3 * t + k], qmin)
             if q < 0.0:
                 continue
             free = 0
             for j in range(3):
                 u = nbr[3 * s + j]
-                if u >= 0 and u != t and mate[u] < 0 and _pair_score(xy, tri, nbr, s, j, qmin) >= 0.0:
+                if u >= 0 and u != t and mate[u] < 0 and score_of(raw[3 * s + j], qmin) >= 0.0:
                     free += 1
             if free == 0 and not forced:
                 forced = True
@@ -197,8 +276,8 @@ def greedy_pairs(xy, tri, nbr, mate, qmin):
 
 
 @njit(inline="always")
-def _allowed(xy, tri, nbr, v, k, qmin):
-    return nbr[3 * v + k] >= 0 and _pair_score(xy, tri, nbr, v, k, qmin) >= 0.0
+def _allowed(raw, nbr, v, k, qmin):
+    return nbr[3 * v + k] >= 0 and score_of(raw[3 * v + k], qmin) >= 0.0
 
 
 @njit(cache=True)
@@ -266,7 +345,7 @@ def _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis,
 
 
 @njit(cache=True)
-def _search(xy, tri, nbr, mate, qmin, root, used, pred, base, blossom, mark, stamp, vis, queue, max_visit,
+def _search(raw, nbr, mate, qmin, root, used, pred, base, blossom, mark, stamp, vis, queue, max_visit,
             bstack, head, tail, link, vpos, cand):
     """Edmonds' alternating-tree search from ``root``; returns the free triangle reached or -1.
 
@@ -288,7 +367,7 @@ def _search(xy, tri, nbr, mate, qmin, root, used, pred, base, blossom, mark, sta
         v = queue[head_q]
         head_q += 1
         for k in range(3):
-            if not _allowed(xy, tri, nbr, v, k, qmin):
+            if not _allowed(raw, nbr, v, k, qmin):
                 continue
             to = nbr[3 * v + k]
             if base[v] == base[to] or mate[v] == to:
@@ -318,14 +397,14 @@ def _search(xy, tri, nbr, mate, qmin, root, used, pred, base, blossom, mark, sta
 
 
 @njit(cache=True)
-def augment(xy, tri, nbr, mate, qmin, max_visit):
+def augment(raw, nbr, mate, qmin, max_visit):
     """Pair left-over triangles along augmenting paths (Edmonds 1965, blossoms shrunk).
 
     From an unpaired triangle u an alternating tree grows across allowed sides; reaching
     another unpaired triangle v, the pairs along the path shift by one so that u and v
     are both paired.  Each search enters at most ``max_visit`` triangles (it then gives up
     on u), so the pass costs O(left-overs x max_visit) plus the blossoms' members.
-    Returns the number of pairs gained.
+    ``raw`` is :func:`side_scores`' table.  Returns the number of pairs gained.
     """
     nt = mate.shape[0]
     used = np.zeros(nt, dtype=np.int8)
@@ -348,7 +427,7 @@ def augment(xy, tri, nbr, mate, qmin, max_visit):
         if mate[u] >= 0:
             continue
         found, nv, stamp = _search(
-            xy, tri, nbr, mate, qmin, u, used, pred, base, blossom, mark, stamp, vis, queue, max_visit,
+            raw, nbr, mate, qmin, u, used, pred, base, blossom, mark, stamp, vis, queue, max_visit,
             bstack, head, tail, link, vpos, cand,
         )
         if found >= 0:
@@ -592,6 +671,28 @@ def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
 
 
 @njit(cache=True)
+def node_quads(quad, alive, n):
+    """CSR node -> live quads by a counting sort (each node's quads in increasing order):
+    ``(off (n+1,) int64, idx int32)`` of ``quad`` (m, 4) int32 and ``alive`` (m,) int8."""
+    off = np.zeros(n + 1, dtype=np.int64)
+    for q in range(quad.shape[0]):
+        if alive[q] != 0:
+            for k in range(4):
+                off[quad[q, k] + 1] += 1
+    for v in range(n):
+        off[v + 1] += off[v]
+    fill = off[:-1].copy()
+    idx = np.empty(off[n], dtype=np.int32)
+    for q in range(quad.shape[0]):
+        if alive[q] != 0:
+            for k in range(4):
+                v = quad[q, k]
+                idx[fill[v]] = q
+                fill[v] += 1
+    return off, idx
+
+
+@njit(cache=True)
 def enhance_pass(xy, quad, alive, bnd, off, idx, tri_node, accept, gain, dirty):
     """One pass of node elimination, element elimination and diagonal swapping.
 
@@ -628,7 +729,11 @@ def dual_neighbours(tri, n, bkey):
     """``nbr`` (flat, 3 per triangle) of counter-clockwise triangles ``tri`` (flat), -1 on
     the boundary and across blocked edges (``bkey``: sorted int64 keys ``min * n + max``
     of edges between nodes below ``n``; nodes added later, such as split points, are
-    never ends of a blocked edge); one pass over each node's star, O(triangles).
+    never ends of a blocked edge); O(triangles).
+
+    Each node lists its outgoing directed edges (a CSR table of their heads and sides); the
+    twin of side u -> w is the one edge w -> u in w's list.  Only edges between two ends
+    of blocked edges are looked up in ``bkey``.
 
     Returns (nbr, bad): ``bad`` is -1, or a triangle with an edge that no other triangle
     traverses the other way but one or more traverse the same way or share it twice
@@ -638,39 +743,46 @@ def dual_neighbours(tri, n, bkey):
     nn = 0
     for i in range(3 * nt):
         nn = max(nn, tri[i] + 1)
+    # Side 3 t + k runs from tri[3 t + (k + 1) % 3] to tri[3 t + (k + 2) % 3].
     ptr = np.zeros(nn + 1, dtype=np.int64)
-    for i in range(3 * nt):
-        ptr[tri[i] + 1] += 1
+    for t in range(nt):
+        for k in range(3):
+            ptr[tri[3 * t + (k + 1) % 3] + 1] += 1
     for v in range(nn):
         ptr[v + 1] += ptr[v]
     fill = ptr[:-1].copy()
-    star = np.empty(3 * nt, dtype=np.int32)
+    head = np.empty(3 * nt, dtype=np.int32)
+    side = np.empty(3 * nt, dtype=np.int64)
     for t in range(nt):
         for k in range(3):
-            v = tri[3 * t + k]
-            star[fill[v]] = t
-            fill[v] += 1
+            u = tri[3 * t + (k + 1) % 3]
+            head[fill[u]] = tri[3 * t + (k + 2) % 3]
+            side[fill[u]] = 3 * t + k
+            fill[u] += 1
+    ends = np.zeros(nn, dtype=np.int8)
+    for i in range(bkey.shape[0]):
+        ends[bkey[i] // n] = 1
+        ends[bkey[i] % n] = 1
     nbr = np.full(3 * nt, -1, dtype=np.int32)
     for t in range(nt):
         for k in range(3):
             u = tri[3 * t + (k + 1) % 3]
             w = tri[3 * t + (k + 2) % 3]
-            found = -1
+            same = 0
             for r in range(ptr[u], ptr[u + 1]):
-                s = star[r]
-                if s == t:
-                    continue
-                for j in range(3):
-                    # s traverses the edge w -> u: its side opposite vertex j.
-                    if tri[3 * s + (j + 1) % 3] == w and tri[3 * s + (j + 2) % 3] == u:
-                        if found >= 0:
-                            return nbr, t
-                        found = s
-                    elif tri[3 * s + (j + 1) % 3] == u and tri[3 * s + (j + 2) % 3] == w:
-                        return nbr, t
-            if found < 0:
+                if head[r] == w:
+                    same += 1
+            found = -1
+            twins = 0
+            for r in range(ptr[w], ptr[w + 1]):
+                if head[r] == u:
+                    twins += 1
+                    found = side[r] // 3
+            if same > 1 or twins > 1 or found == t:
+                return nbr, t
+            if twins == 0:
                 continue
-            if bkey.shape[0] and max(u, w) < n:
+            if ends[u] != 0 and ends[w] != 0 and max(u, w) < n:
                 key = min(u, w) * np.int64(n) + max(u, w)
                 i = np.searchsorted(bkey, key)
                 if i < bkey.shape[0] and bkey[i] == key:

@@ -34,8 +34,16 @@ from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.smoothing import smooth_sliding
 
 __all__ = [
-    "enhance", "smooth_quads", "unpair_nonconvex", "nonconvex", "min_scaled_jacobian",
-    "ENHANCE_PASSES", "ENHANCE_SMOOTH", "ENHANCE_SETTLE", "ACCEPT", "SWAP_GAIN",
+    "ACCEPT",
+    "ENHANCE_PASSES",
+    "ENHANCE_SETTLE",
+    "ENHANCE_SMOOTH",
+    "SWAP_GAIN",
+    "enhance",
+    "min_scaled_jacobian",
+    "nonconvex",
+    "smooth_quads",
+    "unpair_nonconvex",
 ]
 
 ENHANCE_PASSES = 8  # cap on enhancement passes (each stops early when nothing changes)
@@ -43,16 +51,6 @@ ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a spl
 ENHANCE_SETTLE = 1e-2  # ... after the first, only where a node moved more than this times an edge
 ACCEPT = 0.4  # element elimination may lower the local worst scaled Jacobian, but not below this
 SWAP_GAIN = 0.02  # a diagonal swap must raise the pair's worst scaled Jacobian by more than this
-
-
-def _node_quads(quads: np.ndarray, alive: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """CSR node -> live quads: (off (n+1,) int64, idx int32)."""
-    live = np.flatnonzero(alive)
-    owner = quads[live].ravel().astype(np.int64)
-    order = np.argsort(owner, kind="stable")
-    off = np.zeros(n + 1, dtype=np.int64)
-    off[1:] = np.cumsum(np.bincount(owner, minlength=n))
-    return off, np.repeat(live, 4)[order].astype(np.int32)
 
 
 def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
@@ -101,7 +99,7 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
     total = np.zeros(3, dtype=np.int64)
     dirty = np.ones(len(qd), dtype=np.int8)
     for _ in range(passes):
-        off, idx = _node_quads(qd, alive, len(xy))
+        off, idx = pk.node_quads(qd, alive, len(xy))
         got = pk.enhance_pass(xy, qd, alive, bnd, off, idx, tri_node, ACCEPT, SWAP_GAIN, dirty)
         total += np.asarray(got)
         if sum(got) == 0:

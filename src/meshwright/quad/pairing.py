@@ -125,11 +125,24 @@ from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
 
 __all__ = [
-    "ParityError", "PairingReport", "pair_domain", "pairing_fill", "make_loops_even",
-    "pair_triangles", "PAIR_BOUNDS", "MAX_VISIT", "EARLY_VISIT", "MAX_WALKS", "STALE_WALKS", "DOMAIN_STALE_WALKS",
-    "DOMAIN_EARLY_VISIT",
+    "CENTRE_KEEP",
     "CENTRE_ROUNDS",
-    "CENTRE_KEEP", "FLAT_ANGLE", "RESPACE", "CHORD_RINGS",
+    "CHORD_RINGS",
+    "DOMAIN_EARLY_VISIT",
+    "DOMAIN_STALE_WALKS",
+    "EARLY_VISIT",
+    "FLAT_ANGLE",
+    "MAX_VISIT",
+    "MAX_WALKS",
+    "PAIR_BOUNDS",
+    "RESPACE",
+    "STALE_WALKS",
+    "PairingReport",
+    "ParityError",
+    "make_loops_even",
+    "pair_domain",
+    "pair_triangles",
+    "pairing_fill",
 ]
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
@@ -306,13 +319,13 @@ def _neighbours(tris: np.ndarray, bkey: np.ndarray, n: int) -> np.ndarray:
     return nbr.reshape(-1, 3)
 
 
-def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> int:
+def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> np.ndarray:
     """Move every unpaired triangle t one pair further: flip the diagonal between t and a
     paired neighbour s (their union an allowed quad,
     :func:`~meshwright.quad._pairing_kernel.pair_score`), pair the two new triangles and
-    free s's old partner; ``tris`` and ``nbr`` are updated in place.  Returns the number
-    of flips."""
-    flips = 0
+    free s's old partner; ``tris`` and ``nbr`` are updated in place.  Returns the
+    triangles flipped, (2 flips,) int64."""
+    flipped = []
     touched = np.zeros(len(tris), dtype=bool)
     for t in np.flatnonzero(mate < 0).tolist():
         if touched[t]:
@@ -341,9 +354,9 @@ def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> int:
             mate[old] = -1
             mate[t], mate[s] = s, t
             touched[[t, s, old]] = True
-            flips += 1
+            flipped += [t, s]
             break
-    return flips
+    return np.array(flipped, dtype=np.int64)
 
 
 def _open_ears(xy, tris, nbr):
@@ -521,20 +534,23 @@ def _pair_rounds(
         nbr = _neighbours(tris, bkey, n)
     mate = np.full(len(tris), -1, dtype=np.int32)
     chains = 0
+    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
     for i, q in enumerate(bounds):
-        pk.greedy_pairs(xy, tris.ravel(), nbr.ravel(), mate, float(q))
+        pk.greedy_pairs(raw, nbr.ravel(), mate, float(q))
         # Early rounds only mend locally: a triangle with no partner at a high bound would
         # search its whole component in vain; the last round searches far.
         visit = int(max_visit) if i == len(bounds) - 1 else min(int(max_visit), int(early_visit))
-        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(q), visit))
+        chains += int(pk.augment(raw, nbr.ravel(), mate, float(q), visit))
     rng = np.random.default_rng(seed)
     best, stale = int((mate < 0).sum()), 0
     for _ in range(walks):
         if best == 0 or stale >= stale_walks:
             break
-        if _walk_left_overs(xy, tris, nbr, mate, rng, max(float(bounds[-1]), 0.0)) == 0:
+        flipped = _walk_left_overs(xy, tris, nbr, mate, rng, max(float(bounds[-1]), 0.0))
+        if not len(flipped):
             break
-        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
+        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
+        chains += int(pk.augment(raw, nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
         left = int((mate < 0).sum())
         best, stale = (left, 0) if left < best else (best, stale + 1)
     return _PairState(xy, tris, nbr, mate, chains)
@@ -552,8 +568,9 @@ def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairSt
         if not grown:
             break
         nbr = _neighbours(tris, bkey, n)
-        pk.greedy_pairs(xy, tris.ravel(), nbr.ravel(), mate, float(qmin))
-        chains += int(pk.augment(xy, tris.ravel(), nbr.ravel(), mate, float(qmin), int(max_visit)))
+        raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
+        pk.greedy_pairs(raw, nbr.ravel(), mate, float(qmin))
+        chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit)))
     return _PairState(xy, tris, nbr, mate, chains)
 
 
