@@ -491,7 +491,9 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
                     nodes = bigger
                 nodes[nn] = v
                 nn += 1
-        if g != f and r != s and p_ok:
+        # The face's own twin (the other side of an interior segment) lies on the face:
+        # its distance is the ideal point's height, not a clearance to keep.
+        if g != f and r != s and p_ok and not (r == b and s == a):
             rx, ry = _to_metric(l11, l21, l22, pts[r, 0] - px, pts[r, 1] - py)
             sx, sy = _to_metric(l11, l21, l22, pts[s, 0] - px, pts[s, 1] - py)
             if _seg_dist(rx, ry, sx, sy) < clear_f:
