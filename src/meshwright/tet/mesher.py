@@ -45,6 +45,7 @@ from meshwright.tet.recovery import (
 )
 from meshwright.tet.refine3d import (
     SIZE_FACTOR,
+    bad_solid,
     circumspheres,
     crease_caps,
     flag_counts,
@@ -280,9 +281,9 @@ def _door(surface, size, max_volume, radius_edge, min_dihedral, holes, regions, 
 
 
 def _barrier(nt: int, nbr: np.ndarray, where: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Barrier flags (nt, 4) on both sides of every subface, and ``face_of`` (4 nt,) subface ids."""
-    face_of = np.full(4 * nt, -1, dtype=np.int64)
-    face_of[where] = np.arange(where.size)
+    """Barrier flags (nt, 4) on both sides of every subface, and ``face_of`` (4 nt,) int32 subface ids."""
+    face_of = np.full(4 * nt, -1, dtype=np.int32)  # half the bytes of int64: written every round
+    face_of[where] = np.arange(where.size, dtype=np.int32)
     t, k = np.divmod(where, 4)
     u = nbr[t, k]
     inner = u >= 0
@@ -331,10 +332,23 @@ def _run_delaunay(job: _Job) -> Mesh:
             tets = tz.tetrahedra
             nbr = tz.neighbors
             pts = tz.points
-            cc, r2, lmin, vol = circumspheres(pts, tets)
-            bad, reach = _bad(job, pts, tets, solid, r2, lmin, vol, np.minimum(vmax, job.max_volume), EXEMPT / FLOOR * float(floor.min()), guard)
+            vbound = np.minimum(vmax, job.max_volume)
+            spheres = None  # circumcentres, radii, volumes and reach: for the rounds that need them
+            if job.field is None or job.field.constant is not None:
+                # one pass without the circumcentres: the queue rounds need the bad tets only
+                h = job.field.constant if job.field is not None else np.inf
+                bad = bad_solid(
+                    pts, tets, solid, vbound, SIZE_FACTOR * h if job.field is not None else np.inf,
+                    MARGIN * job.radius_edge if job.radius_edge is not None else np.inf, EXEMPT / FLOOR * float(floor.min()),
+                )
+            else:
+                spheres = _spheres(job, pts, tets, solid, vbound, EXEMPT / FLOOR * float(floor.min()), guard)
+                bad = spheres[4]
             changed = not settled
         queue_round = bad.size and not caps_only and (job.field is None or job.field.constant is not None)
+        if not queue_round and spheres is None:
+            spheres = _spheres(job, pts, tets, solid, vbound, EXEMPT / FLOOR * float(floor.min()), guard)
+        cc, r2, vol, reach = spheres[:4] if spheres is not None else (None, None, None, None)
         # the queue rounds leave crease caps alone (most vanish under refinement: 6,456 at the
         # start of the level-5 sphere, 3 after it), so they are looked for in the other rounds only
         caps, apex = (np.zeros(0, dtype=np.int64), np.zeros((0, 3))) if queue_round else _new_caps(tets, barrier, solid, face_of, parent, pts, cc, r2, vol, tried)
@@ -566,6 +580,14 @@ def _coplanar(job: _Job, f: np.ndarray, g: np.ndarray) -> np.ndarray:
     call per pair was 3 % of the level-4 sphere)."""
     quads = np.concatenate([np.repeat(job.faces[f], 3, axis=0), job.faces[g].reshape(-1, 1)], axis=1)
     return (orient3d_batch(job.points, quads) == 0.0).reshape(-1, 3).all(axis=1)
+
+
+def _spheres(job: _Job, pts, tets, solid, vbound, floor: float, guard: float):
+    """Circumcentres (nt, 3), squared radii (nt,), volumes (nt,), ``reach`` (nt,) and bad
+    tets (b,) int64 of the round (:func:`circumspheres`, :func:`_bad`)."""
+    cc, r2, lmin, vol = circumspheres(pts, tets)
+    bad, reach = _bad(job, pts, tets, solid, r2, lmin, vol, vbound, floor, guard)
+    return cc, r2, vol, reach, bad
 
 
 def _bad(job: _Job, pts, tets, solid, r2, lmin, vol, vmax, floor: float, guard: float) -> tuple[np.ndarray, np.ndarray]:

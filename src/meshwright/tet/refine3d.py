@@ -51,7 +51,7 @@ from meshwright.core.predicates import orient3d
 from meshwright.core.rng import xorshift32
 from meshwright.tet._refine_kernel import _in_diametral_ball as in_face_ball
 
-__all__ = ["SIZE_FACTOR", "WALK_CAP", "circumspheres", "crease_caps", "flag_counts", "refine_in_queue", "select_points"]
+__all__ = ["SIZE_FACTOR", "WALK_CAP", "bad_solid", "circumspheres", "crease_caps", "flag_counts", "refine_in_queue", "select_points"]
 
 SIZE_FACTOR = 0.8  # a tet is too large when R > SIZE_FACTOR * h
 WALK_CAP = 1 << 16
@@ -77,6 +77,47 @@ def circumspheres(pts: np.ndarray, tets: np.ndarray):
     return _circumspheres(pts, np.ascontiguousarray(tets))
 
 
+@njit(inline="always")
+def _sphere_terms(pts, tets, t):
+    """Circumcentre offset (ox, oy, oz) from vertex 0 (inf when degenerate), the orientation
+    determinant and the squared shortest edge of tet t: the one formula both
+    :func:`_circumspheres` and :func:`_bad_solid` use, so they agree to the bit."""
+    a = tets[t, 0]
+    ux = pts[tets[t, 1], 0] - pts[a, 0]
+    uy = pts[tets[t, 1], 1] - pts[a, 1]
+    uz = pts[tets[t, 1], 2] - pts[a, 2]
+    vx = pts[tets[t, 2], 0] - pts[a, 0]
+    vy = pts[tets[t, 2], 1] - pts[a, 1]
+    vz = pts[tets[t, 2], 2] - pts[a, 2]
+    wx = pts[tets[t, 3], 0] - pts[a, 0]
+    wy = pts[tets[t, 3], 1] - pts[a, 1]
+    wz = pts[tets[t, 3], 2] - pts[a, 2]
+    cx = vy * wz - vz * wy
+    cy = vz * wx - vx * wz
+    cz = vx * wy - vy * wx
+    det = ux * cx + uy * cy + uz * cz
+    lu = ux * ux + uy * uy + uz * uz
+    lv = vx * vx + vy * vy + vz * vz
+    lw = wx * wx + wy * wy + wz * wz
+    d = 2.0 * det
+    ox = (lu * cx + lv * (wy * uz - wz * uy) + lw * (uy * vz - uz * vy)) / d if d != 0.0 else np.inf
+    oy = (lu * cy + lv * (wz * ux - wx * uz) + lw * (uz * vx - ux * vz)) / d if d != 0.0 else np.inf
+    oz = (lu * cz + lv * (wx * uy - wy * ux) + lw * (ux * vy - uy * vx)) / d if d != 0.0 else np.inf
+    if not (np.isfinite(ox) and np.isfinite(oy) and np.isfinite(oz)):
+        ox = np.inf
+        oy = np.inf
+        oz = np.inf
+    e2 = min(lu, min(lv, lw))
+    for i, j in ((1, 2), (2, 3), (1, 3)):
+        p = tets[t, i]
+        q = tets[t, j]
+        dx = pts[p, 0] - pts[q, 0]
+        dy = pts[p, 1] - pts[q, 1]
+        dz = pts[p, 2] - pts[q, 2]
+        e2 = min(e2, dx * dx + dy * dy + dz * dz)
+    return ox, oy, oz, det, e2
+
+
 @njit(cache=True)
 def _circumspheres(pts, tets):
     nt = tets.shape[0]
@@ -85,46 +126,57 @@ def _circumspheres(pts, tets):
     lmin = np.empty(nt)
     vol = np.empty(nt)
     for t in range(nt):
+        ox, oy, oz, det, e2 = _sphere_terms(pts, tets, t)
         a = tets[t, 0]
-        ux = pts[tets[t, 1], 0] - pts[a, 0]
-        uy = pts[tets[t, 1], 1] - pts[a, 1]
-        uz = pts[tets[t, 1], 2] - pts[a, 2]
-        vx = pts[tets[t, 2], 0] - pts[a, 0]
-        vy = pts[tets[t, 2], 1] - pts[a, 1]
-        vz = pts[tets[t, 2], 2] - pts[a, 2]
-        wx = pts[tets[t, 3], 0] - pts[a, 0]
-        wy = pts[tets[t, 3], 1] - pts[a, 1]
-        wz = pts[tets[t, 3], 2] - pts[a, 2]
-        cx = vy * wz - vz * wy
-        cy = vz * wx - vx * wz
-        cz = vx * wy - vy * wx
-        det = ux * cx + uy * cy + uz * cz
-        lu = ux * ux + uy * uy + uz * uz
-        lv = vx * vx + vy * vy + vz * vz
-        lw = wx * wx + wy * wy + wz * wz
-        d = 2.0 * det
-        ox = (lu * cx + lv * (wy * uz - wz * uy) + lw * (uy * vz - uz * vy)) / d if d != 0.0 else np.inf
-        oy = (lu * cy + lv * (wz * ux - wx * uz) + lw * (uz * vx - ux * vz)) / d if d != 0.0 else np.inf
-        oz = (lu * cz + lv * (wx * uy - wy * ux) + lw * (ux * vy - uy * vx)) / d if d != 0.0 else np.inf
-        if not (np.isfinite(ox) and np.isfinite(oy) and np.isfinite(oz)):
-            ox = np.inf
-            oy = np.inf
-            oz = np.inf
         cc[t, 0] = pts[a, 0] + ox
         cc[t, 1] = pts[a, 1] + oy
         cc[t, 2] = pts[a, 2] + oz
         r2[t] = ox * ox + oy * oy + oz * oz
-        e2 = min(lu, min(lv, lw))
-        for i, j in ((1, 2), (2, 3), (1, 3)):
-            p = tets[t, i]
-            q = tets[t, j]
-            dx = pts[p, 0] - pts[q, 0]
-            dy = pts[p, 1] - pts[q, 1]
-            dz = pts[p, 2] - pts[q, 2]
-            e2 = min(e2, dx * dx + dy * dy + dz * dz)
         lmin[t] = np.sqrt(e2)
         vol[t] = det / 6.0
     return cc, r2, lmin, vol
+
+
+def bad_solid(pts: np.ndarray, tets: np.ndarray, solid: np.ndarray, vbound: np.ndarray, rmax: float, quality: float, floor: float) -> np.ndarray:
+    """Solid tets over a volume, size or radius-edge bound, in one pass without the
+    circumcentres: (b,) int64 ascending.
+
+    Parameters
+    ----------
+    pts : (nv, 3) float64
+    tets : (nt, 4) int32
+    solid : (nt,) bool
+    vbound : (nt,) float64
+        Volume bound of each tet (inf: none).
+    rmax : float
+        Largest circumradius (inf: none).
+    quality : float
+        Bound on circumradius / shortest edge (inf: none), for tets whose shortest edge is
+        at least ``floor``.
+
+    A tet is bad when ``vol > vbound``, ``R > rmax`` or ``R > quality * l_min`` with
+    ``l_min >= floor``: the test of ``tet.mesher._bad`` for a constant size, evaluated in the
+    same order on the same numbers (the whole-mesh :func:`circumspheres` and its four output
+    arrays were refinement's largest pass per round).
+    """
+    return _bad_solid(pts, np.ascontiguousarray(tets), solid, vbound, rmax, quality, floor)
+
+
+@njit(cache=True)
+def _bad_solid(pts, tets, solid, vbound, rmax, quality, floor):
+    nt = tets.shape[0]
+    out = np.empty(nt, dtype=np.int64)
+    n = 0
+    for t in range(nt):
+        if not solid[t]:
+            continue
+        ox, oy, oz, det, e2 = _sphere_terms(pts, tets, t)
+        r = np.sqrt(ox * ox + oy * oy + oz * oz)
+        lmin = np.sqrt(e2)
+        if det / 6.0 > vbound[t] or r > rmax or (r > quality * lmin and lmin >= floor):
+            out[n] = t
+            n += 1
+    return out[:n].copy()
 
 
 @njit(inline="always")
