@@ -202,8 +202,8 @@ def test_unpaired_triangles_split_at_their_centroids():
 
     xy, tris = _strip()
     mate = np.array([1, 0, -1, -1], dtype=np.int32)
-    out_xy, out_t, out_mate, grown = _split_left_overs(xy, tris, mate)
-    assert grown == 2 and len(out_xy) == len(xy) + 2 and len(out_t) == len(tris) + 4
+    out_xy, out_t, out_mate, cut = _split_left_overs(xy, tris, mate)
+    assert cut.tolist() == [2, 3] and len(out_xy) == len(xy) + 2 and len(out_t) == len(tris) + 4
     assert out_mate.tolist() == [1, 0, -1, -1, -1, -1, -1, -1]
     assert all(_cross(out_xy[a], out_xy[b], out_xy[c]) > 0 for a, b, c in out_t)
     area = sum(float(_cross(out_xy[a], out_xy[b], out_xy[c])) for a, b, c in out_t)
@@ -247,6 +247,38 @@ def test_dual_neighbours_match_a_dictionary_of_directed_edges(seed, npts):
         twin = edges.get((w, u))
         want = -1 if twin is None or (min(u, w), max(u, w)) in blocked else twin[0]
         assert nbr[3 * i + k] == want
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(4, 40))
+def test_neighbours_after_centroid_splits_match_a_dictionary(seed, npts):
+    """The centre rounds update the neighbours of the cut triangles only; the result is
+    the table of the split mesh (adjacent cut triangles, blocked sides kept blocked)."""
+    from meshwright.core.mesh import build_neighbors
+    from meshwright.quad.pairing import _split_left_overs
+
+    rng = np.random.default_rng(seed)
+    xy = rng.random((npts, 2))
+    tris = mw.delaunay(xy).triangles.astype(np.int32)
+    nbr = build_neighbors(tris).astype(np.int32)
+    n = len(xy)
+    blocked = set()
+    for t, k in zip(*np.nonzero((rng.random(nbr.shape) < 0.15) & (nbr >= 0))):
+        u, w = int(tris[t, (k + 1) % 3]), int(tris[t, (k + 2) % 3])
+        blocked.add((min(u, w), max(u, w)))
+    for t in range(len(tris)):
+        for k in range(3):
+            u, w = int(tris[t, (k + 1) % 3]), int(tris[t, (k + 2) % 3])
+            if (min(u, w), max(u, w)) in blocked:
+                nbr[t, k] = -1
+    mate = np.where(rng.random(len(tris)) < 0.4, -1, 0).astype(np.int32)
+    out_xy, out_t, _, cut = _split_left_overs(xy, tris, mate)
+    got = pk.split_neighbours(nbr.ravel(), cut, len(tris))
+    edges = {(int(t[(k + 1) % 3]), int(t[(k + 2) % 3])): (i, k) for i, t in enumerate(out_t) for k in range(3)}
+    for (u, w), (i, k) in edges.items():
+        twin = edges.get((w, u))
+        want = -1 if twin is None or (u < n and w < n and (min(u, w), max(u, w)) in blocked) else twin[0]
+        assert got[3 * i + k] == want
 
 
 def test_dual_neighbours_name_an_inconsistent_triangle():

@@ -60,6 +60,7 @@ __all__ = [
     "rescore",
     "score_of",
     "side_scores",
+    "split_neighbours",
 ]
 
 
@@ -226,6 +227,46 @@ def rescore(raw, xy, tri, nbr, changed):
                 for j in range(3):
                     if nbr[3 * s + j] == t:
                         raw[3 * s + j] = r
+
+
+@njit(cache=True)
+def split_neighbours(nbr, split, nt):
+    """Neighbours after :func:`meshwright.quad.pairing._split_left_overs` cut each
+    triangle ``split[i]`` (m,) int64 of the ``nt`` old ones at its centroid g: part k of
+    old triangle (v0, v1, v2) is (v_k, v_{k+1}, g), part 0 kept at the old index, part 1
+    at ``nt + i``, part 2 at ``nt + m + i``.  Part k's side opposite g is the old side
+    opposite v_{k+2} (same neighbour, or the neighbour's part on it when that one was cut
+    too; -1 stays -1, so blocked sides stay blocked); its other two sides meet parts
+    k + 1 and k - 1.  Returns the new flat ``nbr`` (3 (nt + 2 m),) int32; ``nbr`` is not
+    modified."""
+    m = split.shape[0]
+    out = np.full(3 * (nt + 2 * m), -1, dtype=np.int32)
+    out[: 3 * nt] = nbr[: 3 * nt]
+    slot = np.full(nt, -1, dtype=np.int64)
+    for i in range(m):
+        slot[split[i]] = i
+    for i in range(m):
+        t = split[i]
+        part = (t, nt + i, nt + m + i)
+        for k in range(3):
+            pk_ = part[k]
+            out[3 * pk_ + 0] = part[(k + 1) % 3]
+            out[3 * pk_ + 1] = part[(k + 2) % 3]
+            u = nbr[3 * t + (k + 2) % 3]
+            if u < 0:
+                out[3 * pk_ + 2] = -1
+                continue
+            j = 0
+            while nbr[3 * u + j] != t:
+                j += 1
+            if slot[u] >= 0:
+                # u was cut too: its part on this edge is part (j + 1) % 3 of u.
+                w = (j + 1) % 3
+                out[3 * pk_ + 2] = u if w == 0 else (nt + slot[u] if w == 1 else nt + m + slot[u])
+            else:
+                out[3 * pk_ + 2] = u
+                out[3 * u + j] = pk_
+    return out
 
 
 @njit(cache=True)

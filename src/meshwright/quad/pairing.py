@@ -416,7 +416,8 @@ def _split_left_overs(xy, tris, mate):
     exact ``orient2d``, else left as it is): a triangle of a boundary fan, isolated because
     every pair would leave a boundary node in one quad at a flat corner, gives its boundary
     nodes a second interior side.  Two triangles more keep the count's parity.  Returns
-    (xy, tris, mate, number split)."""
+    (xy, tris, mate, the triangles cut (k,) int64); the i-th cut triangle keeps its first
+    part, its second and third are appended at ``t + i`` and ``t + k + i``."""
     left = np.flatnonzero(mate < 0)
     t = tris[left].astype(np.int64)
     g = len(xy) + np.arange(len(left))
@@ -425,7 +426,7 @@ def _split_left_overs(xy, tris, mate):
     parts = [np.column_stack([t[:, k], t[:, (k + 1) % 3], g]) for k in range(3)]
     ok = np.all([orient2d_batch(trial, p) > 0.0 for p in parts], axis=0)
     if not ok.any():
-        return xy, tris, mate, 0
+        return xy, tris, mate, np.zeros(0, dtype=np.int64)
     # Renumber the kept centres so the points stay contiguous.
     keep_g = len(xy) + np.arange(int(ok.sum()))
     parts = [np.column_stack([p[ok, 0], p[ok, 1], keep_g]) for p in parts]
@@ -434,7 +435,7 @@ def _split_left_overs(xy, tris, mate):
     tris[left[ok]] = parts[0]
     tris = np.ascontiguousarray(np.vstack([tris, parts[1], parts[2]]).astype(np.int32))
     mate = np.concatenate([mate, np.full(2 * int(ok.sum()), -1, dtype=np.int32)])
-    return xy, tris, mate, int(ok.sum())
+    return xy, tris, mate, left[ok].astype(np.int64)
 
 
 def pair_triangles(
@@ -513,13 +514,15 @@ def pair_triangles(
 
 
 class _PairState(NamedTuple):
-    """Where a pairing stands: points, triangles, neighbours, partners, chain gains."""
+    """Where a pairing stands: points, triangles, neighbours, partners, chain gains, and
+    the raw side scores of the triangles (:func:`~meshwright.quad._pairing_kernel.side_scores`)."""
 
     xy: np.ndarray
     tris: np.ndarray
     nbr: np.ndarray
     mate: np.ndarray
     chains: int
+    raw: np.ndarray
 
 
 def _pair_rounds(
@@ -553,30 +556,34 @@ def _pair_rounds(
         chains += int(pk.augment(raw, nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
         left = int((mate < 0).sum())
         best, stale = (left, 0) if left < best else (best, stale + 1)
-    return _PairState(xy, tris, nbr, mate, chains)
+    return _PairState(xy, tris, nbr, mate, chains, raw)
 
 
 def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairState:
     """Up to ``centres`` rounds of centroid splits of the unpaired triangles, each followed
     by a greedy and a chain round at ``qmin``; ``st`` itself is not modified."""
-    xy, tris, nbr, mate, chains = st
+    xy, tris, nbr, mate, chains, raw = st
     for _ in range(centres):
         if not (mate < 0).any():
             break
-        # The split returns new arrays, so the rounds below never write into st's.
-        xy, tris, mate, grown = _split_left_overs(xy, tris, mate)
-        if not grown:
+        # The split returns new arrays, so the rounds below never write into st's; the
+        # neighbours and scores change only around the cut triangles.
+        nt = len(tris)
+        xy, tris, mate, cut = _split_left_overs(xy, tris, mate)
+        if not len(cut):
             break
-        nbr = _neighbours(tris, bkey, n)
-        raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
+        nbr = pk.split_neighbours(nbr.ravel(), cut, nt).reshape(-1, 3)
+        raw = np.concatenate([raw, np.empty(3 * (len(tris) - nt))])
+        parts = np.concatenate([cut, nt + np.arange(len(tris) - nt, dtype=np.int64)])
+        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), parts)
         pk.greedy_pairs(raw, nbr.ravel(), mate, float(qmin))
         chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit)))
-    return _PairState(xy, tris, nbr, mate, chains)
+    return _PairState(xy, tris, nbr, mate, chains, raw)
 
 
 def _quads_of(st: _PairState):
     """:func:`pair_triangles`'s results from a pairing state."""
-    xy, tris, nbr, mate, chains = st
+    xy, tris, nbr, mate, chains, _ = st
     first = np.flatnonzero((mate >= 0) & (mate > np.arange(len(tris))))
     # Quad (a, b, d, c): t = (a, b, c) with a opposite the shared side, d the partner's third vertex.
     k = np.argmax(nbr[first] == mate[first][:, None], axis=1)
