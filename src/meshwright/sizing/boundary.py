@@ -11,8 +11,9 @@
   field), the Lipschitz-continuous size of P.-O. Persson, "Mesh size functions for implicit
   geometries and PDE-based gradient limiting", Engineering with Computers 22:95-109, 2006.
   The minimum over sources uses a uniform grid of the sources under a pyramid of cell
-  minima, searched best first by a lower bound per cell, so no KD-tree (and no SciPy) is
-  needed.
+  minima and source bounding boxes, searched best first by a lower bound per cell and
+  started from the previous query's nearest source, so no KD-tree (and no SciPy) is
+  needed; the result is the exact floating-point minimum over all sources.
 """
 
 from __future__ import annotations
@@ -55,28 +56,53 @@ def point_distribution(points, segments) -> np.ndarray:
         return np.where(count > 0, total / np.maximum(count, 1), np.nan)
 
 
+@nb.njit(inline="always")
+def _cell_bound(hm, box, c, qx, qy, slope):
+    """``hm + slope dist(q, box_c)``: at most ``h_i + slope |q - x_i|`` for every source i
+    of cell c, in floating point too (the box is the sources' own bounding box, so every
+    rounded difference to it is at most the rounded difference to a source)."""
+    dx = max(box[c, 0] - qx, 0.0, qx - box[c, 2])
+    dy = max(box[c, 1] - qy, 0.0, qy - box[c, 3])
+    return hm + slope * np.sqrt(dx * dx + dy * dy)
+
+
 @nb.njit(cache=True)
-def _cone_min(query, upper, src, h, slope, start, items, hmin, off, gxs, gys, x0, y0, w):
+def _cone_min(query, upper, src, h, slope, start, items, hmin, box, off, gxs, gys):
     """``min(upper_k, min_i h_i + slope |q_k - src_i|)`` for each query ``q_k``, best first
     over a pyramid of cells (:func:`_pyramid`): a cell is opened in the order of its lower
-    bound ``hmin(cell) + slope dist(q_k, cell)`` and the search stops when the next bound
-    is not below the best value found.  A ring search on the finest grid with the global
-    smallest size as its bound visited every cell within ``best / slope`` of a query far
-    from a fine source: O(sources) per query on a boundary with a tiny feature."""
+    bound (:func:`_cell_bound`) and the search stops when the next bound is not below the
+    best value found.  The search starts from the value of the source that gave the
+    previous query its minimum: queries come in spatial order (a front's new nodes, a
+    boundary table, a quadtree's corners), so that value is nearly the answer and prunes
+    from the first cell.  Every value is one of the sources' ``h_i + slope |q - x_i|``
+    computed as written here, and a cell is skipped only when its bound (a floating-point
+    lower bound) is not below the best value, so the result is exactly the brute-force
+    minimum.  Each cell enters the heap at most once per query: its capacity is the
+    pyramid's cell count."""
     out = np.empty(query.shape[0])
     top = gxs.shape[0] - 1
-    hkey = np.empty(256)
-    hval = np.empty((256, 3), dtype=np.int32)
+    hkey = np.empty(hmin.shape[0])
+    hval = np.empty((hmin.shape[0], 3), dtype=np.int32)
+    last = -1
     for k in range(query.shape[0]):
         qx, qy = query[k, 0], query[k, 1]
         best = upper[k]
+        if last >= 0:
+            ex = qx - src[last, 0]
+            ey = qy - src[last, 1]
+            v = h[last] + slope * np.sqrt(ex * ex + ey * ey)
+            if v < best:
+                best = v
         n = 0
         for j in range(gys[top]):
             for i in range(gxs[top]):
-                hkey, hval = _grow_heap(hkey, hval, n + 1)
-                e = heap_push(hkey, hval, n, hmin[off[top] + j * gxs[top] + i])
-                hval[e, 0], hval[e, 1], hval[e, 2] = top, i, j
-                n += 1
+                c = off[top] + j * gxs[top] + i
+                if hmin[c] < best:
+                    bound = _cell_bound(hmin[c], box, c, qx, qy, slope)
+                    if bound < best:
+                        e = heap_push(hkey, hval, n, bound)
+                        hval[e, 0], hval[e, 1], hval[e, 2] = top, i, j
+                        n += 1
         while n > 0:
             if hkey[0] >= best:
                 break
@@ -92,68 +118,79 @@ def _cone_min(query, upper, src, h, slope, start, items, hmin, off, gxs, gys, x0
                     v = h[s] + slope * np.sqrt(ex * ex + ey * ey)
                     if v < best:
                         best = v
+                        last = s
                 continue
-            side = w * 2.0 ** (lev - 1)
             for b in range(2):
                 for a in range(2):
                     ci = 2 * i + a
                     cj = 2 * j + b
                     if ci >= gxs[lev - 1] or cj >= gys[lev - 1]:
                         continue
-                    hm = hmin[off[lev - 1] + cj * gxs[lev - 1] + ci]
-                    if not hm < best:
-                        continue
-                    dx = max(x0 + ci * side - qx, 0.0, qx - (x0 + (ci + 1) * side))
-                    dy = max(y0 + cj * side - qy, 0.0, qy - (y0 + (cj + 1) * side))
-                    bound = hm + slope * np.sqrt(dx * dx + dy * dy)
-                    if bound < best:
-                        hkey, hval = _grow_heap(hkey, hval, n + 1)
-                        e = heap_push(hkey, hval, n, bound)
-                        hval[e, 0], hval[e, 1], hval[e, 2] = lev - 1, ci, cj
-                        n += 1
+                    c = off[lev - 1] + cj * gxs[lev - 1] + ci
+                    if hmin[c] < best:
+                        bound = _cell_bound(hmin[c], box, c, qx, qy, slope)
+                        if bound < best:
+                            e = heap_push(hkey, hval, n, bound)
+                            hval[e, 0], hval[e, 1], hval[e, 2] = lev - 1, ci, cj
+                            n += 1
         out[k] = best
     return out
 
 
-@nb.njit(inline="always")
-def _grow_heap(hkey, hval, need):
-    """The heap arrays with room for ``need`` entries (doubling)."""
-    if need <= hkey.shape[0]:
-        return hkey, hval
-    cap = 2 * hkey.shape[0]
-    while cap < need:
-        cap *= 2
-    nk = np.empty(cap)
-    nv = np.empty((cap, 3), dtype=np.int32)
-    nk[: hkey.shape[0]] = hkey
-    nv[: hkey.shape[0]] = hval
-    return nk, nv
+def _pyramid(cell: np.ndarray, src: np.ndarray, h: np.ndarray, gx: int, gy: int):
+    """Min-pyramid of a (gy, gx) grid of sources: a cell of level 0 holds the smallest size
+    of its sources and their bounding box; a cell of level L + 1 the minimum and the union
+    of its four cells of level L (inf and an empty box outside), up to a level of at most 4
+    cells.
 
-
-def _pyramid(cell_hmin: np.ndarray, gx: int, gy: int):
-    """Min-pyramid of a (gy, gx) grid of cell minima: a cell of level L + 1 holds the
-    minimum of its four cells of level L (inf outside), up to a level of at most 4 cells.
+    Parameters
+    ----------
+    cell : (n,) int64
+        Level-0 cell ``j * gx + i`` of each source.
+    src : (n, 2) float64
+    h : (n,) float64
+    gx, gy : int
 
     Returns
     -------
     hmin : (total,) float64
         Every level's cells, row-major, level 0 first.
+    box : (total, 4) float64
+        ``xmin, ymin, xmax, ymax`` of each cell's sources (``inf, inf, -inf, -inf`` if none).
     off : (levels + 1,) int64
         Start of each level in ``hmin``.
     gxs, gys : (levels,) int64
         Cells per row and per column of each level.
     """
-    levels = [cell_hmin.reshape(gy, gx)]
+    ncell = gx * gy
+    hm = np.full(ncell, np.inf)
+    np.minimum.at(hm, cell, h)
+    bx = np.empty((ncell, 4))
+    bx[:, :2], bx[:, 2:] = np.inf, -np.inf
+    for k in range(2):
+        np.minimum.at(bx[:, k], cell, src[:, k])
+        np.maximum.at(bx[:, 2 + k], cell, src[:, k])
+    levels, boxes = [hm.reshape(gy, gx)], [bx.reshape(gy, gx, 4)]
     while levels[-1].size > 4:
-        a = levels[-1]
+        a, ab = levels[-1], boxes[-1]
         ny, nx = a.shape
-        b = np.full((ny + ny % 2, nx + nx % 2), np.inf)
-        b[:ny, :nx] = a
-        levels.append(b.reshape(b.shape[0] // 2, 2, b.shape[1] // 2, 2).min(axis=(1, 3)))
+        my, mx = (ny + 1) // 2, (nx + 1) // 2
+        pa = np.full((2 * my, 2 * mx), np.inf)
+        pa[:ny, :nx] = a
+        pb = np.empty((2 * my, 2 * mx, 4))
+        pb[..., :2], pb[..., 2:] = np.inf, -np.inf
+        pb[:ny, :nx] = ab
+        quads = pb.reshape(my, 2, mx, 2, 4)
+        up = np.empty((my, mx, 4))
+        up[..., :2] = quads[..., :2].min(axis=(1, 3))
+        up[..., 2:] = quads[..., 2:].max(axis=(1, 3))
+        levels.append(pa.reshape(my, 2, mx, 2).min(axis=(1, 3)))
+        boxes.append(up)
     off = np.concatenate([[0], np.cumsum([a.size for a in levels])]).astype(np.int64)
     gxs = np.array([a.shape[1] for a in levels], dtype=np.int64)
     gys = np.array([a.shape[0] for a in levels], dtype=np.int64)
-    return np.concatenate([a.ravel() for a in levels]), off, gxs, gys
+    return (np.concatenate([a.ravel() for a in levels]), np.concatenate([b.reshape(-1, 4) for b in boxes]),
+            off, gxs, gys)
 
 
 class _Graded:
@@ -179,9 +216,7 @@ class _Graded:
         self.items = np.argsort(cell, kind="stable")
         ncell = self.gx * self.gy
         self.start = np.concatenate([[0], np.cumsum(np.bincount(cell, minlength=ncell))])
-        self.cell_hmin = np.full(ncell, np.inf)
-        np.minimum.at(self.cell_hmin, cell, h)
-        self.pyramid = _pyramid(self.cell_hmin, self.gx, self.gy)
+        self.pyramid = _pyramid(cell, src, h, self.gx, self.gy)
 
     def __call__(self, xy: np.ndarray) -> np.ndarray:
         q = np.ascontiguousarray(xy, dtype=np.float64)
@@ -191,9 +226,7 @@ class _Graded:
         if self.slope == 0.0:
             out = np.minimum(upper, self.h.min())
         else:
-            out = _cone_min(
-                q, upper, self.src, self.h, self.slope, self.start, self.items, *self.pyramid, self.x0, self.y0, self.w
-            )
+            out = _cone_min(q, upper, self.src, self.h, self.slope, self.start, self.items, *self.pyramid)
         return out
 
 
