@@ -236,11 +236,11 @@ def _valid_cell(points, cells, c):
 
 
 @njit(cache=True)
-def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty):
+def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before):
     """Move v to (tx, ty) if every cell of its star is valid there (exact) and the star's
-    smallest corner sine does not fall; a star with a non-convex quad thus moves only
-    to become valid, as the pairing's relaxed pairs need."""
-    before = _min_sine(points, cells, cell_ptr, cell_idx, v)
+    smallest corner sine (``before``, :func:`_min_sine` where v is now) does not fall; a
+    star with a non-convex quad thus moves only to become valid, as the pairing's relaxed
+    pairs need."""
     x0 = points[v, 0]
     y0 = points[v, 1]
     points[v, 0] = tx
@@ -272,8 +272,10 @@ def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, l
         tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
         x0 = points[v, 0]
         y0 = points[v, 1]
+        # A refused trial puts v back exactly, so both trials share one ``before``.
+        before = _min_sine(points, cells, cell_ptr, cell_idx, v)
         for step in (1.0, 0.5):
-            if _try_move(points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0)):
+            if _try_move(points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0), before):
                 kept += 1
                 if settle > 0.0:
                     _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle)
@@ -305,8 +307,9 @@ def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half):
     kept = 0
     for s in range(nodes.shape[0]):
         v = nodes[s]
-        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1]) or _try_move(
-            points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1]
+        before = _min_sine(points, cells, cell_ptr, cell_idx, v)
+        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1], before) or _try_move(
+            points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1], before
         ):
             kept += 1
     return kept
