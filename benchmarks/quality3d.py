@@ -184,6 +184,7 @@ STAGES = [
     ("meshwright.tet.mesher", "_unflatten", "unflatten (subface flags, classification, flat-tet flips)"),
     ("meshwright.tet.mesher", "classify", "  of which classify"),
     ("meshwright.tet.mesher", "circumspheres", "circumspheres"),
+    ("meshwright.tet.mesher", "bad_solid", "bad tets, one pass (queue rounds)"),
     ("meshwright.tet.mesher", "_bad", "bad tets"),
     ("meshwright.tet.mesher", "_new_caps", "crease caps"),
     ("meshwright.tet.mesher", "refine_in_queue", "refinement queue kernel"),
@@ -214,7 +215,9 @@ def staged(fn):
                     continue
             for attr in parts[cut:]:
                 owner = getattr(owner, attr)
-            orig = getattr(owner, name)
+            orig = getattr(owner, name, None)
+            if orig is None:
+                continue  # a stage this version does not have
 
             @functools.wraps(orig)
             def timed(*a, _orig=orig, _label=label, **k):
