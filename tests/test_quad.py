@@ -425,3 +425,62 @@ def test_cover_check_edges_match_a_set_oracle():
     assert got.dtype == np.int64 and got.shape[1] == 2
     assert {tuple(e) for e in got.tolist()} == expect and len(got) == len(expect)
     assert (a, c) not in expect and len(expect) > 7 * 4
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([0.0, 0.01]))
+def test_guarded_smoothing_matches_a_python_sweep(seed, settle):
+    """smooth_cells (its corner sines kept in a table between moves) against a plain
+    Python Gauss-Seidel sweep that recomputes every sine with ``math``: the same guard (a
+    full, else a half step to the neighbours' mean, kept if no corner sine of the star
+    falls below the star's smallest before), the same moves."""
+    from meshwright.quad.smoothing import smooth_cells
+
+    rng = np.random.default_rng(seed)
+    k = 6
+    gx, gy = np.meshgrid(np.arange(k + 1.0), np.arange(k + 1.0), indexing="ij")
+    xy = np.column_stack([gx.ravel(), gy.ravel()])
+    inner = (xy[:, 0] > 0) & (xy[:, 0] < k) & (xy[:, 1] > 0) & (xy[:, 1] < k)
+    xy[inner] += rng.uniform(-0.3, 0.3, (int(inner.sum()), 2))
+    idx = lambda i, j: i * (k + 1) + j  # noqa: E731
+    quads = np.array([[idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)] for i in range(k) for j in range(k)])
+    got = smooth_cells(xy, quads, np.zeros((0, 3), np.int64), ~inner, 3, settle)
+
+    def sine(p, c, n):
+        ux, uy, wx, wy = n[0] - c[0], n[1] - c[1], p[0] - c[0], p[1] - c[1]
+        return (ux * wy - uy * wx) / math.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+
+    star = {v: [q for q in quads.tolist() if v in q] for v in range(len(xy))}
+    nbrs = {}
+    for v in range(len(xy)):  # the kernel's order: cells in order, next then previous corner
+        nbrs[v] = []
+        for q in star[v]:
+            for w in (q[(q.index(v) + 1) % 4], q[(q.index(v) + 3) % 4]):
+                if w not in nbrs[v]:
+                    nbrs[v].append(w)
+    pts = [list(p) for p in xy.tolist()]
+
+    def star_min(v):
+        return min(sine(pts[q[i - 1]], pts[q[i]], pts[q[(i + 1) % 4]]) for q in star[v] for i in range(4))
+
+    last, now = [True] * len(pts), [False] * len(pts)
+    for sweep in range(3):
+        for v in np.flatnonzero(inner).tolist():
+            if settle and sweep and not (last[v] or now[v] or any(last[w] or now[w] for w in nbrs[v])):
+                continue
+            tx = sum(pts[w][0] for w in nbrs[v]) / len(nbrs[v])
+            ty = sum(pts[w][1] for w in nbrs[v]) / len(nbrs[v])
+            x0, y0 = pts[v]
+            before = star_min(v)
+            for step in (1.0, 0.5):
+                pts[v] = [x0 + step * (tx - x0), y0 + step * (ty - y0)]
+                if star_min(v) >= before:
+                    w = nbrs[v][0]
+                    if settle and (pts[v][0] - x0) ** 2 + (pts[v][1] - y0) ** 2 > settle**2 * (
+                        (pts[w][0] - x0) ** 2 + (pts[w][1] - y0) ** 2
+                    ):
+                        now[v] = True
+                    break
+                pts[v] = [x0, y0]
+        last, now = now, [False] * len(pts)
+    assert np.allclose(got, np.array(pts), rtol=0, atol=1e-9)

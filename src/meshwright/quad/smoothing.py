@@ -123,17 +123,90 @@ def _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle):
 
 
 @njit(cache=True)
+def _corner_table(points, cells):
+    """Sine of every corner, (m, 4) float64: ``cs[c, k]`` of corner k of cell c (unused
+    slot of a triangle: 1)."""
+    m = cells.shape[0]
+    cs = np.ones((m, 4))
+    for c in range(m):
+        nv = 4 if cells[c, 3] >= 0 else 3
+        for k in range(nv):
+            cs[c, k] = _corner_sine(points, cells[c, (k + nv - 1) % nv], cells[c, k], cells[c, (k + 1) % nv])
+    return cs
+
+
+@njit(cache=True)
+def _star_min(cs, cells, cell_ptr, cell_idx, v):
+    """Smallest cached corner sine over the cells around ``v`` (:func:`_min_sine`'s value)."""
+    worst = 1.0
+    for t in range(cell_ptr[v], cell_ptr[v + 1]):
+        c = cell_idx[t]
+        nv = 4 if cells[c, 3] >= 0 else 3
+        for k in range(nv):
+            if cs[c, k] < worst:
+                worst = cs[c, k]
+    return worst
+
+
+@njit(cache=True)
+def _moved_sines(points, cells, cell_ptr, cell_idx, v, bound, tmp):
+    """:func:`_moved_ok`, keeping the sines of the corners the move changes in ``tmp`` (in
+    star order, the corner opposite ``v`` in a quad skipped) for :func:`_store_sines`."""
+    i = 0
+    for t in range(cell_ptr[v], cell_ptr[v + 1]):
+        c = cell_idx[t]
+        nv = 4 if cells[c, 3] >= 0 else 3
+        kv = 0
+        while cells[c, kv] != v:
+            kv += 1
+        for k in range(nv):
+            if nv == 4 and k == (kv + 2) % 4:
+                continue
+            s = _corner_sine(points, cells[c, (k + nv - 1) % nv], cells[c, k], cells[c, (k + 1) % nv])
+            if s < bound:
+                return False
+            tmp[i] = s
+            i += 1
+    return True
+
+
+@njit(cache=True)
+def _store_sines(cs, cells, cell_ptr, cell_idx, v, tmp):
+    """Write the sines :func:`_moved_sines` kept back into the corner table."""
+    i = 0
+    for t in range(cell_ptr[v], cell_ptr[v + 1]):
+        c = cell_idx[t]
+        nv = 4 if cells[c, 3] >= 0 else 3
+        kv = 0
+        while cells[c, kv] != v:
+            kv += 1
+        for k in range(nv):
+            if nv == 4 and k == (kv + 2) % 4:
+                continue
+            cs[c, k] = tmp[i]
+            i += 1
+
+
+@njit(cache=True)
 def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, settle):
     """Gauss-Seidel guarded Laplacian sweeps in place; returns the moves kept.
 
     With ``settle > 0`` a vertex is visited again only while it or an edge neighbour
     moved, in this sweep or the last, by more than ``settle`` times the vertex's distance
-    to its first neighbour; 0 visits every free vertex in every sweep.
+    to its first neighbour; 0 visits every free vertex in every sweep.  The sine of every
+    corner is kept in a table (the same values :func:`_min_sine` computes), brought up to
+    date with each kept move from the sines its test computed: a visit reads its star's
+    smallest sine instead of computing it.
     """
     n = points.shape[0]
     kept = 0
     last = np.ones(n, np.int8)
     now = np.zeros(n, np.int8)
+    cs = _corner_table(points, cells)
+    most = 0
+    for v in range(n):
+        most = max(most, cell_ptr[v + 1] - cell_ptr[v])
+    tmp = np.empty(4 * most + 1)
     for sweep in range(passes):
         for v in range(n):
             if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
@@ -143,11 +216,12 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
             tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
             x0 = points[v, 0]
             y0 = points[v, 1]
-            before = _min_sine(points, cells, cell_ptr, cell_idx, v)
+            before = _star_min(cs, cells, cell_ptr, cell_idx, v)
             for step in (1.0, 0.5):
                 points[v, 0] = x0 + step * (tx - x0)
                 points[v, 1] = y0 + step * (ty - y0)
-                if _moved_ok(points, cells, cell_ptr, cell_idx, v, before):
+                if _moved_sines(points, cells, cell_ptr, cell_idx, v, before, tmp):
+                    _store_sines(cs, cells, cell_ptr, cell_idx, v, tmp)
                     kept += 1
                     if settle > 0.0:
                         _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle)
@@ -157,7 +231,6 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
         last, now = now, last
         now[:] = 0
     return kept
-
 
 @njit(cache=True)
 def _tables(cells, n):
