@@ -44,49 +44,6 @@ def _corner_sine(points, a, b, d):
     return (ux * wy - uy * wx) / den if den > 0.0 else -1.0
 
 
-@njit(cache=True)
-def _min_sine(points, cells, cell_ptr, cell_idx, v):
-    """Smallest corner sine over the cells around vertex ``v``."""
-    worst = 1.0
-    for t in range(cell_ptr[v], cell_ptr[v + 1]):
-        c = cell_idx[t]
-        nv = 4 if cells[c, 3] >= 0 else 3
-        for k in range(nv):
-            a = cells[c, (k + nv - 1) % nv]
-            b = cells[c, k]
-            d = cells[c, (k + 1) % nv]
-            s = _corner_sine(points, a, b, d)
-            if s < worst:
-                worst = s
-    return worst
-
-
-@njit(cache=True)
-def _moved_ok(points, cells, cell_ptr, cell_idx, v, bound):
-    """Whether every corner sine that moving ``v`` changes is at least ``bound``.
-
-    With ``bound`` the star's smallest sine before the move, this is the guard's test
-    (the smallest sine does not fall) without recomputing the corners opposite ``v`` in
-    its quads (unchanged, and not below ``bound``), stopping at the first failure.
-    """
-    for t in range(cell_ptr[v], cell_ptr[v + 1]):
-        c = cell_idx[t]
-        nv = 4 if cells[c, 3] >= 0 else 3
-        kv = 0
-        while cells[c, kv] != v:
-            kv += 1
-        for k in range(nv):
-            if nv == 4 and k == (kv + 2) % 4:
-                continue
-            a = cells[c, (k + nv - 1) % nv]
-            b = cells[c, k]
-            d = cells[c, (k + 1) % nv]
-            s = _corner_sine(points, a, b, d)
-            if s < bound:
-                return False
-    return True
-
-
 @njit(inline="always")
 def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
     """Mean of vertex ``v``'s neighbours (the spring analogy's equilibrium)."""
@@ -137,7 +94,7 @@ def _corner_table(points, cells):
 
 @njit(cache=True)
 def _star_min(cs, cells, cell_ptr, cell_idx, v):
-    """Smallest cached corner sine over the cells around ``v`` (:func:`_min_sine`'s value)."""
+    """Smallest corner sine over the cells around ``v``, read from the table ``cs``."""
     worst = 1.0
     for t in range(cell_ptr[v], cell_ptr[v + 1]):
         c = cell_idx[t]
@@ -150,8 +107,13 @@ def _star_min(cs, cells, cell_ptr, cell_idx, v):
 
 @njit(cache=True)
 def _moved_sines(points, cells, cell_ptr, cell_idx, v, bound, tmp):
-    """:func:`_moved_ok`, keeping the sines of the corners the move changes in ``tmp`` (in
-    star order, the corner opposite ``v`` in a quad skipped) for :func:`_store_sines`."""
+    """Whether every corner sine that moving ``v`` changes is at least ``bound``.
+
+    With ``bound`` the star's smallest sine before the move, this is the guard's test
+    (the smallest sine does not fall) without the corners opposite ``v`` in its quads
+    (unchanged, and not below ``bound``), stopping at the first failure.  The sines are
+    kept in ``tmp`` (star order) for :func:`_store_sines`.
+    """
     i = 0
     for t in range(cell_ptr[v], cell_ptr[v + 1]):
         c = cell_idx[t]
@@ -194,7 +156,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
     With ``settle > 0`` a vertex is visited again only while it or an edge neighbour
     moved, in this sweep or the last, by more than ``settle`` times the vertex's distance
     to its first neighbour; 0 visits every free vertex in every sweep.  The sine of every
-    corner is kept in a table (the same values :func:`_min_sine` computes), brought up to
+    corner is kept in a table (:func:`_corner_table`), brought up to
     date with each kept move from the sines its test computed: a visit reads its star's
     smallest sine instead of computing it.
     """
@@ -309,22 +271,23 @@ def _valid_cell(points, cells, c):
 
 
 @njit(cache=True)
-def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before):
+def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, cs, tmp):
     """Move v to (tx, ty) if every cell of its star is valid there (exact) and the star's
-    smallest corner sine (``before``, :func:`_min_sine` where v is now) does not fall; a
+    smallest corner sine (``before``, :func:`_star_min` where v is now) does not fall; a
     star with a non-convex quad thus moves only to become valid, as the pairing's relaxed
-    pairs need."""
+    pairs need.  A kept move updates the corner table ``cs`` (:func:`_corner_table`)."""
     x0 = points[v, 0]
     y0 = points[v, 1]
     points[v, 0] = tx
     points[v, 1] = ty
-    if _moved_ok(points, cells, cell_ptr, cell_idx, v, before):
+    if _moved_sines(points, cells, cell_ptr, cell_idx, v, before, tmp):
         ok = True
         for s in range(cell_ptr[v], cell_ptr[v + 1]):
             if not _valid_cell(points, cells, cell_idx[s]):
                 ok = False
                 break
         if ok:
+            _store_sines(cs, cells, cell_ptr, cell_idx, v, tmp)
             return True
     points[v, 0] = x0
     points[v, 1] = y0
@@ -332,10 +295,11 @@ def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before):
 
 
 @njit(cache=True)
-def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, last, now, settle):
+def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, last, now, settle, cs, tmp):
     """One Gauss-Seidel guarded Laplacian sweep over the free vertices, exact validity
     kept; with ``settle > 0`` only those not :func:`_settled` (``last``: the moves of the
-    previous sweep, ``now``: this one's, flagged here)."""
+    previous sweep, ``now``: this one's, flagged here).  ``cs``: the corner table, kept
+    up to date; ``tmp``: scratch for a star's sines."""
     kept = 0
     for v in range(points.shape[0]):
         if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
@@ -346,9 +310,11 @@ def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, l
         x0 = points[v, 0]
         y0 = points[v, 1]
         # A refused trial puts v back exactly, so both trials share one ``before``.
-        before = _min_sine(points, cells, cell_ptr, cell_idx, v)
+        before = _star_min(cs, cells, cell_ptr, cell_idx, v)
         for step in (1.0, 0.5):
-            if _try_move(points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0), before):
+            if _try_move(
+                points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0), before, cs, tmp
+            ):
                 kept += 1
                 if settle > 0.0:
                     _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle)
@@ -375,14 +341,15 @@ def _tangent_steps(points, nbr_ptr, nbr_idx, nodes, chord):
 
 
 @njit(cache=True)
-def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half):
-    """Move each sliding vertex to its projected full step, else its projected half step."""
+def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half, cs, tmp):
+    """Move each sliding vertex to its projected full step, else its projected half step
+    (``cs``, ``tmp``: as :func:`_interior_sweep`)."""
     kept = 0
     for s in range(nodes.shape[0]):
         v = nodes[s]
-        before = _min_sine(points, cells, cell_ptr, cell_idx, v)
-        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1], before) or _try_move(
-            points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1], before
+        before = _star_min(cs, cells, cell_ptr, cell_idx, v)
+        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1], before, cs, tmp) or _try_move(
+            points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1], before, cs, tmp
         ):
             kept += 1
     return kept
@@ -488,8 +455,10 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     ends = other[order][np.stack([start[slide], start[slide] + 1], axis=1)]
     last = np.ones(n, np.int8)
     now = np.zeros(n, np.int8)
+    cs = _corner_table(pts, cells)
+    tmp = np.empty(4 * int(np.diff(cell_ptr).max(initial=0)) + 1)
     for _ in range(passes):
-        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, last, now, settle)
+        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, last, now, settle, cs, tmp)
         last, now = now, last
         now[:] = 0
         # Sliding vertices count as moved: their interior neighbours stay awake.
@@ -509,5 +478,5 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
         both = project(np.concatenate([nodes, nodes]), np.vstack([at + step, at + 0.5 * step]), np.vstack([at, at]))
         full = np.ascontiguousarray(both[: len(nodes)], dtype=np.float64)
         half = np.ascontiguousarray(both[len(nodes) :], dtype=np.float64)
-        _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half)
+        _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half, cs, tmp)
     return pts
