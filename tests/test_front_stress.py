@@ -30,7 +30,7 @@ def _square_with_slit(side, spacing, slit):
     ct = cdt_build(pts, segs)
     sides = np.r_[np.ones(len(disc.segments), dtype=int), 0]
     ct.classify(segment_sides=sides)
-    return ct, dom
+    return ct
 
 
 @pytest.mark.parametrize("slit", [1.8, 2.0, 3.0, 3.8])
@@ -38,7 +38,7 @@ def test_lone_interior_segment_advances_at_once(slit, monkeypatch):
     # The segment's faces are the shortest, so they come first while no other front is
     # near, and no node lies within their search: the ideal point is the only candidate.
     # Without postponements or back-offs the face must advance on its first try.
-    ct, dom = _square_with_slit(12.0, 6.0, slit)
+    ct = _square_with_slit(12.0, 6.0, slit)
     monkeypatch.setattr(F, "MAX_DEFER", 0)
     pts, tris = F.advancing_front(ct, lambda xy: 1.0 + 1e-3 * xy[:, 0], max_backoff=0)
     mesh = mw.Mesh(pts, {"triangle": tris})

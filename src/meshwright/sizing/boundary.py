@@ -25,7 +25,7 @@ from meshwright.core.errors import InputError, SizeError
 from meshwright.core.heap import heap_pop, heap_push
 from meshwright.sizing.field import SizeField, as_size_field, fmt_point
 
-__all__ = ["point_distribution", "gradation", "boundary_size"]
+__all__ = ["boundary_size", "gradation", "point_distribution"]
 
 
 def point_distribution(points, segments) -> np.ndarray:
@@ -90,9 +90,7 @@ def _cone_min(query, upper, src, h, slope, start, items, hmin, box, off, gxs, gy
         if last >= 0:
             ex = qx - src[last, 0]
             ey = qy - src[last, 1]
-            v = h[last] + slope * np.sqrt(ex * ex + ey * ey)
-            if v < best:
-                best = v
+            best = min(best, h[last] + slope * np.sqrt(ex * ex + ey * ey))
         n = 0
         for j in range(gys[top]):
             for i in range(gxs[top]):
