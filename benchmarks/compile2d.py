@@ -53,20 +53,34 @@ from numba.core import event as ev
 class Compiles(ev.Listener):
     # Self CPU seconds and signature count per compiled function (nested compiles subtracted).
     def __init__(self):
-        self.stack, self.self_s, self.count = [], {}, {}
+        self.stack, self.self_s, self.count, self.passes = [], {}, {}, {}
 
     def on_start(self, event):
-        self.stack.append([time.process_time(), 0.0])
+        self.stack.append([time.process_time(), 0.0, time.perf_counter()])
 
     def on_end(self, event):
-        t0, nested = self.stack.pop()
+        t0, nested, w0 = self.stack.pop()
         total = time.process_time() - t0
+        # The pass timings are wall seconds: scaled to CPU by this compile's own ratio.
+        scale = total / max(time.perf_counter() - w0, 1e-9)
         if self.stack:
             self.stack[-1][1] += total
         d = event.data["dispatcher"]
         name = f"{d.py_func.__module__}.{d.py_func.__qualname__}"
         self.self_s[name] = self.self_s.get(name, 0.0) + total - nested
         self.count[name] = self.count.get(name, 0) + 1
+        # Wall seconds of the passes (the nested compiles run inside type inference).
+        cres = d.overloads.get(tuple(event.data["args"]))
+        times = cres.metadata.get("pipeline_times", {}).get("nopython", {}) if cres is not None else {}
+        split = self.passes.setdefault(name, [0.0, 0.0, 0.0])
+        for key, t in times.items():
+            run = (t.init + t.run + t.finalize) * scale
+            if key.endswith("inline_inlinables"):
+                split[0] += run
+            elif key.endswith("nopython_type_inference"):
+                split[1] += run - nested
+            elif key.endswith("native_lowering"):
+                split[2] += run
 
 rec = Compiles()
 ev.register("numba:compile", rec)
@@ -79,7 +93,9 @@ for code in json.loads(sys.argv[1]):
     w = time.perf_counter(); c = time.process_time()
     exec(code)
     out["calls"].append([time.perf_counter() - w, time.process_time() - c])
-out["compiles"] = sorted(([k, v, rec.count[k]] for k, v in rec.self_s.items()), key=lambda r: -r[1])
+out["compiles"] = sorted(
+    ([k, v, rec.count[k], *rec.passes.get(k, [0.0] * 3)] for k, v in rec.self_s.items()), key=lambda r: -r[1]
+)
 print(json.dumps(out))
 """
 
@@ -100,8 +116,12 @@ def _print_profile(name: str, cold: dict, top: int) -> None:
     rows = cold["compiles"]
     total = sum(r[1] for r in rows)
     print(f"\n{name}: {len(rows)} functions compiled, {total:.1f} s CPU in numba:compile", file=sys.stderr)
-    for fn, sec, count in rows[:top]:
-        print(f"  {sec:7.2f} s  x{count}  {fn}", file=sys.stderr)
+    sums = [sum(r[k] for r in rows) for k in (3, 4, 5)]
+    print(f"  IR inlining {sums[0]:.1f} s, type inference {sums[1]:.1f} s, lowering + LLVM {sums[2]:.1f} s"
+          " (CPU, self)", file=sys.stderr)
+    print("     self  count  inline  typing  llvm  function", file=sys.stderr)
+    for fn, sec, count, inl, typ, low in rows[:top]:
+        print(f"  {sec:7.2f} s  x{count}  {inl:6.2f}  {typ:6.2f}  {low:5.2f}  {fn}", file=sys.stderr)
     sys.stderr.flush()
 
 

@@ -42,16 +42,16 @@ underflows or overflows.
 
 Return convention: every stage returns ``(value, proven)``; ``value`` has the exact sign
 of the determinant when ``proven`` is true and is meaningless otherwise.  All functions
-are plain ``@njit`` over scalars: no arrays, so no reference counts to save, and LLVM
+are plain compiled calls over scalars (:func:`meshwright.core.jit.inner`: kernels call
+them, Python never does): no arrays, so no reference counts to save, and LLVM
 inlines them where it pays; Numba's IR inlining (``inline="always"``) of these forty-odd
 call sites tripled the predicates' compile time.
 """
 
 from __future__ import annotations
 
-import numba as nb
-
 from meshwright.core.expansion import EPSILON, fma
+from meshwright.core.jit import inner
 
 __all__ = ["orient2d_eft", "incircle_eft", "incircle_dd", "DD_ERRBOUND"]
 
@@ -59,7 +59,7 @@ __all__ = ["orient2d_eft", "incircle_eft", "incircle_dd", "DD_ERRBOUND"]
 DD_ERRBOUND = 64.0 * EPSILON * EPSILON
 
 
-@nb.njit(cache=True)
+@inner
 def _two_diff(a, b):
     """``(x, y)``: ``x = fl(a - b)``, ``x + y = a - b`` exactly (Knuth; a plain call, see below)."""
     x = a - b
@@ -68,7 +68,7 @@ def _two_diff(a, b):
     return x, (a - av) + (bv - b)
 
 
-@nb.njit(cache=True)
+@inner
 def _two_sum(a, b):
     """``(x, y)``: ``x = fl(a + b)``, ``x + y = a + b`` exactly (Knuth; a plain call, see below)."""
     x = a + b
@@ -77,7 +77,7 @@ def _two_sum(a, b):
     return x, (a - av) + (b - bv)
 
 
-@nb.njit(cache=True)
+@inner
 def orient2d_eft(ax, ay, bx, by, cx, cy):
     """Stage E of ``orient2d``: ``(det, proven)``, ``det`` of ``(a-c)x (b-c)y - (a-c)y (b-c)x``.
 
@@ -96,14 +96,14 @@ def orient2d_eft(ax, ay, bx, by, cx, cy):
     return left - right, proven
 
 
-@nb.njit(cache=True)
+@inner
 def _exact_product(a, b):
     """``(a * b, |error|)``: the rounded product and the magnitude of its rounding error."""
     p = a * b
     return p, abs(fma(a, b, -p))
 
 
-@nb.njit(cache=True)
+@inner
 def incircle_eft(ax, ay, bx, by, cx, cy, dx, dy):
     """Stage E of ``incircle``: ``(det, proven)`` for the lifted determinant relative to d.
 
@@ -150,14 +150,14 @@ def incircle_eft(ax, ay, bx, by, cx, cy, dx, dy):
     return s + tc, err == 0.0
 
 
-@nb.njit(cache=True)
+@inner
 def _fast_two_sum(a, b):
     """``(s, t)`` with ``s + t == a + b`` exactly, for ``|a| >= |b|`` or ``a == 0``."""
     s = a + b
     return s, b - (s - a)
 
 
-@nb.njit(cache=True)
+@inner
 def _dw_add(xh, xl, yh, yl):
     """AccurateDWPlusDW (Joldes, Muller & Popescu 2017, Algorithm 6): relative error <= 3u**2/(1-4u)."""
     sh, sl = _two_sum(xh, yh)
@@ -168,7 +168,7 @@ def _dw_add(xh, xl, yh, yl):
     return _fast_two_sum(vh, w)
 
 
-@nb.njit(cache=True)
+@inner
 def _dw_mul(xh, xl, yh, yl):
     """DWTimesDW3 (Joldes, Muller & Popescu 2017, Algorithm 12, FMA): relative error <= 5u**2."""
     ch = xh * yh
@@ -180,7 +180,7 @@ def _dw_mul(xh, xl, yh, yl):
     return _fast_two_sum(ch, cl3)
 
 
-@nb.njit(cache=True)
+@inner
 def _dw_minor(ph, pl, qh, ql, rh, rl, sh, sl):
     """Double-word ``p q - r s``."""
     uh, ul = _dw_mul(ph, pl, qh, ql)
@@ -188,7 +188,7 @@ def _dw_minor(ph, pl, qh, ql, rh, rl, sh, sl):
     return _dw_add(uh, ul, -vh, -vl)
 
 
-@nb.njit(cache=True)
+@inner
 def _dw_lift(xh, xl, yh, yl):
     """Double-word ``x**2 + y**2``."""
     uh, ul = _dw_mul(xh, xl, xh, xl)
@@ -196,7 +196,7 @@ def _dw_lift(xh, xl, yh, yl):
     return _dw_add(uh, ul, vh, vl)
 
 
-@nb.njit(cache=True)
+@inner
 def incircle_dd(ax, ay, bx, by, cx, cy, dx, dy):
     """Stage D of ``incircle``: ``(det, proven)`` from a double-word evaluation.
 

@@ -10,9 +10,10 @@ callers can write ``a = grown(a, need)`` unconditionally.
 
 Triangle index helpers: :func:`index3` and :func:`back3` take arrays and are
 ``inline="always"`` (a call would cost an array reference-count pair); :func:`next3` and
-:func:`prev3` take a scalar and are plain ``@njit``: LLVM inlines them at every call site
-anyway, while Numba's IR inlining of their hundreds of call sites cost seconds of first-run
-compile (see ``benchmarks/compile2d.py``).  Edge k of triangle t
+:func:`prev3` take a scalar and are plain compiled calls (kernel-only, without the Python
+wrappers: :mod:`meshwright.core.jit`): LLVM inlines them at every call site anyway, while
+Numba's IR inlining of their hundreds of call sites cost seconds of first-run compile (see
+``benchmarks/compile2d.py``).  Edge k of triangle t
 runs from ``tri[3t + next3(k)]`` to ``tri[3t + prev3(k)]``; ``nbr[3t + k]`` lies across it.
 
 ``GHOST = -1`` is the vertex id of the symbolic vertex at infinity in connectivity arrays
@@ -37,6 +38,8 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+from meshwright.core.jit import inner
 
 __all__ = ["GHOST", "TET_FACES", "grown", "grown_rows", "next3", "prev3", "index3", "back3"]
 
@@ -100,13 +103,13 @@ def grown_rows(a: np.ndarray, need: int, fill=None) -> np.ndarray:
     return out
 
 
-@njit(cache=True)
+@inner
 def next3(k):
     """``(k + 1) % 3`` without a division."""
     return 0 if k == 2 else k + 1
 
 
-@njit(cache=True)
+@inner
 def prev3(k):
     """``(k + 2) % 3`` without a division."""
     return 2 if k == 0 else k - 1

@@ -15,7 +15,9 @@ Shewchuk's Triangle), which keeps the rounding error relative to the triangle's 
 
 The functions over scalars are plain ``@njit``: they are called once per triangle or per
 step of a hot loop, where LLVM inlines them (checked on the insertion kernel's machine code);
-Numba's IR inlining (``inline="always"``) would only add first-run compile time.
+Numba's IR inlining (``inline="always"``) would only add first-run compile time.  Those only
+kernels call (:func:`orient_filtered`, :func:`circumcentre_offset`) are compiled without the
+Python wrappers (:mod:`meshwright.core.jit`).
 :func:`corners` takes arrays and stays ``inline="always"``: a call would cost a
 reference-count pair per array.
 
@@ -28,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.jit import inner
 from meshwright.core.predicates import CCW_ERRBOUND_A, orient2d
 
 __all__ = [
@@ -45,7 +48,7 @@ def corners(pts, tri, t):
     return pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1]
 
 
-@njit(cache=True)
+@inner
 def orient_filtered(ax, ay, bx, by, cx, cy):
     """``orient2d`` with its stage-A filter inlined: same sign, exact predicate only if unsure."""
     left = (ax - cx) * (by - cy)
@@ -57,7 +60,7 @@ def orient_filtered(ax, ay, bx, by, cx, cy):
     return orient2d(ax, ay, bx, by, cx, cy)
 
 
-@njit(cache=True)
+@inner
 def circumcentre_offset(ux, uy, wx, wy):
     """Circumcentre of the triangle (0, 0), u, w, relative to the origin (u x w != 0)."""
     uu = ux * ux + uy * uy

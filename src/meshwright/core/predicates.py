@@ -83,6 +83,7 @@ from meshwright.core.expansion import (
     expansion_sum,
     mul_small,
 )
+from meshwright.core.jit import inner
 
 __all__ = [  # the 3-D names come from predicates3d through __getattr__ below
     "CCW_ERRBOUND_A",
@@ -112,7 +113,7 @@ ICC_ERRBOUND_A = (10.0 + 96.0 * EPSILON) * EPSILON
 
 # Helpers that take constant offsets carry explicit signatures so that Numba does not compile
 # one literal-typed specialisation per call site.
-@nb.njit("int64(float64[::1], " + ", ".join(["int64"] * 12) + ")", cache=True)
+@inner("int64(float64[::1], " + ", ".join(["int64"] * 12) + ")")
 def _minor2(w, pxo, npx, qyo, nqy, qxo, nqx, pyo, npy, ho, t1, t2, so):
     """``w[ho:] = px * qy - qx * py`` for factors of <= 2 components: <= 8 + 8 = 16.
 
@@ -123,7 +124,7 @@ def _minor2(w, pxo, npx, qyo, nqy, qxo, nqx, pyo, npy, ho, t1, t2, so):
     return expansion_sum(w, t1, n1, t2, n2, -1.0, ho)
 
 
-@nb.njit("int64(float64[::1], int64, int64, int64, int64, int64, int64, int64)", cache=True)
+@inner("int64(float64[::1], int64, int64, int64, int64, int64, int64, int64)")
 def _square_times(w, mo, mlen, xo, nx, ho, to, so):
     """``w[ho:] = x * (x * m)``: <= 16 mlen slots at ``ho``, 4 mlen at ``to``, 16 mlen at ``so``.
 
@@ -231,7 +232,7 @@ def _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
     return estimate(w, acc, n)
 
 
-@nb.njit(cache=True)
+@inner
 def incircle_stage_a(ax, ay, bx, by, cx, cy, dx, dy):
     """Shewchuk's stage-A in-circle filter: ``(det, err)``, the floating-point determinant
     (the sign of :func:`incircle`) and its a-priori error bound.
@@ -301,7 +302,7 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy):
 # ----------------------------------------------------------------------------------------
 # symbolic perturbation of the lifted coordinate
 # ----------------------------------------------------------------------------------------
-@nb.njit("int64(int64, int64, int64, int64, int64, int64)", cache=True)
+@inner("int64(int64, int64, int64, int64, int64, int64)")
 def _rank_desc(i0, i1, i2, i3, i4, k):
     """Position (0-based, 0 = largest index) of argument ``k`` among the given indices.
 

@@ -12,7 +12,7 @@ a fixed point and is never produced from a non-zero state.
 
 from __future__ import annotations
 
-from numba import njit
+from meshwright.core.jit import inner
 
 __all__ = ["seed_state", "xorshift32"]
 
@@ -22,7 +22,7 @@ def seed_state(seed: int) -> int:
     return (int(seed) * 2654435761 + 1) % 0xFFFFFFFF or 1
 
 
-@njit(cache=True)
+@inner
 def xorshift32(r):
     """Next state of the 32-bit xorshift generator (also the pseudo-random output).
 

@@ -54,6 +54,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.jit import inner
+
 __all__ = ["hilbert_keys", "hilbert_order", "brio_order"]
 
 _MAX_BITS = 26  # 2 * 26 key bits plus the round number still fit in an int64
@@ -114,7 +116,7 @@ def _hilbert_keys_3d(points, bits):
     return keys
 
 
-@njit(cache=True)
+@inner
 def _hilbert_step(state, rx, ry):
     """One level of the 2-D curve: ``(quadrant index, next state)`` for the raw cell bits.
 
@@ -134,7 +136,7 @@ def _hilbert_step(state, rx, ry):
     return (3 * rx) ^ ry, state
 
 
-@njit(cache=True)
+@inner
 def _hilbert_table():
     """Four levels at once: entry ``256 state + 16 x4 + y4`` is ``(8 key bits << 2) | next state``."""
     lut = np.empty(1024, dtype=np.int64)

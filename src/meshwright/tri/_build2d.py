@@ -18,6 +18,7 @@ from numba import njit
 
 from meshwright.core.borrowed import borrowed
 from meshwright.core.flat import GHOST, grown
+from meshwright.core.jit import inner
 from meshwright.core.predicates import orient2d
 from meshwright.tri import watson
 from meshwright.tri._kernel2d import (
@@ -96,7 +97,7 @@ def init_triangle(s, a, b, c):
         watson.circle(pts, tri, s.circ, np.int64(0))
 
 
-@njit(cache=True)
+@inner
 def make_room(s, rows):
     """Inside a kernel: the bundle grown where ``insert_vertex`` found it short (the in-kernel
     twin of :func:`meshwright.tri._kernel2d.grow`).
@@ -205,7 +206,7 @@ def locate_points(s, xy):
     return out
 
 
-@njit(cache=True)
+@inner
 def _swap_slots(i, j, tri, nbr, circ, back):
     """Exchange triangles i and j, redirecting every pointer to them."""
     for k in range(3):

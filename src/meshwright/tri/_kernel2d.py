@@ -12,11 +12,13 @@ runs Bowyer, a sized one runs Watson (a branch on an array length, predicted per
 The state bundle: :class:`TriState`
 ----------------------------------
 Every kernel entry takes the whole state as ONE argument, a :class:`TriState` (a
-``typing.NamedTuple`` of flat arrays, which Numba types as a tuple), and scalar header values
-live in its int64 ``meta`` array.  Each field read is an atomic reference-count pair, so the
-entries are thin wrappers over bodies taking the unpacked arrays (``_walk``, ``_cavity``,
-``_fan``, :func:`insert_arrays`), which per-point loops call with arrays read once.  A kernel that finds an array too small returns ``NEED_SPACE`` *before*
-modifying anything (the cavity scratch ``work`` is found short only while the cavity grows:
+``typing.NamedTuple`` of flat arrays, which Numba types as a tuple, defined with the status
+codes, header slots, :func:`new_state` and :func:`grow` in :mod:`meshwright.tri._state2d` and
+re-exported here), and scalar header values live in its int64 ``meta`` array.  Each field
+read is an atomic reference-count pair, so the entries are thin wrappers over bodies taking
+the unpacked arrays (``_walk``, ``_cavity``, ``_fan``, :func:`insert_arrays`), which per-point
+loops call with arrays read once (and borrowed, :mod:`meshwright.core.borrowed`).  A kernel
+that finds an array too small returns ``NEED_SPACE`` *before* modifying anything (the cavity scratch ``work`` is found short only while the cavity grows:
 then only ``work`` and ``meta[M_SHORT_WORK] = 1`` have been written), and :func:`grow`, on the
 Python side, returns a new bundle with doubled arrays (``state._replace(...)``); inside a
 kernel loop :func:`meshwright.tri._build2d.make_room` does the same.  Method-specific arrays go in a bundle of the
@@ -87,6 +89,16 @@ Insertion of vertex v
 
    A fan triangle touching GHOST is rotated so that GHOST is vertex 2 again.
 
+One inlined copy per hot loop: the walk, cavity and fan stay IR-inlined into the
+per-point loops (:func:`insert_arrays`, refinement's loop, :func:`split_edge`).  Compiled
+once and called instead (three calls per point, borrowed arrays), they cut the first
+refinement's compile by about a fifth but cost 12-30 % of the Delaunay, refinement and
+frontal run times (alternating processes, 2026-12-02), so each hot loop keeps its copy; the
+rare paths call: :func:`flip` (Sloan's recovery, the split's Lawson flips) and the split's
+conflict test.  Both algorithms share one inlined exact test (:func:`_conflict`: Watson's
+distance filter, then :func:`meshwright.tri.bowyer.conflict`).  Helpers only kernels call
+are compiled without Python wrappers (:mod:`meshwright.core.jit`).
+
 Hot-path rules: no allocation and no Python objects inside ``insert_vertex``; arrays that may
 be too small make it return ``NEED_SPACE`` *before* anything is modified, and
 :func:`grow` grows them by doubling.  Memory locality: the caller stores the points in
@@ -96,127 +108,38 @@ keeps the perturbation keys of that build valid after the vertices are renumbere
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 from numba import njit
 
 from meshwright.core.borrowed import borrowed
-from meshwright.core.flat import GHOST, back3, grown_rows, index3, next3, prev3
+from meshwright.core.flat import GHOST, back3, index3, next3, prev3
 from meshwright.core.geom2d import orient_filtered
+from meshwright.core.jit import inner
 from meshwright.core.predicates import orient2d
-from meshwright.core.rng import seed_state, xorshift32
+from meshwright.core.rng import xorshift32
 from meshwright.tri import bowyer, watson
+from meshwright.tri._state2d import (
+    BROKEN,
+    DUP_BASE,
+    M_LAST,
+    M_NTRI,
+    M_NV,
+    M_RNG,
+    M_SHORT_WORK,
+    M_SPLIT_A,
+    M_SPLIT_B,
+    M_SPLIT_C,
+    NEED_SPACE,
+    TriState,
+    grow,
+    new_state,
+)
 
 __all__ = [
     "GHOST", "NEED_SPACE", "BROKEN", "DUP_BASE", "M_NTRI", "M_LAST", "M_RNG", "M_SPLIT_A",
     "M_SPLIT_B", "M_SPLIT_C", "M_NV", "M_SHORT_WORK", "TriState", "new_state", "grow", "walk",
     "cavity", "fan", "insert_vertex", "insert_arrays", "split_edge", "flip", "on_constraint",
 ]
-
-# insert_vertex status: >= 0 is a new triangle incident to v; otherwise one of these, and a
-# status <= DUP_BASE means v coincides with vertex DUP_BASE - status (nothing was changed).
-NEED_SPACE = -1
-BROKEN = -2
-DUP_BASE = -3
-# meta slots
-M_NTRI = 0
-M_LAST = 1
-M_RNG = 2
-M_SPLIT_A = 3  # the constrained edge a-b (id + 1 in M_SPLIT_C, 0: none) the next fan splits
-M_SPLIT_B = 4
-M_SPLIT_C = 5
-M_NV = 6
-M_SHORT_WORK = 7
-_META_LEN = 8
-_WORK_INIT = 64  # initial cavity capacity; doubled on demand
-
-
-class TriState(NamedTuple):
-    """State of the 2-D insertion kernel, passed whole to every kernel function.
-
-    Fields in this order (shapes and meaning in the module docstring):
-    ``pts`` (rows, 2) float64, ``tri`` / ``nbr`` (3 cap,) int32, ``circ`` (4 cap,) float32 or
-    (0,), ``rank`` (r,) int32, ``cons`` (3 cap,) int32 or (0,), ``meta`` (8,) int64, ``work``
-    (5 w,) int32, ``vmark`` (>= rows + 1,) int32.  Grown copies come from :func:`grow` (Python)
-    or :func:`make_room` (inside a kernel); the arrays are never resized in place.
-    """
-
-    pts: np.ndarray
-    tri: np.ndarray
-    nbr: np.ndarray
-    circ: np.ndarray
-    rank: np.ndarray
-    cons: np.ndarray
-    meta: np.ndarray
-    work: np.ndarray
-    vmark: np.ndarray
-
-
-def new_state(pts: np.ndarray, slots: int, seed: int, *, circles: bool = False, constrained: bool = False,
-              rank: np.ndarray | None = None) -> TriState:
-    """A fresh bundle over the point rows ``pts`` with ``slots`` triangle slots, none in use.
-
-    Parameters
-    ----------
-    pts : (rows, 2) float64
-        Vertex coordinates (the bundle keeps this array); ``meta[M_NV]`` starts at 0.
-    slots : int
-        Triangle slots to preallocate (``2 n`` suffice for n vertices).
-    seed : int
-        Seed of the walk's xorshift state.
-    circles : bool
-        Keep Watson's circle records (``circ`` of 4 slots per triangle) or not (Bowyer).
-    constrained : bool
-        Keep per-half-edge constraints (``cons``) or not.
-    rank : (r,) int32, optional
-        Perturbation keys (default: empty, the key is the vertex id).
-    """
-    meta = np.zeros(_META_LEN, dtype=np.int64)
-    meta[M_RNG] = seed_state(seed)
-    return TriState(
-        pts,
-        np.empty(3 * slots, dtype=np.int32),
-        np.empty(3 * slots, dtype=np.int32),
-        np.empty(4 * slots if circles else 0, dtype=np.float32),
-        np.empty(0, dtype=np.int32) if rank is None else rank,
-        np.zeros(3 * slots if constrained else 0, dtype=np.int32),
-        meta,
-        np.empty(5 * _WORK_INIT, dtype=np.int32),
-        np.empty(pts.shape[0] + 1, dtype=np.int32),
-    )
-
-
-def grow(s: TriState, rows: int = 0, slots: int = 0) -> TriState:
-    """Bundle with room for ``rows`` vertices and ``slots`` triangle slots (doubling), and with
-    the cavity scratch doubled if the kernel asked for it (``meta[M_SHORT_WORK]``).
-
-    Returns ``s`` itself when nothing is short; otherwise ``s._replace(...)`` of grown copies
-    (the used part copied, new constraint entries 0).  Call it after ``NEED_SPACE``: with no
-    arguments it makes room for one more insertion.
-    """
-    ntri = int(s.meta[M_NTRI])
-    rows = max(rows, int(s.meta[M_NV]) + 1)
-    slots = max(slots, ntri + 2)
-    new = {}
-    if rows > s.pts.shape[0]:
-        new["pts"] = grown_rows(s.pts, rows)
-    prows = new["pts"].shape[0] if "pts" in new else s.pts.shape[0]
-    if s.vmark.shape[0] <= prows:
-        new["vmark"] = np.empty(prows + 1, dtype=np.int32)
-    if 3 * slots > s.tri.shape[0]:
-        cap = max(slots, 2 * (s.tri.shape[0] // 3))
-        new["tri"] = grown_rows(s.tri, 3 * cap)
-        new["nbr"] = grown_rows(s.nbr, 3 * cap)
-        if s.cons.shape[0] > 0:
-            new["cons"] = grown_rows(s.cons, 3 * cap, 0)
-        if s.circ.shape[0] > 0:
-            new["circ"] = grown_rows(s.circ, 4 * cap)
-    if s.meta[M_SHORT_WORK]:
-        s.meta[M_SHORT_WORK] = 0
-        new["work"] = np.empty(2 * s.work.shape[0], dtype=np.int32)
-    return s._replace(**new) if new else s
-
 
 @njit(inline="always")
 def _vslot(u, vmark):
@@ -230,7 +153,7 @@ def _fan_slot(j, ncav, ntri, work):
     return work[j] if j < ncav else ntri + (j - ncav)
 
 
-@njit(inline="always")
+@inner
 def _fan_shift(u, w):
     """Rotation that keeps GHOST at vertex 2: conceptual vertex k is stored at (k + s) % 3."""
     if w == GHOST:
@@ -242,15 +165,25 @@ def _fan_shift(u, w):
 
 @njit(inline="always")
 def _conflict(pts, tri, circ, rank, t, v, px, py):
-    """Conflict of triangle t with the new point: Watson's filter if circles are kept.
+    """Conflict of triangle t with the new point: Watson's filter first if circles are kept,
+    then the one copy of the exact test that serves both algorithms.
 
     Takes arrays, not the bundle: it runs once per cavity neighbour, and every field read
     from a bundle costs a reference-count pair where the loop runs (measured: 20 % of a
     Delaunay build), so per-iteration helpers get the fields their caller read once.
     """
     if circ.shape[0] > 0:
-        return watson.conflict(pts, tri, circ, rank, t, v, px, py)
+        f = watson.filter_sign(tri, circ, t, px, py)
+        if f != 0:
+            return f > 0
     return bowyer.conflict(pts, tri, rank, t, v, px, py)
+
+
+@inner
+def _conflict_call(pts, tri, circ, rank, t, v, px, py):
+    """:func:`_conflict` as a call, for the rare Lawson flips of a split (a third inlined copy
+    of the exact test is not worth its compile time there)."""
+    return _conflict(pts, tri, circ, rank, t, v, px, py)
 
 
 @njit(inline="always")
@@ -539,7 +472,7 @@ def _fan(pts, tri, nbr, circ, cons, meta, work, vmark, v, ncav):
     return result
 
 
-@njit(cache=True, nogil=True)
+@inner
 def insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t):
     """:func:`insert_vertex` over the unpacked bundle, for per-point loops.
 
@@ -659,6 +592,15 @@ def _set3(a, t, x, y, z):
 
 @njit(inline="always")
 def flip(h, s):
+    """Flip the edge of half-edge h (see :func:`_flip_body`); returns the second triangle n.
+
+    A call of the one compiled flip (segment recovery and the split's Lawson flips each
+    inlined it twice: seconds of first-run compile), h cast to one signature."""
+    return _flip_body(np.int64(h), s)
+
+
+@inner
+def _flip_body(h, s):
     r"""Flip the edge of half-edge h (two finite triangles forming a strictly convex quad)::
 
               p                       p
@@ -675,6 +617,7 @@ def flip(h, s):
     Constraint flags travel with the outer edges A-D, the new diagonal is free; Watson's
     circles are refreshed.  Returns n.
     """
+    s = borrowed(s)
     tri, nbr, cons = s.tri, s.nbr, s.cons
     t = h // 3
     k = h - 3 * t
@@ -707,7 +650,7 @@ def flip(h, s):
     return n
 
 
-@njit(cache=True)
+@inner
 def _split_by_flips(v, h, s):
     r"""Insert v into the triangle of half-edge h's edge that holds it, then flip (Lawson).
 
@@ -781,7 +724,7 @@ def _split_by_flips(v, h, s):
             i = index3(tri, tt, v)
             h = 3 * tt + i
             o = nbr[h]
-            if cons[h] == 0 and _conflict(pts, tri, circ, rank, o, v, px, py):
+            if cons[h] == 0 and _conflict_call(pts, tri, circ, rank, o, v, px, py):
                 # tt = (v, xx, yy), o holds edge yy -> xx and its apex q.
                 xx = tri[3 * tt + next3(i)]
                 yy = tri[3 * tt + prev3(i)]

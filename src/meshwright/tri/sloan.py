@@ -29,6 +29,7 @@ from __future__ import annotations
 from numba import njit
 
 from meshwright.core.flat import GHOST, back3, index3, next3, prev3
+from meshwright.core.jit import inner
 from meshwright.core.predicates import incircle_sos, orient2d
 from meshwright.tri._encroach import edge_of, key_of
 from meshwright.tri._kernel2d import flip
@@ -36,7 +37,7 @@ from meshwright.tri._kernel2d import flip
 __all__ = ["recover_segments"]
 
 
-@njit(cache=True)
+@inner
 def _twin(h, nbr):
     """The opposite half-edge of h."""
     t = h // 3
@@ -65,7 +66,7 @@ def _ahead(pts, a, b, c):
     return (pts[c, 1] > pts[a, 1]) == (pts[b, 1] > pts[a, 1])
 
 
-@njit(cache=True)
+@inner
 def _crossings(a, b, s, vtri, elist):
     """Trace segment a -> b through the triangulation.
 
@@ -124,7 +125,7 @@ def _crossings(a, b, s, vtri, elist):
         t = n
 
 
-@njit(cache=True)
+@inner
 def _sloan(a, b, ne, s, vtri, elist, nlist):
     """Make ab an edge by flipping the ``ne`` crossing edges, then restore Delaunay.
 

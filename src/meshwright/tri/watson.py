@@ -62,7 +62,7 @@ from meshwright.core.flat import GHOST
 from meshwright.core.geom2d import circumcentre_offset
 from meshwright.tri import bowyer
 
-__all__ = ["conflict", "circle"]
+__all__ = ["circle", "conflict", "filter_sign"]
 
 _EPS = 2.0**-53
 _EPS32 = 2.0**-23  # relative rounding to the stored float32 centre, with margin
@@ -95,16 +95,44 @@ def conflict(pts, tri, circ, rank, t, v, px, py):
     bool
         Always the value of :func:`meshwright.tri.bowyer.conflict`.
     """
-    if tri[3 * t + 2] != GHOST:
-        c4 = 4 * t
-        dx = px - np.float64(circ[c4])
-        dy = py - np.float64(circ[c4 + 1])
-        d2 = dx * dx + dy * dy
-        if d2 < circ[c4 + 2]:
-            return True
-        if d2 > circ[c4 + 3]:
-            return False
+    f = filter_sign(tri, circ, t, px, py)
+    if f != 0:
+        return f > 0
     return bowyer.conflict(pts, tri, rank, t, v, px, py)
+
+
+@njit(inline="always")
+def filter_sign(tri, circ, t, px, py):
+    """The distance filter alone: +1 proven inside triangle t's circumdisk, -1 outside, 0 unsure.
+
+    The insertion kernel runs it before the one inlined copy of
+    :func:`meshwright.tri.bowyer.conflict` that serves both algorithms (a second copy inlined
+    through :func:`conflict` cost first-run compile time for nothing).
+
+    Parameters
+    ----------
+    tri : (3 cap,) int32
+    circ : (4 cap,) float32
+        Circle records ``(cx, cy, lo, hi)``.
+    t : int
+        Triangle; ghosts are always unsure (their rule is exact, :mod:`meshwright.tri.bowyer`).
+    px, py : float
+
+    Returns
+    -------
+    int
+    """
+    if tri[3 * t + 2] == GHOST:
+        return 0
+    c4 = 4 * t
+    dx = px - np.float64(circ[c4])
+    dy = py - np.float64(circ[c4 + 1])
+    d2 = dx * dx + dy * dy
+    if d2 < circ[c4 + 2]:
+        return 1
+    if d2 > circ[c4 + 3]:
+        return -1
+    return 0
 
 
 @njit(cache=True)
