@@ -53,6 +53,7 @@ from numba import njit
 from meshwright.core.borrowed import borrowed
 from meshwright.core.expansion import diff_into, estimate, expansion_sum, mul_small
 from meshwright.core.flat import GHOST, grown_rows, index3, next3, prev3
+from meshwright.core.jit import inner
 from meshwright.core.predicates import CCW_ERRBOUND_A
 from meshwright.tri._kernel2d import (
     BROKEN,
@@ -128,7 +129,7 @@ def key_of(rank, v):
     return np.int64(rank[v]) if v < rank.shape[0] else np.int64(v)
 
 
-@njit(cache=True)
+@inner
 def _dot_exact(ax, ay, bx, by, px, py):
     """``(a - p) . (b - p)`` rounded from its exact expansion (so its sign is exact)."""
     # Regions: four differences at 0..8, the two products at 8 and 16, scratch at 24,
@@ -144,7 +145,7 @@ def _dot_exact(ax, ay, bx, by, px, py):
     return estimate(w, 32, n)
 
 
-@njit(cache=True)
+@inner
 def encroaches(ax, ay, bx, by, px, py):
     """Whether p lies strictly inside the diametral circle of ab (exact).
 
@@ -246,7 +247,7 @@ def param_of(p, x, seg, pdat, vpar):
     return vpar[x]
 
 
-@njit(cache=True)
+@inner
 def _shell_fraction(length):
     """Distance (power of two) from an acute apex where a subsegment is split, over its length."""
     p2 = 1.0

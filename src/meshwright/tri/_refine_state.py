@@ -38,6 +38,7 @@ from meshwright.core.borrowed import borrowed
 from meshwright.core.bucket_queue import bq_push
 from meshwright.core.flat import GHOST, back3, index3, next3, prev3
 from meshwright.core.geom2d import circumcentre, corners, off_centre
+from meshwright.core.jit import inner
 from meshwright.core.predicates import incircle_sos
 from meshwright.tri._encroach import encroaches, key_of
 from meshwright.tri._kernel2d import M_NTRI
@@ -133,7 +134,7 @@ def push_bad(lmin, t, tri, qhead, qnext, qval, qhdr):
 
 
 # ------------------------------------------------------------------ triangle tests
-@njit(cache=True)
+@inner
 def vertex_piece(u, nin, tri, nbr, cons, vtri, vseg):
     """A segment piece through vertex u (its own for split vertices), or -1.
 
@@ -156,7 +157,7 @@ def vertex_piece(u, nin, tri, nbr, cons, vtri, vseg):
             return -1
 
 
-@njit(cache=True)
+@inner
 def _small_angle_apex(u, w, nin, pts, tri, nbr, cons, vtri, vseg, seg):
     """Shewchuk's rule: u and w on two segments meeting at a vertex, equally far from it."""
     pu = vertex_piece(u, nin, tri, nbr, cons, vtri, vseg)
@@ -198,7 +199,7 @@ def quality(t, pts, tri):
     return cross * cross / (l0 * l1), 0.5 * cross, a, b, l2
 
 
-@njit(cache=True, nogil=True)
+@inner
 def requeue(t, pts, tri, qhead, qnext, qval, qhdr):
     """Put triangle t back on the queue (its point was refused or a cap stopped the loop).
 
