@@ -151,7 +151,7 @@ def refine_loop(s, c, r):
             q = st[S_QN] - 1
             a = sq[2 * q]
             b = sq[2 * q + 1]
-            h = edge_of(a, b, tri, nbr, vtri)
+            h = edge_of(np.int64(a), np.int64(b), tri, nbr, vtri)  # one signature with Python's calls
             if h < 0 or cons[h] == 0:
                 st[S_QN] = q  # split or freed meanwhile
                 continue

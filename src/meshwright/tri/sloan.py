@@ -26,6 +26,7 @@ every flip; ``seg`` (P, 2) piece endpoints; ``seg_in`` (P,) input segment of eac
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from meshwright.core.flat import GHOST, back3, index3, next3, prev3
@@ -144,7 +145,7 @@ def _sloan(a, b, ne, s, vtri, elist, nlist):
         w = elist[2 * head + 1]
         head = head + 1 if head + 1 < ne else 0
         cnt -= 1
-        h = edge_of(u, w, tri, nbr, vtri)
+        h = edge_of(np.int64(u), np.int64(w), tri, nbr, vtri)
         t = h // 3
         p = tri[h]
         n = nbr[h]
@@ -175,7 +176,7 @@ def _sloan(a, b, ne, s, vtri, elist, nlist):
     while changed:
         changed = False
         for e in range(nn):
-            h = edge_of(nlist[2 * e], nlist[2 * e + 1], tri, nbr, vtri)
+            h = edge_of(np.int64(nlist[2 * e]), np.int64(nlist[2 * e + 1]), tri, nbr, vtri)
             t = h // 3
             n = nbr[h]
             if cons[h] != 0 or tri[3 * t + 2] == GHOST or tri[3 * n + 2] == GHOST:
@@ -250,7 +251,7 @@ def recover_segments(s, c, todo, rs, elist, nlist):
         rs[1] -= 1
         if ne > 0:
             _sloan(a, b, ne, s, vtri, elist, nlist)
-        h = edge_of(a, b, tri, nbr, vtri)
+        h = edge_of(np.int64(a), np.int64(b), tri, nbr, vtri)
         if cons[h] == 0:
             cons[h] = p + 1
             cons[_twin(h, nbr)] = p + 1
