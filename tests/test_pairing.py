@@ -575,11 +575,16 @@ def test_left_over_triangles_are_finished_by_chords_only():
 
 
 def test_chords_keep_the_mesh_local_and_the_boundary_on_its_curves():
-    dom, size, curves = CASES["square with square hole graded"]
-    fill, report = pair_domain(dom, as_size_field(size))
+    # Which pairings leave triangles moves with the boundary discretisation: the first
+    # of these that does is checked.
+    for name in ("square with square hole graded", "square with hole", "naca 0012 far field graded"):
+        dom, size, curves = CASES[name]
+        fill, report = pair_domain(dom, as_size_field(size))
+        if report.split:
+            break
+    else:
+        pytest.skip("no pairing left a triangle; the chords are not exercised here")
     mixed, _ = pair_domain(dom, as_size_field(size), all_quad=False)
-    if not report.split:
-        pytest.skip("this pairing left no triangle; the chords are not exercised here")
     assert len(fill.triangles) == 0
     # Far fewer quads than one midpoint split of every element would give.
     assert len(fill.quads) < 2 * (len(mixed.quads) + len(mixed.triangles))
