@@ -135,7 +135,7 @@ def _cone_min(query, upper, src, h, slope, start, items, hmin, box, off, gxs, gy
     return out
 
 
-def _pyramid(cell: np.ndarray, src: np.ndarray, h: np.ndarray, gx: int, gy: int):
+def _pyramid(items: np.ndarray, start: np.ndarray, src: np.ndarray, h: np.ndarray, gx: int, gy: int):
     """Min-pyramid of a (gy, gx) grid of sources: a cell of level 0 holds the smallest size
     of its sources and their bounding box; a cell of level L + 1 the minimum and the union
     of its four cells of level L (inf and an empty box outside), up to a level of at most 4
@@ -143,8 +143,10 @@ def _pyramid(cell: np.ndarray, src: np.ndarray, h: np.ndarray, gx: int, gy: int)
 
     Parameters
     ----------
-    cell : (n,) int64
-        Level-0 cell ``j * gx + i`` of each source.
+    items : (n,) int64
+        The sources ordered by their level-0 cell ``j * gx + i``.
+    start : (gx * gy + 1,) int64
+        Cell c holds ``items[start[c]:start[c + 1]]``.
     src : (n, 2) float64
     h : (n,) float64
     gx, gy : int
@@ -161,34 +163,34 @@ def _pyramid(cell: np.ndarray, src: np.ndarray, h: np.ndarray, gx: int, gy: int)
         Cells per row and per column of each level.
     """
     ncell = gx * gy
-    hm = np.full(ncell, np.inf)
-    np.minimum.at(hm, cell, h)
-    bx = np.empty((ncell, 4))
-    bx[:, :2], bx[:, 2:] = np.inf, -np.inf
-    for k in range(2):
-        np.minimum.at(bx[:, k], cell, src[:, k])
-        np.maximum.at(bx[:, 2 + k], cell, src[:, k])
-    levels, boxes = [hm.reshape(gy, gx)], [bx.reshape(gy, gx, 4)]
-    while levels[-1].size > 4:
-        a, ab = levels[-1], boxes[-1]
-        ny, nx = a.shape
+    # Five planes per level: the smallest size, then xmin, ymin (reduced by min) and xmax,
+    # ymax (by max) of the sources' box; an empty cell holds inf, inf, inf, -inf, -inf.
+    planes = [np.full(ncell, np.inf), np.full(ncell, np.inf), np.full(ncell, np.inf),
+              np.full(ncell, -np.inf), np.full(ncell, -np.inf)]
+    full = np.flatnonzero(start[1:] > start[:-1])
+    if len(full):
+        # Segment reductions over the cell-sorted sources (ufunc.at is several times slower).
+        first = start[full]
+        for plane, values, red in zip(planes, (h, src[:, 0], src[:, 1], src[:, 0], src[:, 1]),
+                                      (np.minimum,) * 3 + (np.maximum,) * 2):
+            plane[full] = red.reduceat(values[items], first)
+    levels = [[p.reshape(gy, gx) for p in planes]]
+    while levels[-1][0].size > 4:
+        ny, nx = levels[-1][0].shape
         my, mx = (ny + 1) // 2, (nx + 1) // 2
-        pa = np.full((2 * my, 2 * mx), np.inf)
-        pa[:ny, :nx] = a
-        pb = np.empty((2 * my, 2 * mx, 4))
-        pb[..., :2], pb[..., 2:] = np.inf, -np.inf
-        pb[:ny, :nx] = ab
-        quads = pb.reshape(my, 2, mx, 2, 4)
-        up = np.empty((my, mx, 4))
-        up[..., :2] = quads[..., :2].min(axis=(1, 3))
-        up[..., 2:] = quads[..., 2:].max(axis=(1, 3))
-        levels.append(pa.reshape(my, 2, mx, 2).min(axis=(1, 3)))
-        boxes.append(up)
-    off = np.concatenate([[0], np.cumsum([a.size for a in levels])]).astype(np.int64)
-    gxs = np.array([a.shape[1] for a in levels], dtype=np.int64)
-    gys = np.array([a.shape[0] for a in levels], dtype=np.int64)
-    return (np.concatenate([a.ravel() for a in levels]), np.concatenate([b.reshape(-1, 4) for b in boxes]),
-            off, gxs, gys)
+        up = []
+        for k, a in enumerate(levels[-1]):
+            red = np.minimum if k < 3 else np.maximum
+            pad = np.full((2 * my, 2 * mx), np.inf if k < 3 else -np.inf)
+            pad[:ny, :nx] = a
+            up.append(red(red(pad[0::2, 0::2], pad[0::2, 1::2]), red(pad[1::2, 0::2], pad[1::2, 1::2])))
+        levels.append(up)
+    off = np.concatenate([[0], np.cumsum([lv[0].size for lv in levels])]).astype(np.int64)
+    gxs = np.array([lv[0].shape[1] for lv in levels], dtype=np.int64)
+    gys = np.array([lv[0].shape[0] for lv in levels], dtype=np.int64)
+    hmin = np.concatenate([lv[0].ravel() for lv in levels])
+    box = np.column_stack([np.concatenate([lv[k].ravel() for lv in levels]) for k in (1, 2, 3, 4)])
+    return hmin, box, off, gxs, gys
 
 
 class _Graded:
@@ -214,7 +216,7 @@ class _Graded:
         self.items = np.argsort(cell, kind="stable")
         ncell = self.gx * self.gy
         self.start = np.concatenate([[0], np.cumsum(np.bincount(cell, minlength=ncell))])
-        self.pyramid = _pyramid(cell, src, h, self.gx, self.gy)
+        self.pyramid = _pyramid(self.items, self.start, src, h, self.gx, self.gy)
 
     def __call__(self, xy: np.ndarray) -> np.ndarray:
         q = np.ascontiguousarray(xy, dtype=np.float64)
