@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from meshwright.core.errors import FormatError, GeometryError, InputError
+from meshwright.core.errors import FormatError, GeometryError, InputError, SizeError
 from meshwright.geometry import (
     BUILTIN_DOMAINS,
     Arc,
@@ -347,6 +347,14 @@ def test_discretize_size_graded_from_a_tiny_corner_asks_few_points():
     # The spacing reaches the corner's size: the shortest segment is within a few h(0).
     assert seg_lengths(disc).min() < 1e-6
     assert_valid_pslg(disc)
+
+
+def test_discretize_size_going_to_zero_on_the_boundary_is_named():
+    # A size that vanishes at a boundary point cannot be met by any table: a SizeError
+    # names the place instead of refining without end.
+    d = rectangle(0, 0, 1, 1)
+    with pytest.raises(SizeError, match=r"keeps shrinking along curve 0 near \(0.5, 0\)"):
+        d.discretize(lambda xy: np.maximum(1e-300, 0.2 * np.hypot(xy[:, 0] - 0.5, xy[:, 1])))
 
 
 def test_discretize_split_stays_on_curve():

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from meshwright.core.errors import GeometryError
+from meshwright.core.errors import GeometryError, SizeError
 from meshwright.geometry._kernels import INSIDE, classify_points
 
 __all__ = ["place_params", "unique_rows", "interior_seed"]
@@ -114,7 +114,21 @@ def _resolve_size(curves, size, tables):
             tables[k] = np.concatenate([left + k_in * step, t[-1:]])
         if not refined:
             return tables, pts, hv
-    return tables, pts, hv
+    # Each round splits at least eightfold where the size is not met: a field still unmet
+    # after 40 rounds shrinks as fast as the table refines (a size going to 0 at a point).
+    worst = [(-1.0, 0, 0)]
+    for k, (p, (h0, h1)) in enumerate(zip(pts, hv)):
+        if len(p) > 1:
+            ratio = _chords(p) / np.minimum(h0, h1)
+            j = int(np.argmax(ratio))
+            worst.append((float(ratio[j]), k, j))
+    _, k, j = max(worst)
+    x, y = pts[k][j]
+    raise SizeError(
+        f"the size field keeps shrinking along curve {k} near ({x:.17g}, {y:.17g}) (size "
+        f"{min(hv[k][0][j], hv[k][1][j]):.3g} there after {_MAX_TABLE_ROUNDS} rounds of refining the boundary "
+        "table): it must stay bounded away from 0 on the boundary"
+    )
 
 
 def place_params(curves, size, factors) -> list[np.ndarray]:
