@@ -27,6 +27,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.flat import lower_bound
+
 __all__ = ["counts_partners", "first_same_direction", "fits", "rows_found", "sort_facets"]
 
 _INSERTION_MAX = 24  # larger buckets are merge sorted (insertion sort is quadratic in the bucket)
@@ -201,14 +203,7 @@ def _rows_found(start, code, query):
         for j in range(1, k):
             c = c * n_points + row[j]
         # binary search of the bucket of the smallest vertex
-        lo = start[row[0]]
-        hi = start[row[0] + 1]
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if code[mid] < c:
-                lo = mid + 1
-            else:
-                hi = mid
+        lo = lower_bound(code, start[row[0]], start[row[0] + 1], c)
         found[r] = lo < start[row[0] + 1] and code[lo] == c
     return found
 

@@ -41,7 +41,7 @@ from numba import njit
 
 from meshwright.core.jit import inner
 
-__all__ = ["GHOST", "TET_FACES", "grown", "grown_rows", "next3", "prev3", "index3", "back3"]
+__all__ = ["GHOST", "TET_FACES", "grown", "grown_rows", "next3", "prev3", "index3", "back3", "lower_bound"]
 
 GHOST = -1
 
@@ -125,3 +125,17 @@ def index3(tri, t, v):
 def back3(nbr, n, t):
     """Position of the link back to triangle t in its neighbour n: ``nbr[3n + back3] == t``."""
     return 0 if nbr[3 * n] == t else (1 if nbr[3 * n + 1] == t else 2)
+
+
+@inner
+def lower_bound(xs, lo, hi, x):
+    """First index in ``[lo, hi)`` of sorted ``xs`` whose entry is not below ``x`` (``hi``
+    when none): ``np.searchsorted``'s left side on a slice, written out (the generic one
+    cost each kernel calling it about a second of first-run compile)."""
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if xs[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo

@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.flat import lower_bound
 from meshwright.core.predicates import orient2d
 
 __all__ = ["adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "row_crossings", "row_nodes"]
@@ -63,22 +64,6 @@ def _meet(pts, a, b, c, d):
     return o4 == 0 and _between(pts, c, d, b)
 
 
-@njit(inline="always")
-def _first_at_least(xs, x):
-    """Index of the first entry of sorted ``xs`` not below ``x`` (``np.searchsorted``'s
-    left side, written out: the generic one cost each kernel a second of first-run
-    compile)."""
-    lo = 0
-    hi = xs.shape[0]
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if xs[mid] < x:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
-
-
 @njit(cache=True)
 def row_crossings(pts, na, nb, sa, sb):
     """(k,) bool: which new segments ``(na[i], nb[i])`` meet a segment of ``sa, sb``
@@ -104,7 +89,7 @@ def row_crossings(pts, na, nb, sa, sb):
         qx1 = max(pts[a, 0], pts[b, 0])
         qy0 = min(pts[a, 1], pts[b, 1])
         qy1 = max(pts[a, 1], pts[b, 1])
-        k = _first_at_least(xs, qx0 - span)
+        k = lower_bound(xs, np.int64(0), xs.shape[0], qx0 - span)
         while k < m and xs[k] <= qx1:
             j = order[k]
             k += 1
@@ -144,7 +129,7 @@ def nodes_in_quads(pts, quads, nodes):
             x1 = max(x1, pts[v, 0])
             y0 = min(y0, pts[v, 1])
             y1 = max(y1, pts[v, 1])
-        k = _first_at_least(xs, x0)
+        k = lower_bound(xs, np.int64(0), xs.shape[0], x0)
         while k < m and xs[k] <= x1:
             v = nodes[order[k]]
             k += 1
@@ -296,7 +281,7 @@ def facing_pairs(p, nrm, reach, ids, fid, pos, size, out_u, out_v, out_d):
         u = order[a]
         # A pair is closer than both reaches, so u's own bounds the window (one long
         # reach in the far field would otherwise widen every node's).
-        k = _first_at_least(xs, p[u, 0] - reach[u])
+        k = lower_bound(xs, np.int64(0), xs.shape[0], p[u, 0] - reach[u])
         while k < n and xs[k] <= p[u, 0] + reach[u]:
             v = order[k]
             k += 1
