@@ -290,7 +290,9 @@ def test_resumed_part_keeps_its_triangles_away_from_the_new_splits():
         # The split points are on the interface, and new in this part.
         assert not any(tuple(p) in {v for t in tri0 for v in t} for p in new.tolist())
         assert all(tuple(p) in {v for t in tri1 for v in t} for p in new.tolist())
-        far = {t for t in tri0 if min(math.dist(v, p) for v in t for p in new.tolist()) > 0.1}
+        # Two element sizes (hmax = 0.1) away: the refinement that follows the splits grades
+        # outward through the angle bound by up to about one element (0.14 measured).
+        far = {t for t in tri0 if min(math.dist(v, p) for v in t for p in new.tolist()) > 0.2}
         assert len(far) > len(tri0) // 2
         assert far <= tri1, "a triangle far from every new split point changed"
         # The state it resumed from is untouched (Dask may run the task again), and a state
