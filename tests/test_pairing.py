@@ -19,6 +19,7 @@ import meshwright as mw
 from meshwright.core.errors import InputError, MeshingError
 from meshwright.geometry import airfoil_in_farfield, circle, circles, naca_loop, polygon
 from meshwright.quad import QUAD_METHODS, quadrangulate
+from meshwright.quad import _enhance_kernel as ek
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.enhancement import enhance
 from meshwright.quad.pairing import (
@@ -689,7 +690,7 @@ def test_node_quads_lists_each_nodes_live_quads_in_order():
     rng = np.random.default_rng(5)
     quads = np.array([rng.choice(12, 4, replace=False) for _ in range(40)], dtype=np.int32)
     alive = (rng.random(40) < 0.7).astype(np.int8)
-    off, idx = pk.node_quads(quads, alive, 13)
+    off, idx = ek.node_quads(quads, alive, 13)
     for v in range(13):
         want = [q for q in range(40) if alive[q] and v in quads[q].tolist()]
         assert idx[off[v] : off[v + 1]].tolist() == want
@@ -716,8 +717,8 @@ def test_enhancement_worklist_decides_as_full_passes():
         tri_node = np.zeros(len(p), dtype=np.int8)
         tri_node[t3[left].ravel()] = 1
         for _ in range(ENHANCE_PASSES):
-            off, idx = pk.node_quads(qd, alive, len(p))
-            got = pk.enhance_pass(
+            off, idx = ek.node_quads(qd, alive, len(p))
+            got = ek.enhance_pass(
                 p, qd, alive, bnd.astype(np.int8), off, idx, tri_node, ACCEPT, SWAP_GAIN, np.ones(len(qd), np.int8)
             )
             if sum(got) == 0:

@@ -1,4 +1,5 @@
-"""Numba kernels of :mod:`meshwright.quad.pairing`: triangle pairing and quad shape enhancement.
+"""Numba kernels of :mod:`meshwright.quad.pairing`: triangle pairing (the enhancement's are in
+:mod:`meshwright.quad._enhance_kernel`).
 
 Sources: J. Z. Zhu, O. C. Zienkiewicz, E. Hinton and J. Wu, "A new approach to the
 development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32,
@@ -18,17 +19,10 @@ mate   : (nt,) int32, the triangle t is paired with, -1 while unpaired.
 raw    : flat float64 like ``nbr``, ``raw[3*t + k]`` the raw score of the pair across that
          side (:func:`side_scores`: scaled Jacobian, :data:`REFLEX` or :data:`NO_PAIR`);
          the pairing rounds read it instead of scoring a side at every visit.
-quad   : (m, 4) int32 counter-clockwise quadrilaterals; ``alive`` (m,) int8.
-bnd    : (n,) int8, 1 for a node on the boundary, on an interior segment or given as an
-         interior point (never moved or removed by the enhancement).
-csr    : node -> incident quads, ``(off (n+1,) int64, idx int32)``, rebuilt by the caller
-         before every enhancement pass.
 
-Invariants: every topological decision (is the pair's quadrilateral strictly convex, is a
-quadrilateral after an operation strictly convex) is an exact ``orient2d``; the scaled
-Jacobian and the 150-degree rule at boundary nodes are quality rules in floating point,
-applied only among valid choices.  An operation touches only quads not touched before in
-the same pass, so the node -> quad table stays true for every quad an operation reads.
+Invariants: whether a pair's quadrilateral is strictly convex is an exact ``orient2d``;
+the scaled Jacobian and the 150-degree rule at boundary nodes are quality rules in floating
+point, applied only among valid choices.
 """
 
 from __future__ import annotations
@@ -50,9 +44,7 @@ __all__ = [
     "corner_flat",
     "corner_ok",
     "dual_neighbours",
-    "enhance_pass",
     "greedy_pairs",
-    "node_quads",
     "pair_quad",
     "pair_score",
     "quad_ok",
@@ -490,279 +482,6 @@ def augment(raw, nbr, mate, qmin, max_visit):
             tail[i] = i
             link[i] = -1
     return gained
-
-
-@njit(cache=True)
-def _local_min(xy, quad, alive, off, idx, v, skip, sub_from, sub_to):
-    """Smallest scaled Jacobian of the live quads around v (except ``skip``), with node
-    ``sub_from`` read as ``sub_to``; -1 when one of them would not be strictly convex."""
-    worst = 1.0
-    for s in range(off[v], off[v + 1]):
-        q = idx[s]
-        if q == skip or alive[q] == 0:
-            continue
-        a, b, c, d = quad[q, 0], quad[q, 1], quad[q, 2], quad[q, 3]
-        if a == sub_from:
-            a = sub_to
-        if b == sub_from:
-            b = sub_to
-        if c == sub_from:
-            c = sub_to
-        if d == sub_from:
-            d = sub_to
-        if not quad_ok(xy, a, b, c, d):
-            return -1.0
-        sj = quad_sj(xy, a, b, c, d)
-        if sj < worst:
-            worst = sj
-    return worst
-
-
-@njit(inline="always")
-def _live_count(alive, off, idx, v):
-    count = 0
-    for s in range(off[v], off[v + 1]):
-        if alive[idx[s]] != 0:
-            count += 1
-    return count
-
-
-@njit(inline="always")
-def _star_dirty(off, idx, dirty, v):
-    for s in range(off[v], off[v + 1]):
-        if dirty[idx[s]] != 0:
-            return True
-    return False
-
-
-@njit(inline="always")
-def _star_free(off, idx, lock, v):
-    for s in range(off[v], off[v + 1]):
-        if lock[idx[s]] != 0:
-            return False
-    return True
-
-
-@njit(inline="always")
-def _lock_star(off, idx, lock, v):
-    for s in range(off[v], off[v + 1]):
-        lock[idx[s]] = 1
-
-
-@njit(inline="always")
-def _position(quad, q, v):
-    for k in range(4):
-        if quad[q, k] == v:
-            return k
-    return -1
-
-
-@njit(cache=True)
-def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, dirty):
-    """Interior nodes in exactly two quads (doublets): the two quads become one, unless it
-    would be non-convex or leave a boundary node in one quad at a flat corner."""
-    done = 0
-    n = xy.shape[0]
-    for v in range(n):
-        if bnd[v] != 0 or tri_node[v] != 0 or not _star_free(off, idx, lock, v):
-            continue
-        if not _star_dirty(off, idx, dirty, v):
-            continue
-        q1 = -1
-        q2 = -1
-        count = 0
-        for s in range(off[v], off[v + 1]):
-            if alive[idx[s]] != 0:
-                count += 1
-                if q1 < 0:
-                    q1 = idx[s]
-                else:
-                    q2 = idx[s]
-        if count != 2:
-            continue
-        i = _position(quad, q1, v)
-        a, b, c = quad[q1, (i + 1) % 4], quad[q1, (i + 2) % 4], quad[q1, (i + 3) % 4]
-        j = _position(quad, q2, v)
-        if quad[q2, (j + 1) % 4] != c or quad[q2, (j + 3) % 4] != a:
-            continue
-        d = quad[q2, (j + 2) % 4]
-        if not quad_ok(xy, a, b, c, d) or _flat_boundary_corner(xy, bnd, a, b, c, d):
-            continue
-        _lock_star(off, idx, lock, v)
-        quad[q1, 0], quad[q1, 1], quad[q1, 2], quad[q1, 3] = a, b, c, d
-        alive[q2] = 0
-        done += 1
-    return done
-
-
-@njit(cache=True)
-def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept, dirty):
-    """Quads whose opposite nodes a, c are interior and in three quads each (diamonds):
-    a and c merge at their midpoint and the quad disappears."""
-    done = 0
-    none = np.int64(-1)  # typed: literal -1 arguments would compile _local_min once per pattern
-    for q in range(quad.shape[0]):
-        if alive[q] == 0 or lock[q] != 0 or dirty[q] == 0:
-            continue
-        for r in range(2):
-            a = quad[q, r]
-            c = quad[q, r + 2]
-            if bnd[a] != 0 or bnd[c] != 0 or tri_node[a] != 0 or tri_node[c] != 0:
-                continue
-            if off[a + 1] - off[a] != 3 or off[c + 1] - off[c] != 3:
-                continue
-            b = quad[q, r + 1]
-            d = quad[q, (r + 3) % 4]
-            if _live_count(alive, off, idx, b) < 3 or _live_count(alive, off, idx, d) < 3:
-                continue
-            if not (_star_free(off, idx, lock, a) and _star_free(off, idx, lock, c)):
-                continue
-            old = min(_local_min(xy, quad, alive, off, idx, a, none, none, none),
-                      _local_min(xy, quad, alive, off, idx, c, none, none, none))
-            ax, ay = xy[a, 0], xy[a, 1]
-            xy[a, 0] = 0.5 * (ax + xy[c, 0])
-            xy[a, 1] = 0.5 * (ay + xy[c, 1])
-            new = min(_local_min(xy, quad, alive, off, idx, a, q, none, none),
-                      _local_min(xy, quad, alive, off, idx, c, q, np.int64(c), np.int64(a)))
-            if new <= 0.0 or new < min(old, accept):
-                xy[a, 0], xy[a, 1] = ax, ay
-                continue
-            _lock_star(off, idx, lock, a)
-            _lock_star(off, idx, lock, c)
-            for s in range(off[c], off[c + 1]):
-                p = idx[s]
-                for k in range(4):
-                    if quad[p, k] == c:
-                        quad[p, k] = a
-            alive[q] = 0
-            done += 1
-            break
-    return done
-
-
-@njit(inline="always")
-def _flat_boundary_corner(xy, bnd, a, b, c, d):
-    """Whether quad (a, b, c, d) has a corner between two boundary nodes, itself on the
-    boundary, wider than 150 degrees (a boundary node left in one quad)."""
-    v = (a, b, c, d)
-    for k in range(4):
-        p = v[(k + 3) % 4]
-        q = v[k]
-        r = v[(k + 1) % 4]
-        if bnd[p] != 0 and bnd[q] != 0 and bnd[r] != 0 and corner_flat(xy, p, q, r):
-            return True
-    return False
-
-
-@njit(cache=True)
-def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
-    """Two quads sharing a side form a hexagon; the side moves to the hexagon diagonal that
-    gives the best pair when its worst scaled Jacobian gains more than ``gain``."""
-    done = 0
-    h = np.empty(6, dtype=np.int64)
-    for q1 in range(quad.shape[0]):
-        if alive[q1] == 0 or lock[q1] != 0 or dirty[q1] == 0:
-            continue
-        for k in range(4):
-            u = quad[q1, k]
-            v = quad[q1, (k + 1) % 4]
-            if bnd[u] != 0 and bnd[v] != 0:
-                continue  # possibly a boundary side: only interior sides are swapped
-            q2 = -1
-            for s in range(off[u], off[u + 1]):
-                p = idx[s]
-                if p != q1 and alive[p] != 0 and _position(quad, p, v) >= 0:
-                    q2 = p
-            if q2 < 0 or lock[q2] != 0:
-                continue
-            j = _position(quad, q2, u)
-            if quad[q2, (j + 3) % 4] != v:
-                continue  # q2 must run v -> u
-            # Hexagon counter-clockwise: u, c, d, v, a, b with q1 = (u, v, a, b), q2 = (v, u, c, d).
-            h[0] = u
-            h[1] = quad[q2, (j + 1) % 4]
-            h[2] = quad[q2, (j + 2) % 4]
-            h[3] = v
-            h[4] = quad[q1, (k + 2) % 4]
-            h[5] = quad[q1, (k + 3) % 4]
-            old = min(quad_sj(xy, h[0], h[1], h[2], h[3]), quad_sj(xy, h[3], h[4], h[5], h[0]))
-            best = old + gain
-            pick = -1
-            for r in range(1, 3):
-                p0, p1, p2, p3 = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
-                s0, s1, s2, s3 = h[(r + 3) % 6], h[(r + 4) % 6], h[(r + 5) % 6], h[r]
-                if not (quad_ok(xy, p0, p1, p2, p3) and quad_ok(xy, s0, s1, s2, s3)):
-                    continue
-                if _flat_boundary_corner(xy, bnd, p0, p1, p2, p3) or _flat_boundary_corner(xy, bnd, s0, s1, s2, s3):
-                    continue
-                val = min(quad_sj(xy, p0, p1, p2, p3), quad_sj(xy, s0, s1, s2, s3))
-                if val > best:
-                    best = val
-                    pick = r
-            if pick < 0:
-                continue
-            r = pick
-            quad[q1, 0], quad[q1, 1], quad[q1, 2], quad[q1, 3] = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
-            quad[q2, 0], quad[q2, 1], quad[q2, 2], quad[q2, 3] = h[(r + 3) % 6], h[(r + 4) % 6], h[(r + 5) % 6], h[r]
-            lock[q1] = 1
-            lock[q2] = 1
-            done += 1
-            break
-    return done
-
-
-@njit(cache=True)
-def node_quads(quad, alive, n):
-    """CSR node -> live quads by a counting sort (each node's quads in increasing order):
-    ``(off (n+1,) int64, idx int32)`` of ``quad`` (m, 4) int32 and ``alive`` (m,) int8."""
-    off = np.zeros(n + 1, dtype=np.int64)
-    for q in range(quad.shape[0]):
-        if alive[q] != 0:
-            for k in range(4):
-                off[quad[q, k] + 1] += 1
-    for v in range(n):
-        off[v + 1] += off[v]
-    fill = off[:-1].copy()
-    idx = np.empty(off[n], dtype=np.int32)
-    for q in range(quad.shape[0]):
-        if alive[q] != 0:
-            for k in range(4):
-                v = quad[q, k]
-                idx[fill[v]] = q
-                fill[v] += 1
-    return off, idx
-
-
-@njit(cache=True)
-def enhance_pass(xy, quad, alive, bnd, off, idx, tri_node, accept, gain, dirty):
-    """One pass of node elimination, element elimination and diagonal swapping.
-
-    ``tri_node`` (n,) int8 flags nodes of left-over triangles, which no operation touches.
-    Only quads flagged in ``dirty`` (q,) int8 (and nodes with one in their star) are
-    examined; on return ``dirty`` flags the quads with a node in a quad this pass changed,
-    the only ones whose operations can decide otherwise in the next pass (every test
-    reads the stars and positions of the quad's own nodes, and an operation changes only
-    the quads it locks; a refused one leaves no trace), so a pass with ``dirty`` decides
-    exactly as a pass over every quad.  Returns (doublets removed, diamonds collapsed,
-    sides swapped).
-    """
-    lock = np.zeros(quad.shape[0], dtype=np.int8)
-    n1 = _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, dirty)
-    n2 = _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept, dirty)
-    n3 = _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty)
-    touched = np.zeros(xy.shape[0], dtype=np.int8)
-    for q in range(quad.shape[0]):
-        if lock[q] != 0:
-            for k in range(4):
-                touched[quad[q, k]] = 1
-    for q in range(quad.shape[0]):
-        dirty[q] = 0
-        if alive[q] != 0:
-            for k in range(4):
-                if touched[quad[q, k]] != 0:
-                    dirty[q] = 1
-                    break
-    return n1, n2, n3
 
 
 @njit(cache=True)

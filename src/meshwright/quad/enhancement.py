@@ -3,7 +3,7 @@
 Source: J. Z. Zhu, O. C. Zienkiewicz, E. Hinton and J. Wu, "A new approach to the
 development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32,
 1991: node elimination, element elimination and diagonal swapping (the kernels in
-:mod:`meshwright.quad._pairing_kernel`), followed by the chapter's Laplacian smoothing
+:mod:`meshwright.quad._enhance_kernel`), followed by the chapter's Laplacian smoothing
 (18.2) with boundary nodes sliding on their curves
 (:func:`meshwright.quad.smoothing.smooth_sliding`): a move is accepted only if the
 smallest corner sine around the node does not fall and every quad strictly convex before
@@ -30,7 +30,7 @@ from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import as_cells, as_points, check_count
 from meshwright.geometry.curves import Line, Parametric, Polyline
 from meshwright.geometry.domain import Domain
-from meshwright.quad import _pairing_kernel as pk
+from meshwright.quad import _enhance_kernel as ek
 from meshwright.quad.smoothing import smooth_sliding
 
 __all__ = [
@@ -99,8 +99,8 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
     total = np.zeros(3, dtype=np.int64)
     dirty = np.ones(len(qd), dtype=np.int8)
     for _ in range(passes):
-        off, idx = pk.node_quads(qd, alive, len(xy))
-        got = pk.enhance_pass(xy, qd, alive, bnd, off, idx, tri_node, ACCEPT, SWAP_GAIN, dirty)
+        off, idx = ek.node_quads(qd, alive, len(xy))
+        got = ek.enhance_pass(xy, qd, alive, bnd, off, idx, tri_node, ACCEPT, SWAP_GAIN, dirty)
         total += np.asarray(got)
         if sum(got) == 0:
             break
