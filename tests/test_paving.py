@@ -348,3 +348,75 @@ def test_seam_keeps_a_node_another_paving_boundary_holds():
     assert kept.tolist() == front.tolist() and pv.seams == 0
     assert pv.pts[1].tolist() == [2.0, -0.3]
 
+
+
+def _plain_polish(xy, quads, fixed, floor, rounds):
+    """The cleanup's pattern search written out in plain Python (`math`): every pass
+    recomputes every sine, every trial the whole star's minimum."""
+    import math
+
+    p = [list(map(float, v)) for v in xy]
+    q = [list(map(int, c)) for c in quads]
+    star = [[] for _ in p]
+    for c, cell in enumerate(q):
+        for v in cell:
+            star[v].append(c)
+
+    def sine(a, b, d, v, x, y):
+        def at(w):
+            return (x, y) if w == v else (p[w][0], p[w][1])
+
+        (ax, ay), (bx, by), (dx, dy) = at(a), at(b), at(d)
+        ux, uy, wx, wy = dx - bx, dy - by, ax - bx, ay - by
+        den = math.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+        return (ux * wy - uy * wx) / den if den > 0.0 else -1.0
+
+    def star_min(v, x, y):
+        return min(sine(q[c][k - 1], q[c][k], q[c][(k + 1) % 4], v, x, y) for c in star[v] for k in range(4))
+
+    def quad_min(c):
+        return min(sine(q[c][k - 1], q[c][k], q[c][(k + 1) % 4], -1, 0.0, 0.0) for k in range(4))
+
+    dirs = [(math.cos(i * math.pi / 8.0), math.sin(i * math.pi / 8.0)) for i in range(16)]
+    for _ in range(rounds):
+        nodes = sorted({v for c in range(len(q)) if quad_min(c) < floor for v in q[c] if not fixed[v]})
+        moved = 0
+        for v in nodes:
+            x0, y0 = p[v]
+            # np.hypot is the C library's, as in the kernel (math.hypot rounds otherwise).
+            reach = min(float(np.hypot(p[w][0] - x0, p[w][1] - y0)) for c in star[v] for k in range(4) if q[c][k] == v
+                        for w in (q[c][(k + 1) % 4], q[c][k - 1]))
+            best, bx, by = star_min(v, x0, y0), x0, y0
+            for s in (0.25, 0.125, 0.0625):
+                for dx, dy in dirs:
+                    x, y = x0 + s * reach * dx, y0 + s * reach * dy
+                    w = star_min(v, x, y)
+                    if w > best:
+                        best, bx, by = w, x, y
+            if (bx, by) != (x0, y0):
+                p[v] = [bx, by]
+                moved += 1
+        if not moved:
+            break
+    return np.array(p)
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 2**31 - 1))
+def test_polish_matches_a_plain_pattern_search(seed):
+    """The cleanup kernel (skips of nodes whose opposite corners are their worst, trials
+    stopped at the first corner not above the best, per-quad minima updated around the
+    moved nodes) makes the moves of the plain search that recomputes everything."""
+    from meshwright.quad._paving_close import polish
+
+    rng = np.random.default_rng(seed)
+    k = 6
+    gx, gy = np.meshgrid(np.arange(k + 1, dtype=np.float64), np.arange(k + 1, dtype=np.float64))
+    xy = np.column_stack([gx.ravel(), gy.ravel()])
+    inner = (xy[:, 0] > 0) & (xy[:, 0] < k) & (xy[:, 1] > 0) & (xy[:, 1] < k)
+    xy[inner] += rng.uniform(-0.3, 0.3, size=(int(inner.sum()), 2))
+    v = (np.arange(k)[None, :] + (k + 1) * np.arange(k)[:, None]).ravel()
+    quads = np.column_stack([v, v + 1, v + k + 2, v + k + 1]).astype(np.int64)
+    got = polish(xy, quads, ~inner, 0.95, 4)
+    assert np.array_equal(got, _plain_polish(xy, quads, ~inner, 0.95, 4))
+    assert np.array_equal(xy[~inner], got[~inner])

@@ -23,7 +23,7 @@ those pieces (and the paving boundaries' geometry: :func:`boundary_loops`,
   the front's spacing never above that of the void's own boundary nodes (chapter 18.3's
   background), so it grows from a stopped row's short edges instead of fanning onto them;
 * :func:`polish`: the cleanup's max-min pattern search on the worst quads' free nodes
-  (kernel :func:`meshwright.quad._paving_kernel.polish_nodes`).
+  (kernels :func:`meshwright.quad._paving_kernel.polish_rounds` and ``polish_nodes``).
 
 Every chord is checked against every paving-boundary edge by the exact crossing kernel
 (:func:`meshwright.quad._paving_kernel.row_crossings`); every quad of a template is
@@ -524,21 +524,8 @@ def polish(xy, quads, fixed, floor: float, rounds: int):
     ang = np.arange(16) * (np.pi / 8.0)
     dirs = np.ascontiguousarray(np.column_stack([np.cos(ang), np.sin(ang)]))
     steps = np.array([0.25, 0.125, 0.0625])
-    worst = min_sine(p, q)
-    for _ in range(rounds):
-        bad = np.flatnonzero(worst < floor)
-        nodes = np.unique(q[bad])
-        nodes = nodes[~fixed[nodes]]
-        if not len(nodes):
-            break
-        before = p[nodes].copy()
-        if not pk.polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
-            break
-        # Only the quads around the nodes that moved change their smallest sine.
-        moved = nodes[(p[nodes] != before).any(axis=1)]
-        touched = np.unique(np.concatenate([cell_idx[cell_ptr[v] : cell_ptr[v + 1]] for v in moved.tolist()]))
-        worst[touched] = min_sine(p, q[touched])
-    return p
+    fixed = np.ascontiguousarray(fixed, dtype=np.bool_)
+    return pk.polish_rounds(p, q, cell_ptr, cell_idx, fixed, float(floor), int(rounds), dirs, steps)
 
 
 def consistent(fronts) -> bool:
