@@ -438,7 +438,6 @@ SQUARE = [(0, 0), (4, 0), (4, 4), (0, 4)]
         ),
         ({"outer": [(0, 0), (1, np.nan), (1, 1)]}, "non-finite"),
         ({"outer": SQUARE, "points": [(5, 5)]}, r"interior point 0 at \(5, 5\)"),
-        ({"outer": SQUARE, "points": [(4, 2)]}, "on a boundary"),
         ({"outer": SQUARE, "points": [(1, 1), (1, 1)]}, "interior points 0 and 1 coincide"),
         ({"outer": SQUARE, "regions": [(-1, 1, 2, None)]}, "region 0 seed"),
         ({"outer": SQUARE, "regions": [(1, 1, 2, -3.0)]}, "max_area"),

@@ -112,8 +112,14 @@ def test_poly_with_node_file_and_circle(tmp_path):
             FormatError,
         ),
         (
+            # A bow tie: split at its crossing (as Triangle does), its two loops touch there.
             "4 2 0 0\n1 0 0\n2 1 1\n3 1 0\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n",
-            "segments on lines 7 and 9 intersect",
+            r"boundary loops touch at vertex \(0\.5, 0\.5\)",
+            GeometryError,
+        ),
+        (
+            "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0.5 0\n4 0\n1 1 2\n2 2 3\n3 3 1\n4 1 4\n0\n",
+            "segments on lines 7 and 10 overlap or intersect",
             GeometryError,
         ),
         (

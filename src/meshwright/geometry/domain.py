@@ -33,6 +33,7 @@ from meshwright.core.errors import GeometryError, InputError, fmt_point
 from meshwright.core.predicates import orient2d, orient2d_batch
 from meshwright.core.validate_input import check_coordinate_range
 from meshwright.geometry._discretize import interior_seed, place_params, unique_rows
+from meshwright.geometry._junctions import apply_splits, junction_splits, point_splits
 from meshwright.geometry._kernels import (
     INSIDE,
     ON_BOUNDARY,
@@ -48,6 +49,8 @@ __all__ = ["Domain", "Discretization"]
 _JOINT_RTOL = 1e-9  # curve ends closer than this (relative to the domain extent) are joined
 _MAX_ROUNDS = 16  # doublings of segment counts to make a coarse polygon valid
 _REPORT = 64  # offending pairs collected per round
+_JUNCTION_ROUNDS = 64  # rounds of junction splits (a crossing's rounded point may meet another segment)
+_JUNCTION_PAIRS = 4096  # offending pairs resolved per junction round
 
 
 class Discretization(NamedTuple):
@@ -350,16 +353,30 @@ class Domain:
     def validate(self) -> Domain:
         """Check the domain and normalise loop orientation; return ``self``.
 
+        Straight pieces are first split where a constraint ends on (or passes through) a
+        segment, where an interior point lies on one and where two constraints cross, as
+        Triangle does (:mod:`meshwright.geometry._junctions`); an interior point that is
+        or becomes a vertex of a segment leaves :attr:`points`.
+
         Raises
         ------
         GeometryError
             Open or broken loops, non-finite coordinates, zero-length segments, loops with
-            fewer than three vertices, duplicate points, touching or crossing loops and
-            constraints, holes outside the outer loop, islands (loops nested in holes)
-            without a region seed, constraints, points or region seeds outside the domain.
+            fewer than three vertices, duplicate points, touching or crossing loops,
+            constraints crossing a loop or overlapping, junctions on curved pieces, holes
+            outside the outer loop, islands (loops nested in holes) without a region seed,
+            constraints, points or region seeds outside the domain.
         """
-        self._set_loops(self._raw_loops)
-        asm = self._fine_checks()
+        for _ in range(_JUNCTION_ROUNDS):
+            self._set_loops(self._raw_loops)
+            if not self._split_junctions():
+                break
+        else:
+            raise GeometryError(
+                f"segment junctions still need splits after {_JUNCTION_ROUNDS} rounds of up to {_JUNCTION_PAIRS} "
+                "(too many crossings, or crossings whose rounded intersections meet further segments)"
+            )
+        asm = self._fine
         depth, parent = self._nesting(asm)
         loops = list(self.loops)
         for li in range(len(loops)):
@@ -377,6 +394,42 @@ class Domain:
         self._check_contents()
         self._hole_seeds = self._seeds(self._fine)
         return self
+
+    def _split_junctions(self) -> bool:
+        """One round of :mod:`._junctions`: whether any piece was split (then check again)."""
+        asm, verts, inv = self._fine_checks()
+        self._fine = asm
+        segs = inv[asm.segments]
+        bad = find_bad_pairs(verts, segs, _JUNCTION_PAIRS)
+        is_loop = self.curve_loop >= 0
+        splits, culprit = junction_splits(verts, segs, asm.seg_curve, asm.seg_local, self.curves, is_loop, bad)
+        if culprit >= 0:
+            s, t = bad[culprit]
+            raise GeometryError(f"{self._describe(asm, s)} intersects {self._describe(asm, t)}")
+        keep = np.ones(len(self.points), dtype=bool)
+        if not splits and len(self.points):
+            ok = np.isfinite(self.points).all(axis=1)
+            on = np.zeros(len(self.points), dtype=bool)
+            on[ok] = classify_points(self.points[ok], verts[segs[:, 0]], verts[segs[:, 1]]) == ON_BOUNDARY
+            idx = np.flatnonzero(on)
+            if len(idx):
+                splits, absorbed, culprit = point_splits(
+                    verts, segs, asm.seg_curve, asm.seg_local, self.curves, self.points[idx]
+                )
+                if culprit >= 0:
+                    i = idx[culprit]
+                    raise GeometryError(
+                        f"interior point {i} at {fmt_point(self.points[i])} lies on a curved boundary or constraint"
+                    )
+                keep[idx[absorbed]] = False
+        if not splits and keep.all():
+            return False
+        first = [cids[0] for _, cids in self._groups]
+        chains = apply_splits(list(self.loops) + list(self.constraints), first, splits)
+        self._raw_loops = chains[: len(self.loops)]
+        self.constraints = tuple(chains[len(self.loops):])
+        self.points = np.ascontiguousarray(self.points[keep])
+        return True
 
     def _fine_checks(self):
         params = []
@@ -407,11 +460,7 @@ class Domain:
                     )
         verts, inv = unique_rows(asm.points)
         self._check_shared(asm, verts, inv)
-        bad = find_bad_pairs(verts, inv[asm.segments], 1)
-        if len(bad):
-            s, t = bad[0]
-            raise GeometryError(f"{self._describe(asm, s)} intersects {self._describe(asm, t)}")
-        return asm
+        return asm, verts, inv
 
     def _check_shared(self, asm: _Assembly, verts: np.ndarray, inv: np.ndarray) -> None:
         """Loops may not share vertices with themselves or with each other."""

@@ -20,6 +20,9 @@ markers are not kept.  Regional attributes are kept as the Domain's
 marker 0).  Segments that close no boundary (none, open chains, or every enclosed face a
 hole) are closed as Triangle's ``-c`` closes them, by the edges of the vertices' convex
 hull (marker 1 where no segment lies), and the Domain is flagged ``open_boundary``.
+Before the faces are found, a vertex lying on a segment splits it and crossing segments
+are split at their intersection, as Triangle does (:mod:`meshwright.geometry._junctions`);
+overlapping segments stay an error.
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ import numpy as np
 from meshwright.core.errors import GeometryError, InputError, fmt_point
 from meshwright.core.predicates import orient2d, orient2d_batch
 from meshwright.geometry._discretize import unique_rows
+from meshwright.geometry._junctions import planarize
 from meshwright.geometry._kernels import (
     INSIDE,
     classify_points,
@@ -46,6 +50,9 @@ from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.poly_format import PolyData, parse_poly, write_poly_file
 
 __all__ = ["read_poly", "write_poly"]
+
+_JUNCTION_ROUNDS = 64  # rounds of junction splits (a crossing's rounded point may meet another segment)
+_JUNCTION_PAIRS = 4096  # offending pairs resolved per round
 
 
 def _angular_order(xy: np.ndarray, org: np.ndarray, dst: np.ndarray) -> np.ndarray:
@@ -199,7 +206,7 @@ def read_poly(path) -> Domain:
         Missing, unreadable or malformed file (message names file and line; see
         :func:`~meshwright.geometry.poly_format.parse_poly`).
     GeometryError
-        Crossing segments, touching loops, or nothing enclosed even by the convex hull
+        Overlapping segments, touching loops, or nothing enclosed even by the convex hull
         (message names the file and the segments' lines).
     """
     if not isinstance(path, (str, PathLike)):
@@ -221,10 +228,7 @@ def read_poly(path) -> Domain:
         raise GeometryError(
             f"{path}, line {slines[dup[1]]}: segment duplicates the one on line {slines[dup[0]]}"
         )
-    bad = find_bad_pairs(verts, seg, 1)
-    if len(bad):
-        s, t = bad[0]
-        raise GeometryError(f"{path}: segments on lines {slines[s]} and {slines[t]} intersect")
+    verts, seg, marks, slines = _planar(verts, seg, marks, slines, path)
     found = _loops(verts, seg, marks, holes, path) if len(seg) >= 3 else None
     open_boundary = found is None
     if open_boundary:
@@ -260,6 +264,24 @@ def read_poly(path) -> Domain:
         )
     except GeometryError as exc:
         raise GeometryError(f"{path}: {exc}") from exc
+
+
+def _planar(verts, seg, marks, slines, path: Path):
+    """The segment graph split at its junctions (:func:`~meshwright.geometry._junctions.planarize`):
+    vertices lying on segments and crossing segments, as Triangle splits them."""
+    for _ in range(_JUNCTION_ROUNDS):
+        bad = find_bad_pairs(verts, seg, _JUNCTION_PAIRS)
+        if not len(bad):
+            return verts, seg, marks, slines
+        verts, seg, parent, culprit = planarize(verts, seg, bad)
+        if culprit >= 0:
+            s, t = bad[culprit]
+            raise GeometryError(f"{path}: segments on lines {slines[s]} and {slines[t]} overlap or intersect")
+        marks = None if marks is None else marks[parent]
+        slines = np.asarray(slines)[parent]
+    raise GeometryError(
+        f"{path}: segment junctions still need splits after {_JUNCTION_ROUNDS} rounds of up to {_JUNCTION_PAIRS}"
+    )
 
 
 def _edge_keys(seg: np.ndarray, n: int) -> np.ndarray:
