@@ -420,3 +420,77 @@ def test_polish_matches_a_plain_pattern_search(seed):
     got = polish(xy, quads, ~inner, 0.95, 4)
     assert np.array_equal(got, _plain_polish(xy, quads, ~inner, 0.95, 4))
     assert np.array_equal(xy[~inner], got[~inner])
+
+
+def test_row_geometry_kernels_against_plain_formulas():
+    """Angles, classes, depth, provisional edges, bisectors and seam candidates of a
+    random star-shaped paving boundary, against the chapter's formulas written out with
+    `math` per node (floating point: equal to a few ulps)."""
+    import math
+
+    from meshwright.quad import _paving_row as pr
+
+    rng = np.random.default_rng(7)
+    n = 40
+    t = np.sort(rng.uniform(0.0, 2.0 * np.pi, n))
+    r = rng.uniform(0.5, 1.0, n)
+    p = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    h = rng.uniform(0.05, 0.2, n)
+    scale = rng.choice([1.0, 0.7], n)
+    ang, deg, m, depth, th0, mid, plen = pr.row_prepare(p, h, scale, 135.0, 225.0, 315.0)
+    want_ang, want_th, le = [], [], []
+    for i in range(n):
+        (x, y), (xn, yn), (xp, yp) = p[i], p[(i + 1) % n], p[i - 1]
+        a = math.atan2((xn - x) * (yp - y) - (yn - y) * (xp - x), (xn - x) * (xp - x) + (yn - y) * (yp - y))
+        want_ang.append(a + 2.0 * math.pi if a <= 0.0 else a)
+        want_th.append(math.atan2(yn - y, xn - x))
+        le.append(math.dist(p[i], p[(i + 1) % n]))
+    assert np.allclose(ang, want_ang, rtol=0, atol=1e-12) and np.allclose(th0, want_th, rtol=0, atol=1e-12)
+    assert np.allclose(deg, np.degrees(want_ang), rtol=1e-13)
+    d = [min(max(h[i], 0.25 * (le[i] + le[i - 1])), le[i] + le[i - 1]) for i in range(n)]
+    want_depth = [0.25 * (d[i - 1] + 2.0 * d[i] + d[(i + 1) % n]) * scale[i] for i in range(n)]
+    assert np.allclose(depth, want_depth, rtol=1e-13)
+    prov = []
+    for i in range(n):
+        th, dist = want_th[i] + 0.5 * want_ang[i], want_depth[i] / max(math.sin(0.5 * want_ang[i]), 0.5)
+        prov.append((p[i, 0] + dist * math.cos(th), p[i, 1] + dist * math.sin(th)))
+    for i in range(n):
+        a, b = prov[i], prov[(i + 1) % n]
+        assert math.isclose(plen[i], math.dist(a, b), rel_tol=1e-12)
+        assert np.allclose(mid[i], [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])], rtol=0, atol=1e-12)
+    # Classes: thresholds, and no two neighbouring row ends (the sharper one stays).
+    want_m = np.select([deg < 135.0, deg < 225.0, deg < 315.0], [0, 1, 3], 5)
+    assert ((m == want_m) | ((want_m == 0) & (m == 1))).all()
+    assert not any(m[i] == 0 and m[(i + 1) % n] == 0 for i in range(n))
+    for i in np.flatnonzero((want_m == 0) & (m == 1)):
+        assert m[i - 1] == 0 and deg[i - 1] <= deg[i] or m[(i + 1) % n] == 0 and deg[(i + 1) % n] <= deg[i]
+    # Bisectors of two boundaries at once, and the seam candidates (floating nodes only).
+    ids = np.concatenate([np.arange(n), np.arange(n)[::-1]]).astype(np.int64)
+    nrm = pr.front_bisectors(p, ids, np.array([0, n, 2 * n], dtype=np.int64))
+    assert np.allclose(nrm[:n], np.column_stack([np.cos(np.add(want_th, 0.5 * np.array(want_ang))),
+                                                 np.sin(np.add(want_th, 0.5 * np.array(want_ang)))]), atol=1e-12)
+    assert np.allclose(np.hypot(*nrm.T), 1.0)
+    sharp = pr.sharp_nodes(p, np.arange(n, dtype=np.int64), 10, 100.0)
+    want = sorted((i for i in range(10, n) if deg[i] < 100.0), key=lambda i: deg[i])
+    assert sharp.tolist() == want
+
+
+def test_row_finish_relaxes_along_the_row_and_refuses_odd_rows():
+    from meshwright.quad import _paving_row as pr
+
+    rng = np.random.default_rng(3)
+    k, n0 = 10, 100
+    phi = 2.0 * np.pi * np.arange(k) / k + rng.uniform(-0.1, 0.1, k)
+    xy = np.column_stack([np.cos(phi), np.sin(phi)])
+    quads = np.array([[0, 1, n0 + 1, n0]], dtype=np.int64)
+    front = np.repeat(np.arange(n0, n0 + k, dtype=np.int64), [1, 2] * (k // 2))  # repeats dropped
+    got = xy.copy()
+    f = pr.row_finish(got, quads, front, n0, 1)
+    assert f.tolist() == list(range(n0, n0 + k))
+    for i in range(k):
+        prev, nxt = xy[i - 1], xy[(i + 1) % k]
+        tan = (nxt - prev) / np.linalg.norm(nxt - prev)
+        lap = 0.25 * (prev + nxt - 2.0 * xy[i])
+        assert np.allclose(got[i], xy[i] + np.dot(lap, tan) * tan, atol=1e-14)
+    assert pr.row_finish(xy.copy(), quads, front[:-1][front[:-1] != n0 + k - 1], n0, 1) is None  # odd count
+    assert pr.row_finish(xy.copy(), np.array([[0, 1, 1, n0]], dtype=np.int64), front, n0, 1) is None

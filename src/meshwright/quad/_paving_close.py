@@ -40,6 +40,7 @@ import numpy as np
 
 from meshwright.core.predicates import orient2d_batch
 from meshwright.quad import _paving_kernel as pk
+from meshwright.quad import _paving_row as pr
 from meshwright.quad.enhancement import enhance, unpair_nonconvex
 from meshwright.quad.pairing import pair_triangles
 from meshwright.quad.smoothing import smooth_cells
@@ -558,13 +559,12 @@ def despike(front: np.ndarray) -> np.ndarray:
 def front_slots(pts, fronts):
     """Every slot of a list of paving boundaries: node ids, boundary index, position
     along it (all (m,) int64) and the unit bisector into the unmeshed region (m, 2)."""
-    ids = np.concatenate(fronts)
-    fid = np.concatenate([np.full(len(f), k, dtype=np.int64) for k, f in enumerate(fronts)])
-    pos = np.concatenate([np.arange(len(f), dtype=np.int64) for f in fronts])
-    th = np.concatenate([
-        np.arctan2(*(shift_next(pts[f]) - pts[f])[:, ::-1].T) + 0.5 * loop_angles(pts[f]) for f in fronts
-    ])
-    return ids, fid, pos, np.column_stack([np.cos(th), np.sin(th)])
+    ids = np.concatenate(fronts).astype(np.int64, copy=False)
+    size = np.array([len(f) for f in fronts], dtype=np.int64)
+    off = np.concatenate([[0], np.cumsum(size)])
+    fid = np.repeat(np.arange(len(fronts), dtype=np.int64), size)
+    pos = np.arange(len(ids), dtype=np.int64) - off[fid]
+    return ids, fid, pos, pr.front_bisectors(pts, ids, off)
 
 
 def area_kept(xy, front, trial, a, b, at) -> bool:

@@ -26,7 +26,8 @@ from meshwright.core.flat import lower_bound
 from meshwright.core.predicates import orient2d
 
 __all__ = [
-    "adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "polish_rounds", "row_crossings", "row_nodes",
+    "adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "polish_rounds", "row_crossings",
+    "row_nodes",
 ]
 
 
@@ -651,3 +652,4 @@ def row_nodes(p, f, ang, m, depth, th0, n0):
     for x in range(k):
         front[x] = lab[root[spoke[x]]]
     return True, xy, quads[:nq].copy(), front, owner
+

@@ -77,11 +77,13 @@ the rounds cap raises :class:`~meshwright.core.errors.MeshingError` naming the s
 paving boundary (the loop it grew from, its length and first node), ``max_points`` names
 itself.  The other caps end their step, and what is left goes to the void fill.
 
-Implementation: rows are built with NumPy over a boundary's nodes (one Python pass wires
-them); a row's whole step-7 check (one call per row, bounded by the row's box), crossing,
-containment, joint and cleanup searches are Numba kernels
-(:mod:`meshwright.quad._paving_kernel`); closure, joining and cleanup pieces live in
-:mod:`meshwright.quad._paving_close`.
+Implementation: a row is built by kernels over the boundary's node arrays, one call each
+around the row's one call of the size field (:mod:`meshwright.quad._paving_row`: ``row_prepare``:
+angles, classes, depth and the provisional new edges; ``adjust_row``; ``row_nodes``;
+``row_finish``: the new boundary and its relaxation); a row's whole step-7 check (one
+call per row, bounded by the row's box), crossing, containment, joint and cleanup
+searches are Numba kernels too (:mod:`meshwright.quad._paving_kernel`); closure, joining
+and cleanup pieces live in :mod:`meshwright.quad._paving_close`.
 
 Array layout: points (n, 2) float64; quads (q, 4) int32 counter-clockwise; a paving
 boundary is an (k,) int64 array of node ids with the unmeshed region on its left.
@@ -97,6 +99,7 @@ from meshwright.core.errors import GeometryError, InputError, MeshingError, fmt_
 from meshwright.core.validate_input import check_count, check_flag, check_seed
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _paving_kernel as pk
+from meshwright.quad import _paving_row as pr
 from meshwright.quad._paving_close import (
     area_kept,
     boundary_loops,
@@ -112,10 +115,8 @@ from meshwright.quad._paving_close import (
     encloses,
     fill_voids,
     front_slots,
-    loop_angles,
     polish,
     shift_next,
-    shift_prev,
     signed_area,
 )
 from meshwright.quad.pairing import make_loops_even
@@ -213,16 +214,7 @@ def node_classes(angles_deg) -> np.ndarray:
         0 row end, 1 side, 3 corner, 5 reversal; no two row ends are neighbours (the
         sharper one keeps the class).
     """
-    a = np.asarray(angles_deg, dtype=np.float64)
-    m = np.where(a < END_ANGLE, 0, np.where(a < CORNER_ANGLE, 1, np.where(a < REVERSAL_ANGLE, 3, 5)))
-    ends = np.flatnonzero(m == 0)
-    if len(ends) > 1:
-        keep = np.zeros(len(a), dtype=bool)
-        for i in ends[np.argsort(a[ends], kind="stable")].tolist():
-            if not keep[i - 1] and not keep[(i + 1) % len(a)]:
-                keep[i] = True
-        m[(m == 0) & ~keep] = 1
-    return m.astype(np.int64)
+    return pr.row_classes(np.ascontiguousarray(angles_deg, dtype=np.float64), END_ANGLE, CORNER_ANGLE, REVERSAL_ANGLE)
 
 
 class _Paver:
@@ -291,57 +283,32 @@ class _Paver:
         self.quad_round.append(rnd)
 
     # -- step 1, 3, 6: one row --------------------------------------------------------
-    def _depth(self, f: np.ndarray) -> np.ndarray:
-        p = self.pts[f]
-        le = np.hypot(*(shift_next(p) - p).T)
-        lm = 0.5 * (le + shift_prev(le))
-        d = np.clip(self.size_at(f), 0.5 * lm, 2.0 * lm)
-        return 0.25 * (shift_prev(d) + 2.0 * d + shift_next(d))
-
-    def _adjust(self, f, ang, m, depth, calm_only):
-        """Tucks and wedges from the running surplus of predicted edge lengths (step 6,
-        :func:`~meshwright.quad._paving_kernel.adjust_row`)."""
-        p = self.pts[f]
-        th = np.arctan2(*(shift_next(p) - p)[:, ::-1].T) + 0.5 * ang
-        dist = depth / np.maximum(np.sin(0.5 * ang), 0.5)
-        prov = p + dist[:, None] * np.column_stack([np.cos(th), np.sin(th)])
-        nxt = shift_next(prov)
-        rho = np.hypot(*(nxt - prov).T) / self.field(0.5 * (prov + nxt))
-        tucks, wedges = pk.adjust_row(
-            m, rho, calm_only, f >= self.n_fixed, np.degrees(ang), ADJUST_GAP, TUCK_AT, TUCK_MAX_ANGLE,
-            WEDGE_MIN_ANGLE,
-        )
-        self.pending = (tucks, wedges)
-        return m
-
     def build_row(self, f: np.ndarray, scale: np.ndarray, calm_only: np.ndarray):
         """Candidate row on paving boundary ``f`` with the row depth times ``scale`` and no
         tuck or wedge where ``calm_only``: (new node coordinates, quads with new nodes
         numbered from ``self.n``, new paving boundary, depth, the paving node each new
-        node grew from); None if it degenerates (:func:`~meshwright.quad._paving_kernel.row_nodes`)."""
+        node grew from); None if it degenerates.  Three kernels around the one call of
+        the size field at the provisional new edges
+        (:func:`~meshwright.quad._paving_row.row_prepare`, ``adjust_row``,
+        ``row_nodes``, ``row_finish``)."""
         p = self.pts[f]
-        ang = loop_angles(p)
-        m = node_classes(np.degrees(ang))
-        depth = self._depth(f) * scale
-        m = self._adjust(f, ang, m, depth, calm_only)
-        th0 = np.arctan2(*(shift_next(p) - p)[:, ::-1].T)
-        ok, new_xy, q, front, owner = pk.row_nodes(p, f.astype(np.int64), ang, m, depth, th0, self.n)
+        ang, deg, m, depth, th0, mid, plen = pr.row_prepare(
+            p, self.size_at(f), scale, END_ANGLE, CORNER_ANGLE, REVERSAL_ANGLE
+        )
+        # Step 6: tucks and wedges from the running surplus of predicted edge lengths.
+        tucks, wedges = pk.adjust_row(
+            m, plen / self.field(mid), calm_only, f >= self.n_fixed, deg, ADJUST_GAP, TUCK_AT, TUCK_MAX_ANGLE,
+            WEDGE_MIN_ANGLE,
+        )
+        self.pending = (tucks, wedges)
+        ok, new_xy, q, front, owner = pk.row_nodes(p, f, ang, m, depth, th0, self.n)
         if not ok:
             return None
-        front = front[front != shift_prev(front)] if len(front) > 1 else front
-        if len(front) < 2 or len(front) % 2 or (np.sort(q, axis=1)[:, 1:] == np.sort(q, axis=1)[:, :-1]).any():
+        # Row smoothing in row_finish: the new nodes relax along the row, which spreads
+        # the long and short edges a tuck or wedge leaves over their neighbours.
+        front = pr.row_finish(new_xy, q, front, self.n, ROW_RELAX)
+        if front is None:
             return None
-        if len(front) > 6:
-            # Row smoothing: the new nodes relax along the row, which spreads the long
-            # and short edges a tuck or wedge leaves over their neighbours.
-            loc = front - self.n
-            for _ in range(ROW_RELAX):
-                c = new_xy[loc]
-                t = shift_next(c) - shift_prev(c)
-                t /= np.maximum(np.hypot(*t.T), 1e-300)[:, None]
-                lap = 0.25 * (shift_prev(c) + shift_next(c) - 2.0 * c)
-                # Along the row only: corners keep their place, the row its depth.
-                new_xy[loc] = c + (lap * t).sum(axis=1)[:, None] * t
         return new_xy, q, front, depth, owner
 
     # -- step 7: checks -----------------------------------------------------------------
@@ -390,10 +357,8 @@ class _Paver:
         for _ in range(cap):
             if len(front) <= 2:
                 return front
-            ang = np.degrees(loop_angles(self.pts[front]))
-            cand = np.flatnonzero((ang < SEAM_ANGLE) & (front >= self.n_fixed))
             done = False
-            for i in cand[np.argsort(ang[cand])].tolist():
+            for i in pr.sharp_nodes(self.pts, front, self.n_fixed, SEAM_ANGLE).tolist():
                 k = len(front)
                 a, b = int(front[i - 1]), int(front[(i + 1) % k])
                 if a < self.n_fixed or b < self.n_fixed or (shared == b).any():

@@ -1,0 +1,231 @@
+"""Numba kernels of a paving row's geometry (:mod:`meshwright.quad.paving`, Blacker and
+Stephenson 1991, steps 1 and 3): angles, node classes, row depth, the provisional new
+edges the row adjustment measures, the new paving boundary and its relaxation, and the
+bisectors of every paving node that the joints look along, and the seams' candidates.
+
+A row costs one call of each kernel around one call of the size field (the kernel of
+its new nodes and quads, ``row_nodes``, and of its tucks and wedges, ``adjust_row``, are
+in :mod:`meshwright.quad._paving_kernel`), instead of some sixty small NumPy calls.
+Everything here is floating point: the geometry a row is built from, not a topological
+decision (the row's exact check is ``check_row``).
+
+Array layout: a paving boundary's coordinates ``p`` (n, 2) float64 in order, its region
+on the left (node i's neighbours are i - 1 and i + 1, cyclic); node ids (n,) int64;
+several boundaries as one id array with offsets ``off`` (k + 1,) int64.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["front_bisectors", "row_classes", "row_finish", "row_prepare", "sharp_nodes"]
+
+
+@njit(cache=True)
+def row_classes(deg, end, corner, reversal):
+    """Node classes from interior angles in degrees (step 1; see
+    :func:`meshwright.quad.paving.node_classes`): 0 row end below ``end``, 1 side below
+    ``corner``, 3 corner below ``reversal``, 5 reversal; of two neighbouring row ends the
+    sharper one (the first in a tie, by a stable sort) keeps its class."""
+    n = deg.shape[0]
+    m = np.empty(n, dtype=np.int64)
+    ne = 0
+    for i in range(n):
+        a = deg[i]
+        m[i] = 0 if a < end else (1 if a < corner else (3 if a < reversal else 5))
+        if m[i] == 0:
+            ne += 1
+    if ne > 1:
+        ends = np.empty(ne, dtype=np.int64)
+        key = np.empty(ne)
+        j = 0
+        for i in range(n):
+            if m[i] == 0:
+                ends[j] = i
+                key[j] = deg[i]
+                j += 1
+        keep = np.zeros(n, dtype=np.bool_)
+        for t in np.argsort(key, kind="mergesort"):
+            i = ends[t]
+            if not keep[(i - 1) % n] and not keep[(i + 1) % n]:
+                keep[i] = True
+        for i in range(n):
+            if m[i] == 0 and not keep[i]:
+                m[i] = 1
+    return m
+
+
+@njit(cache=True)
+def row_prepare(p, h, scale, end, corner, reversal):
+    """Steps 1 and 3 of a row before the size field is asked again: each paving node's
+    interior angle, class, row depth and outgoing edge direction, and the midpoints and
+    lengths of the edges between the provisional new nodes (on the bisectors, as a row of
+    side nodes would place them) for the row adjustment's running surplus.
+
+    Parameters
+    ----------
+    p : (n, 2) float64
+        The paving boundary's nodes in order, region on the left.
+    h : (n,) float64
+        The size field at those nodes.
+    scale : (n,) float64
+        Factor on the row depth (lowered by repairs).
+    end, corner, reversal : float
+        The class thresholds in degrees (:func:`row_classes`).
+
+    Returns
+    -------
+    ang : (n,) float64
+        Interior angles in radians, in (0, 2 pi].
+    deg : (n,) float64
+        The same in degrees.
+    m : (n,) int64
+        Classes (:func:`row_classes`).
+    depth : (n,) float64
+        The size kept within [1/2, 2] of the mean of the two edges at the node, averaged
+        (1/4, 1/2, 1/4) along the row, times ``scale``.
+    th0 : (n,) float64
+        Direction of the edge to the next node.
+    mid : (n, 2) float64
+        Midpoint of the provisional new edge from node i's new node to node i + 1's.
+    plen : (n,) float64
+        Its length.
+    """
+    n = p.shape[0]
+    ang = np.empty(n)
+    deg = np.empty(n)
+    th0 = np.empty(n)
+    le = np.empty(n)
+    for i in range(n):
+        nx = p[(i + 1) % n, 0] - p[i, 0]
+        ny = p[(i + 1) % n, 1] - p[i, 1]
+        px = p[(i - 1) % n, 0] - p[i, 0]
+        py = p[(i - 1) % n, 1] - p[i, 1]
+        a = np.arctan2(nx * py - ny * px, nx * px + ny * py)
+        if a <= 0.0:
+            a += 2.0 * np.pi
+        ang[i] = a
+        deg[i] = a * (180.0 / np.pi)
+        th0[i] = np.arctan2(ny, nx)
+        le[i] = np.hypot(nx, ny)
+    d = np.empty(n)
+    for i in range(n):
+        lm = 0.5 * (le[i] + le[(i - 1) % n])
+        d[i] = min(max(h[i], 0.5 * lm), 2.0 * lm)
+    depth = np.empty(n)
+    for i in range(n):
+        depth[i] = 0.25 * (d[(i - 1) % n] + 2.0 * d[i] + d[(i + 1) % n]) * scale[i]
+    prov = np.empty((n, 2))
+    for i in range(n):
+        th = th0[i] + 0.5 * ang[i]
+        r = depth[i] / max(np.sin(0.5 * ang[i]), 0.5)
+        prov[i, 0] = p[i, 0] + r * np.cos(th)
+        prov[i, 1] = p[i, 1] + r * np.sin(th)
+    mid = np.empty((n, 2))
+    plen = np.empty(n)
+    for i in range(n):
+        j = (i + 1) % n
+        mid[i, 0] = 0.5 * (prov[i, 0] + prov[j, 0])
+        mid[i, 1] = 0.5 * (prov[i, 1] + prov[j, 1])
+        plen[i] = np.hypot(prov[j, 0] - prov[i, 0], prov[j, 1] - prov[i, 1])
+    return ang, deg, row_classes(deg, end, corner, reversal), depth, th0, mid, plen
+
+
+@njit(cache=True)
+def row_finish(xy, quads, front, n0, relax):
+    """Step 3's end: the new paving boundary from :func:`row_nodes`' spokes (a node
+    repeated by merged spokes kept once where consecutive), refused (None) when it has
+    fewer than two nodes, an odd count, or a quad has a repeated corner; on a boundary
+    of more than six nodes the new nodes (``xy``, ids from ``n0``) relax ``relax``
+    Jacobi sweeps along the row, tangentially (corners keep their place, the row its
+    depth).  ``xy`` is changed in place; returns the new boundary."""
+    k = front.shape[0]
+    out = np.empty(k, dtype=np.int64)
+    m = 0
+    for i in range(k):
+        if k <= 1 or front[i] != front[(i - 1) % k]:
+            out[m] = front[i]
+            m += 1
+    if m < 2 or m % 2:
+        return None
+    for c in range(quads.shape[0]):
+        for a in range(4):
+            for b in range(a + 1, 4):
+                if quads[c, a] == quads[c, b]:
+                    return None
+    f = out[:m]
+    if m > 6:
+        c = np.empty((m, 2))
+        for _ in range(relax):
+            for i in range(m):
+                c[i, 0] = xy[f[i] - n0, 0]
+                c[i, 1] = xy[f[i] - n0, 1]
+            for i in range(m):
+                nx, ny = c[(i + 1) % m, 0], c[(i + 1) % m, 1]
+                px, py = c[(i - 1) % m, 0], c[(i - 1) % m, 1]
+                tx = nx - px
+                ty = ny - py
+                tn = max(np.hypot(tx, ty), 1e-300)
+                tx /= tn
+                ty /= tn
+                lx = 0.25 * (px + nx - 2.0 * c[i, 0])
+                ly = 0.25 * (py + ny - 2.0 * c[i, 1])
+                s = lx * tx + ly * ty
+                xy[f[i] - n0, 0] = c[i, 0] + s * tx
+                xy[f[i] - n0, 1] = c[i, 1] + s * ty
+    return f.copy()
+
+
+@njit(cache=True)
+def front_bisectors(pts, ids, off):
+    """Unit bisector into the unmeshed region at every slot of several paving
+    boundaries (``ids[off[k]:off[k + 1]]`` is boundary k): the direction of the edge to
+    the next node turned by half the interior angle.  Returns (m, 2) float64."""
+    out = np.empty((ids.shape[0], 2))
+    for k in range(off.shape[0] - 1):
+        s = off[k]
+        n = off[k + 1] - s
+        for i in range(n):
+            v = ids[s + i]
+            w = ids[s + (i + 1) % n]
+            u = ids[s + (i - 1) % n]
+            nx = pts[w, 0] - pts[v, 0]
+            ny = pts[w, 1] - pts[v, 1]
+            px = pts[u, 0] - pts[v, 0]
+            py = pts[u, 1] - pts[v, 1]
+            a = np.arctan2(nx * py - ny * px, nx * px + ny * py)
+            if a <= 0.0:
+                a += 2.0 * np.pi
+            th = np.arctan2(ny, nx) + 0.5 * a
+            out[s + i, 0] = np.cos(th)
+            out[s + i, 1] = np.sin(th)
+    return out
+
+
+@njit(cache=True)
+def sharp_nodes(pts, front, n_fixed, below):
+    """Positions along the paving boundary ``front`` (node ids) of its floating nodes
+    (ids from ``n_fixed`` on) whose interior angle is below ``below`` degrees, sharpest
+    first (ties in boundary order): the seams' candidates.  Returns (j,) int64."""
+    n = front.shape[0]
+    deg = np.empty(n)
+    pick = np.empty(n, dtype=np.int64)
+    j = 0
+    for i in range(n):
+        v = front[i]
+        w = front[(i + 1) % n]
+        u = front[(i - 1) % n]
+        nx = pts[w, 0] - pts[v, 0]
+        ny = pts[w, 1] - pts[v, 1]
+        px = pts[u, 0] - pts[v, 0]
+        py = pts[u, 1] - pts[v, 1]
+        a = np.arctan2(nx * py - ny * px, nx * px + ny * py)
+        if a <= 0.0:
+            a += 2.0 * np.pi
+        a *= 180.0 / np.pi
+        if a < below and v >= n_fixed:
+            deg[j] = a
+            pick[j] = i
+            j += 1
+    return pick[:j][np.argsort(deg[:j], kind="mergesort")]
