@@ -23,7 +23,12 @@ from __future__ import annotations
 from numba import njit
 from numba.core.registry import CPUDispatcher
 
+from meshwright.core import fast_inline
+
 __all__ = ["InnerDispatcher", "inner"]
+
+# Every kernel module imports this one before its first compile: patch the IR inliner then.
+fast_inline.install()
 
 _OPTIONS = {"cache": True, "no_cpython_wrapper": True, "no_cfunc_wrapper": True}
 
