@@ -13,7 +13,9 @@ the same splits for a :class:`~meshwright.geometry.domain.Domain` before it is v
 * a loop vertex lying exactly inside a straight constraint segment splits the constraint;
 * two straight constraint segments crossing at one interior point are both split at their
   intersection, rounded to the nearest floating-point coordinates (as Triangle does; the
-  pieces then bend by at most half a unit in the last place);
+  pieces then bend by at most half a unit in the last place).  Exact splits go first: a
+  round that has any exact split (an end or a point on a segment) defers the crossings, so
+  that a point lying exactly on a segment splits it before a rounded crossing bends it;
 * anything else stays an error naming both segments: loops touching or crossing each other
   or themselves, a constraint crossing a loop (it would leave the domain), collinear
   overlaps, and junctions on curved pieces (an arc or spline cannot be split exactly).
@@ -90,6 +92,9 @@ def _resolve(a0, a1, b0, b1):
 def junction_splits(points, segments, seg_curve, seg_local, curves, is_loop, pairs):
     """Splits resolving a domain's offending segment pairs, or the first pair none resolves.
 
+    Exact splits go first: when any pair has an end inside the other segment, only those
+    splits are returned and the crossings wait for a later round.
+
     Parameters
     ----------
     points : (n, 2) float64
@@ -106,25 +111,29 @@ def junction_splits(points, segments, seg_curve, seg_local, curves, is_loop, pai
     -------
     splits : dict
         ``{(curve, edge): [point (2,) float64, ...]}``, the points at which to split each
-        straight edge.
+        straight edge: the exact splits (ends inside segments) when there are any, else
+        the crossings.
+    rounded : bool
+        Whether ``splits`` are crossings (rounded points).
     culprit : int
         Index into ``pairs`` of the first pair no split resolves, or -1.
     """
-    splits: dict = {}
+    splits: dict = {"end": {}, "cross": {}}
     for k, pair in enumerate(pairs):
         ends = [points[segments[s, 0]] for s in pair] + [points[segments[s, 1]] for s in pair]
         found = _resolve(ends[0], ends[2], ends[1], ends[3])
         if found is None:
-            return splits, k
+            return {}, False, k
         loops = [bool(is_loop[seg_curve[s]]) for s in pair]
         for which, p, kind in found:
             s = pair[which]
             straight = isinstance(curves[int(seg_curve[s])], (Line, Polyline))
             # Loops may not meet loops, and a constraint crossing a loop leaves the domain.
             if not straight or (kind == "end" and all(loops)) or (kind == "cross" and any(loops)):
-                return splits, k
-            splits.setdefault((int(seg_curve[s]), int(seg_local[s])), []).append(np.asarray(p, dtype=np.float64))
-    return splits, -1
+                return {}, False, k
+            key = (int(seg_curve[s]), int(seg_local[s]))
+            splits[kind].setdefault(key, []).append(np.asarray(p, dtype=np.float64))
+    return (splits["end"], False, -1) if splits["end"] else (splits["cross"], bool(splits["cross"]), -1)
 
 
 def planarize(points, segments, pairs):
@@ -151,13 +160,15 @@ def planarize(points, segments, pairs):
         Index into ``pairs`` of the first pair no split resolves (then the other outputs
         are the inputs), or -1.
     """
-    cuts: dict = {}
+    found_cuts: dict = {"end": {}, "cross": {}}
     for k, (s, t) in enumerate(pairs):
         found = _resolve(points[segments[s, 0]], points[segments[s, 1]], points[segments[t, 0]], points[segments[t, 1]])
         if found is None:
             return points, segments, np.arange(len(segments)), k
-        for which, p, _ in found:
-            cuts.setdefault(int((s, t)[which]), []).append(np.asarray(p, dtype=np.float64))
+        for which, p, kind in found:
+            found_cuts[kind].setdefault(int((s, t)[which]), []).append(np.asarray(p, dtype=np.float64))
+    # Exact cuts first: a crossing waits for a round without any (module docstring).
+    cuts = found_cuts["end"] or found_cuts["cross"]
     index = {tuple(p): i for i, p in enumerate(points.tolist())}
     extra = []
     out, parent = [], []

@@ -402,18 +402,21 @@ class Domain:
         segs = inv[asm.segments]
         bad = find_bad_pairs(verts, segs, _JUNCTION_PAIRS)
         is_loop = self.curve_loop >= 0
-        splits, culprit = junction_splits(verts, segs, asm.seg_curve, asm.seg_local, self.curves, is_loop, bad)
+        splits, rounded, culprit = junction_splits(
+            verts, segs, asm.seg_curve, asm.seg_local, self.curves, is_loop, bad
+        )
         if culprit >= 0:
             s, t = bad[culprit]
             raise GeometryError(f"{self._describe(asm, s)} intersects {self._describe(asm, t)}")
         keep = np.ones(len(self.points), dtype=bool)
-        if not splits and len(self.points):
+        if len(self.points):
+            # Points on segments are exact splits: they go before any rounded crossing.
             ok = np.isfinite(self.points).all(axis=1)
             on = np.zeros(len(self.points), dtype=bool)
             on[ok] = classify_points(self.points[ok], verts[segs[:, 0]], verts[segs[:, 1]]) == ON_BOUNDARY
             idx = np.flatnonzero(on)
             if len(idx):
-                splits, absorbed, culprit = point_splits(
+                at, absorbed, culprit = point_splits(
                     verts, segs, asm.seg_curve, asm.seg_local, self.curves, self.points[idx]
                 )
                 if culprit >= 0:
@@ -422,6 +425,12 @@ class Domain:
                         f"interior point {i} at {fmt_point(self.points[i])} lies on a curved boundary or constraint"
                     )
                 keep[idx[absorbed]] = False
+                if at or not keep.all():
+                    if rounded:
+                        splits = at
+                    else:
+                        for key, ps in at.items():
+                            splits.setdefault(key, []).extend(ps)
         if not splits and keep.all():
             return False
         first = [cids[0] for _, cids in self._groups]
