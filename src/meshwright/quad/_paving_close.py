@@ -17,7 +17,7 @@ those pieces (and the paving boundaries' geometry: :func:`boundary_loops`,
 * :func:`bridge`: a paving boundary around a hole's paving boundary is joined to it by one
   such chord (its nodes appear on both sides of the chord, so the joined boundary has
   ``n_outer + n_hole + 2 k + 2`` nodes: even), after which :func:`close_loop` can close it;
-* :func:`closest_facing`: the pair of paving nodes the paver joins next;
+* :func:`facing_order`: the pairs of paving nodes the paver tries to join, closest first;
 * :func:`fill_voids`: the region left between stopped paving boundaries, meshed by
   advancing-front triangles paired into quads (18.5.1, :mod:`meshwright.quad.pairing`),
   the front's spacing never above that of the void's own boundary nodes (chapter 18.3's
@@ -53,7 +53,7 @@ __all__ = [
     "bridge",
     "clear_after_merge",
     "close_loop",
-    "closest_facing",
+    "facing_order",
     "closure_quads",
     "consistent",
     "convex",
@@ -391,13 +391,14 @@ def bridge(xy, outer, hole, field, oa, ob):
     return pts, joined
 
 
-def closest_facing(ids, fid, pos, p, nrm, reach, sizes, tried):
-    """The closest pair (u, v) of paving-node slots (node ``ids``, boundary ``fid``,
-    position ``pos`` along it, coordinates ``p``, unit bisectors ``nrm`` into the
-    unmeshed region) closer than both their ``reach``, facing each other, not near
-    neighbours along one boundary (and an even distance apart there, so both parts stay
-    even), whose node pair is not in ``tried``; or None
-    (:func:`meshwright.quad._paving_kernel.facing_pairs`)."""
+def facing_order(ids, fid, pos, p, nrm, reach, sizes):
+    """Every pair (u, v) of paving-node slots (node ``ids``, boundary ``fid``, position
+    ``pos`` along it, coordinates ``p``, unit bisectors ``nrm`` into the unmeshed region)
+    closer than both their ``reach``, facing each other, not near neighbours along one
+    boundary (and an even distance apart there, so both parts stay even), closest first
+    (ties in the kernel's order): two (j,) int64 arrays
+    (:func:`meshwright.quad._paving_kernel.facing_pairs`).  The paver tries them in
+    this order until one joint holds, without searching again after a refused one."""
     size = np.asarray(sizes, dtype=np.int64)[fid]
     room = 64
     for _ in range(64):
@@ -408,10 +409,8 @@ def closest_facing(ids, fid, pos, p, nrm, reach, sizes, tried):
         if cnt <= room:
             break
         room = 2 * cnt
-    for c in np.argsort(d[:cnt], kind="stable").tolist():
-        if (int(ids[u[c]]), int(ids[v[c]])) not in tried:
-            return int(u[c]), int(v[c])
-    return None
+    order = np.argsort(d[:cnt], kind="stable")
+    return u[order], v[order]
 
 
 def fill_voids(xy, voids, field, seed):

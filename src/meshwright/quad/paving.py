@@ -106,13 +106,13 @@ from meshwright.quad._paving_close import (
     bridge,
     clear_after_merge,
     close_loop,
-    closest_facing,
     closure_quads,
     consistent,
     convex,
     despike,
     edges_of,
     encloses,
+    facing_order,
     fill_voids,
     front_slots,
     polish,
@@ -407,15 +407,21 @@ class _Paver:
         meets itself splits into two even ones.  Seams then zip the narrow angles beside
         the joint.  At most ``cap`` joints; returns the new list of boundaries."""
         tried: set[tuple[int, int]] = set()
-        for _ in range(cap):
-            if not fronts:
-                break
-            ids, fid, pos, nrm = front_slots(self.pts, fronts)
-            p = self.pts[ids]
-            h = self.size_at(ids)
-            pair = closest_facing(ids, fid, pos, p, nrm, CONNECT * h, [len(f) for f in fronts], tried)
+        attempts = 0
+        cand = None
+        while attempts < cap and fronts:
+            if cand is None:
+                # The slots and their candidate pairs, searched again only after a joint
+                # (a refused one changes nothing: every check works on copies).
+                ids, fid, pos, nrm = front_slots(self.pts, fronts)
+                order_u, order_v = facing_order(
+                    ids, fid, pos, self.pts[ids], nrm, CONNECT * self.size_at(ids), [len(f) for f in fronts]
+                )
+                cand = iter(zip(order_u.tolist(), order_v.tolist()))
+            pair = next((uv for uv in cand if (int(ids[uv[0]]), int(ids[uv[1]])) not in tried), None)
             if pair is None:
                 break
+            attempts += 1
             u, v = pair
             a, b = int(ids[u]), int(ids[v])
             tried.add((a, b))
@@ -448,6 +454,7 @@ class _Paver:
                 continue
             fronts = new
             self.joints += 1
+            cand = None
         return fronts
 
     # -- step 2: closure of small paving boundaries ---------------------------------------
