@@ -11,6 +11,10 @@
   the outer boundary;
 * polygonal holes, interior constraint segments and interior points, each in its own disk
   of an inscribed disk so that no two features cross;
+* junctions (kind ``junction``): constraints ending inside a boundary segment or inside
+  another constraint, crossing constraints and points on constraints, on coordinates of
+  the 2**-20 grid so that the end points lie exactly on their segments (the domain splits
+  them as Triangle does);
 * sizes: the default (none), ``"boundary"``, a number, a jump of 1e4 inside a small disk
   (a callable), and a stretched background grid (the front honours it; the other methods
   use its isotropic spacing).
@@ -26,7 +30,7 @@ reproducer that ``tests/test_regressions.py`` replays: ``"status": "open"`` unti
 
 Usage::
 
-    python scripts/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--timeout 60] [--jobs 2]
+    python scripts/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--kinds junction] [--timeout 60] [--jobs 2]
 
 ``--jobs N`` runs N worker processes (each compiles the kernels once, then takes one mesh
 at a time); the domains drawn depend on ``--seed`` only, not on N.
@@ -47,7 +51,8 @@ import numpy as np
 
 REGRESSIONS = Path(__file__).resolve().parents[1] / "tests" / "regressions"
 AREA_RTOL = 1e-9
-KINDS = ("plain", "collinear", "cocircular", "tiny", "spike", "thin")
+KINDS = ("plain", "collinear", "cocircular", "tiny", "spike", "thin", "junction")
+GRID = 2.0**-20  # junction cases: every coordinate a multiple of this, so splits at k/8 are exact
 JIT_TIMEOUT = 1800.0  # seconds a fresh worker may take to compile every method
 
 
@@ -126,11 +131,40 @@ def _features(rng, r_in, nholes, nsegs, npts):
     return holes, segs, pts
 
 
+def _junctions(rng, outer, r_in):
+    """Constraints and points meeting at exact junctions (coordinates on the GRID).
+
+    Returns the snapped outer loop, the constraint polylines and the interior points.
+    """
+    outer = np.round(outer / GRID) * GRID
+    n = len(outer)
+    segs, pts = [], []
+    for i in rng.choice(n, size=min(n, int(rng.integers(1, 3))), replace=False):
+        a, b = outer[i], outer[(i + 1) % n]
+        p = a + (b - a) * (int(rng.integers(1, 8)) / 8.0)  # exactly on edge a-b
+        segs.append([p.tolist(), (p * (int(rng.integers(3, 10)) / 16.0)).tolist()])  # inward: inside a star
+    chords = []
+    for _ in range(int(rng.integers(2, 4))):
+        ang = rng.uniform(0, 2 * math.pi, 2)
+        ends = np.round(0.9 * r_in * np.c_[np.cos(ang), np.sin(ang)] / GRID) * GRID
+        chords.append(ends)
+        segs.append(ends.tolist())
+    for c in chords:
+        a, b = c
+        ks = rng.permutation(np.arange(1, 8))[:2]
+        # One constraint ends on the chord, one point lies on it (different places).
+        p = a + (b - a) * (ks[0] / 8.0)
+        q = np.round(rng.uniform(-0.5, 0.5, 2) * r_in / GRID) * GRID
+        segs.append([q.tolist(), p.tolist()])
+        pts.append((a + (b - a) * (ks[1] / 8.0)).tolist())
+    return outer, segs, pts
+
+
 def generate(rng: np.random.Generator, methods) -> dict:
     """One random case: a JSON-safe dict (see the module docstring)."""
     n = int(rng.integers(5, 40))
     outer = _star(rng, n, 0.5, 1.0)
-    kind = str(rng.choice(KINDS, p=[0.25, 0.15, 0.15, 0.15, 0.15, 0.15]))
+    kind = str(rng.choice(KINDS, p=[0.22, 0.13, 0.13, 0.13, 0.13, 0.13, 0.13]))
     if kind == "cocircular":
         outer = _star(rng, int(rng.integers(8, 200)), 1.0, 1.0)
     outer = _perturb_boundary(rng, outer, kind)
@@ -138,6 +172,9 @@ def generate(rng: np.random.Generator, methods) -> dict:
     holes, segs, pts = _features(rng, r_in, int(rng.integers(0, 4)), int(rng.integers(0, 3)), int(rng.integers(0, 3)))
     if kind == "thin":
         holes, segs, pts = [], [], []
+    elif kind == "junction":
+        holes = []
+        outer, segs, pts = _junctions(rng, outer, r_in)
     elif holes and rng.random() < 0.3:
         # a hole pushed to within 1e-6 .. 1e-3 of the outer boundary (invalid draws are
         # refused by the domain's validation and skipped)
@@ -147,6 +184,9 @@ def generate(rng: np.random.Generator, methods) -> dict:
         holes[0] = (h + (v - far) * (1 - 10.0 ** rng.uniform(-6, -3))).tolist()
     scale = float(10.0 ** rng.uniform(-3, 3))
     shift = (rng.uniform(-1, 1, 2) * scale * 10).tolist()
+    if kind == "junction":
+        # A power of two and no shift keep every junction exact.
+        scale, shift = float(2.0 ** int(rng.integers(-10, 11))), [0.0, 0.0]
     size_kind = str(rng.choice(["none", "boundary", "number", "jump", "background"], p=[0.3, 0.1, 0.3, 0.15, 0.15]))
     size = {"kind": size_kind}
     if size_kind in ("number", "jump", "background"):
@@ -298,6 +338,8 @@ def _jobs(rng, args, mw):
     """``(domain index, case, method)`` for every valid drawn domain and method."""
     for i in range(args.count):
         case = generate(rng, args.methods)
+        if case["kind"] not in args.kinds:
+            continue
         try:
             build(case, args.methods[0])[0].validate()
         except mw.MeshwrightError as e:
@@ -361,6 +403,8 @@ def main(argv=None) -> int:
     ap.add_argument("--methods", nargs="*", choices=sorted(mw.MESH_METHODS), default=sorted(mw.MESH_METHODS))
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds per mesh before it counts as a hang")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (one core each)")
+    ap.add_argument("--kinds", nargs="*", choices=KINDS, default=list(KINDS),
+                    help="run only the domains of these kinds (the same draws as a full run)")
     ap.add_argument("--no-record", action="store_true", help="report failures without writing reproducers")
     args = ap.parse_args(argv)
     if args.jobs < 1:
