@@ -494,3 +494,13 @@ def test_row_finish_relaxes_along_the_row_and_refuses_odd_rows():
         assert np.allclose(got[i], xy[i] + np.dot(lap, tan) * tan, atol=1e-14)
     assert pr.row_finish(xy.copy(), quads, front[:-1][front[:-1] != n0 + k - 1], n0, 1) is None  # odd count
     assert pr.row_finish(xy.copy(), np.array([[0, 1, 1, n0]], dtype=np.int64), front, n0, 1) is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.lists(st.integers(0, 6), min_size=1, max_size=6), min_size=1, max_size=3))
+def test_edges_once_against_a_set_of_directed_edges(fronts):
+    from meshwright.quad._paving_close import consistent
+
+    edges = [(f[i], f[(i + 1) % len(f)]) for f in fronts for i in range(len(f))]
+    want = all(a != b for a, b in edges) and len(set(edges)) == len(edges)
+    assert consistent([np.array(f, dtype=np.int64) for f in fronts]) == want

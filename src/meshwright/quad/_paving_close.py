@@ -533,10 +533,8 @@ def consistent(fronts) -> bool:
     or joint must leave (two nodes merged next to each other elsewhere would not)."""
     if not fronts:
         return True
-    a = np.concatenate(fronts)
-    b = np.concatenate([shift_next(f) for f in fronts])
-    key = a * (int(max(a.max(), b.max())) + 1) + b
-    return bool((a != b).all() and len(np.unique(key)) == len(key))
+    off = np.concatenate([[0], np.cumsum([len(f) for f in fronts])]).astype(np.int64)
+    return bool(pr.edges_once(np.concatenate(fronts).astype(np.int64, copy=False), off))
 
 
 def despike(front: np.ndarray) -> np.ndarray:

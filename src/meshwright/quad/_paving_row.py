@@ -1,7 +1,8 @@
 """Numba kernels of a paving row's geometry (:mod:`meshwright.quad.paving`, Blacker and
 Stephenson 1991, steps 1 and 3): angles, node classes, row depth, the provisional new
 edges the row adjustment measures, the new paving boundary and its relaxation, and the
-bisectors of every paving node that the joints look along, and the seams' candidates.
+bisectors of every paving node that the joints look along, the seams' candidates and
+the check that seams and joints leave every directed paving-boundary edge once.
 
 A row costs one call of each kernel around one call of the size field (the kernel of
 its new nodes and quads, ``row_nodes``, and of its tucks and wedges, ``adjust_row``, are
@@ -19,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["front_bisectors", "row_classes", "row_finish", "row_prepare", "sharp_nodes"]
+__all__ = ["edges_once", "front_bisectors", "row_classes", "row_finish", "row_prepare", "sharp_nodes"]
 
 
 @njit(cache=True)
@@ -229,3 +230,31 @@ def sharp_nodes(pts, front, n_fixed, below):
             pick[j] = i
             j += 1
     return pick[:j][np.argsort(deg[:j], kind="mergesort")]
+
+
+@njit(cache=True)
+def edges_once(ids, off):
+    """Whether every directed edge of several paving boundaries (``ids[off[k]:off[k + 1]]``
+    is boundary k, cyclic) occurs once and none joins a node to itself: what a seam or
+    joint must leave.  A sort of the edge keys, no hashing."""
+    m = ids.shape[0]
+    if m == 0:
+        return True
+    top = 0
+    for i in range(m):
+        top = max(top, ids[i])
+    key = np.empty(m, dtype=np.int64)
+    for k in range(off.shape[0] - 1):
+        s = off[k]
+        n = off[k + 1] - s
+        for i in range(n):
+            a = ids[s + i]
+            b = ids[s + (i + 1) % n]
+            if a == b:
+                return False
+            key[s + i] = a * (top + 1) + b
+    key.sort()
+    for i in range(1, m):
+        if key[i] == key[i - 1]:
+            return False
+    return True
