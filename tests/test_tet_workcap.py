@@ -8,11 +8,10 @@ kernels' formula); the flat tet of the last test is built by hand."""
 import numpy as np
 import pytest
 
-import meshwright.tet.mesher as mesher
-import meshwright.tet.slivers as slivers
 from meshwright.core.errors import MeshingError
 from meshwright.core.mesh import Mesh
 from meshwright.geometry import sphere
+from meshwright.tet import mesher, slivers
 from meshwright.tet.slivers import remove_slivers
 
 spatial = pytest.importorskip("scipy.spatial")
@@ -34,7 +33,7 @@ def volume(mesh):
 
 def test_moves_stop_at_the_work_budget_with_a_valid_mesh(monkeypatch):
     mesh = scipy_mesh(11)
-    full, full_report = remove_slivers(mesh, threshold=0.2, max_iter=4)
+    _, full_report = remove_slivers(mesh, threshold=0.2, max_iter=4)
     assert full_report.left_reasons["work_cap"] == 0
     monkeypatch.setattr(slivers, "MOVE_WORK", 20)
     monkeypatch.setattr(slivers, "MOVE_WORK_MIN", 0)
