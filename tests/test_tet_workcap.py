@@ -1,9 +1,9 @@
 """The sliver stage's work budget (tet/slivers.py MOVE_WORK): the vertex moves stop there,
-the mesh stays valid and is reported; tetrahedralize keeps it only without a tet of the
-chapter's a = r_in / R < 0.01.
+the mesh stays valid and the stop is reported; tetrahedralize keeps that mesh, and a
+min_dihedral it does not meet is an error at once.
 
-Oracles: Mesh.validate, volumes by numpy determinants and r / R by core.quality (not the
-kernels' formula); the flat tet of the last test is built by hand."""
+Oracles: Mesh.validate, volumes by numpy determinants (the enclosed volume by the
+divergence theorem on the input faces) and r / R by core.quality (not the kernels' formula)."""
 
 import numpy as np
 import pytest
@@ -47,22 +47,30 @@ def test_moves_stop_at_the_work_budget_with_a_valid_mesh(monkeypatch):
     assert a.min() >= mesh.quality()["tetra"]["sliver_ratio"].min()
 
 
-def test_tetrahedralize_at_the_work_budget_keeps_a_mesh_without_flat_tets(monkeypatch):
-    calls = []
-    check = mesher._check_no_flat_slivers
-    monkeypatch.setattr(mesher, "_check_no_flat_slivers", lambda m, r: (calls.append(r.left), check(m, r)))
+def test_tetrahedralize_at_the_work_budget_keeps_the_stage_mesh(monkeypatch):
+    reports = []
+    stage = slivers.remove_slivers_of_valid
+
+    def spy(*args):
+        out, report = stage(*args)
+        reports.append(report)
+        return out, report
+
+    monkeypatch.setattr(slivers, "remove_slivers_of_valid", spy)
     monkeypatch.setattr(slivers, "MOVE_WORK", 0)
     monkeypatch.setattr(slivers, "MOVE_WORK_MIN", 0)
-    mesh = mesher.tetrahedralize(sphere(radius=1.0, level=2), size=0.3, radius_edge=1.414)
-    assert calls and calls[0] > 0  # the budget was hit with slivers left
+    surf = sphere(radius=1.0, level=2)
+    mesh = mesher.tetrahedralize(surf, size=0.3, radius_edge=1.414)
+    assert reports and reports[0].left_reasons["work_cap"] == reports[0].left > 0
+    assert reports[0].moves == 0
     mesh.validate()
-    assert mesh.quality()["tetra"]["sliver_ratio"].min() >= mesher.SLIVER_FLOOR
+    p = surf.points[surf.triangles]
+    enclosed = np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum() / 6.0
+    assert volume(mesh) == pytest.approx(enclosed, rel=1e-12)
 
 
-def test_a_flat_tet_left_at_the_work_budget_is_an_error():
-    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.4, 0.4, 1e-4]], float)
-    mesh = Mesh(pts, {"tetra": np.array([[0, 1, 2, 3]])})
-    assert np.linalg.det(pts[1:] - pts[0]) > 0  # positive and nearly flat: a far below 0.01
-    report = slivers.SliverReport(threshold=0.12, found=1, removed_by_flip=0, removed_by_move=0, created=0, left=1)
-    with pytest.raises(MeshingError, match=r"work budget.*tet 0 at .*a = r_in / R = .* < 0\.01"):
-        mesher._check_no_flat_slivers(mesh, report)
+def test_min_dihedral_unmet_at_the_work_budget_is_an_error(monkeypatch):
+    monkeypatch.setattr(slivers, "MOVE_WORK", 0)
+    monkeypatch.setattr(slivers, "MOVE_WORK_MIN", 0)
+    with pytest.raises(MeshingError, match="min_dihedral=20.* stopped at the moves' work budget"):
+        mesher.tetrahedralize(sphere(radius=1.0, level=2), size=0.3, radius_edge=1.414, min_dihedral=20.0)
