@@ -6,6 +6,10 @@ Usage::
     python benchmarks/compile2d.py --cases delaunay front
     python benchmarks/compile2d.py --no-all        # skip the all-methods-in-one-process row
     python benchmarks/compile2d.py --profile 25 --no-all --cases delaunay   # where it goes
+    python benchmarks/compile2d.py --only-all --cold-only --profile 40      # every method, one process
+
+``MESHWRIGHT_STOCK_INLINING=1`` in the environment compiles with Numba's stock IR inliner
+(:mod:`meshwright.core.fast_inline` not installed), for A/B measurements.
 
 Each case runs in a fresh process.  *Cold* gives it an empty ``NUMBA_CACHE_DIR`` (nothing
 compiled yet: a new user's first call); *cached* reruns it with the cache the cold run left
@@ -27,7 +31,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(__file__))
-from _harness import print_table  # noqa: E402
+from _harness import print_table
 
 # Each snippet runs after ``import numpy as np; import meshwright as mw``; inputs are tiny.
 CASES = {
@@ -104,7 +108,7 @@ def run_child(snippets: list[str], cache: str) -> dict:
     """Run the snippets in one fresh process with ``NUMBA_CACHE_DIR=cache``; its timings."""
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
     res = subprocess.run(
-        [sys.executable, "-c", CHILD, json.dumps(snippets)], capture_output=True, text=True, env=env
+        [sys.executable, "-c", CHILD, json.dumps(snippets)], capture_output=True, text=True, env=env, check=False
     )
     if res.returncode != 0:
         raise RuntimeError(f"child failed:\n{res.stderr[-3000:]}")
@@ -129,12 +133,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", nargs="*", choices=sorted(CASES), default=list(CASES))
     ap.add_argument("--no-all", action="store_true", help="skip the all-methods-in-one-process row")
+    ap.add_argument("--only-all", action="store_true",
+                    help="only the all-methods-in-one-process row (no per-case processes)")
     ap.add_argument("--profile", type=int, default=0, metavar="N",
                     help="print the N costliest compiled functions of each cold case")
     ap.add_argument("--cold-only", action="store_true", help="skip the cached reruns")
     args = ap.parse_args()
     rows = []
-    for name in args.cases:
+    for name in [] if args.only_all else args.cases:
         with tempfile.TemporaryDirectory() as cache:
             cold = run_child([CASES[name]], cache)
             warm = cold if args.cold_only else run_child([CASES[name]], cache)
@@ -151,7 +157,7 @@ def main() -> None:
             ]
         )
         print(f"{name}: done", file=sys.stderr, flush=True)
-    if not args.no_all:
+    if args.only_all or not args.no_all:
         snippets = [CASES[n] for n in args.cases]
         with tempfile.TemporaryDirectory() as cache:
             cold = run_child(snippets, cache)
@@ -166,6 +172,9 @@ def main() -> None:
             [f"all {len(snippets)} cases, one process", f"{cw:.1f}", f"{cc:.1f}",
              f"{cc - cold['import_cpu']:.1f}", f"{ww:.2f}", f"{wc:.2f}"]
         )
+        if args.profile:
+            for name, (wall, cpu) in zip(args.cases, cold["calls"]):
+                print(f"  {name}: {cpu:.1f} s CPU in the one process ({wall:.1f} s wall)", file=sys.stderr)
     load = os.getloadavg()[0]
     print(f"\nload average {load:.2f} on {os.cpu_count()} CPUs; seconds to the first result, "
           "import included")
