@@ -28,7 +28,8 @@ def row_classes(deg, end, corner, reversal):
     """Node classes from interior angles in degrees (step 1; see
     :func:`meshwright.quad.paving.node_classes`): 0 row end below ``end``, 1 side below
     ``corner``, 3 corner below ``reversal``, 5 reversal; of two neighbouring row ends the
-    sharper one (the first in a tie, by a stable sort) keeps its class."""
+    sharper one (the first in a tie) keeps its class.  The row ends are taken sharpest
+    first by repeated scans (few per row; no sort to compile)."""
     n = deg.shape[0]
     m = np.empty(n, dtype=np.int64)
     ne = 0
@@ -38,19 +39,16 @@ def row_classes(deg, end, corner, reversal):
         if m[i] == 0:
             ne += 1
     if ne > 1:
-        ends = np.empty(ne, dtype=np.int64)
-        key = np.empty(ne)
-        j = 0
-        for i in range(n):
-            if m[i] == 0:
-                ends[j] = i
-                key[j] = deg[i]
-                j += 1
         keep = np.zeros(n, dtype=np.bool_)
-        for t in np.argsort(key, kind="mergesort"):
-            i = ends[t]
-            if not keep[(i - 1) % n] and not keep[(i + 1) % n]:
-                keep[i] = True
+        done = np.zeros(n, dtype=np.bool_)
+        for _ in range(ne):
+            pick = -1
+            for i in range(n):
+                if m[i] == 0 and not done[i] and (pick < 0 or deg[i] < deg[pick]):
+                    pick = i
+            done[pick] = True
+            if not keep[(pick - 1) % n] and not keep[(pick + 1) % n]:
+                keep[pick] = True
         for i in range(n):
             if m[i] == 0 and not keep[i]:
                 m[i] = 1
@@ -208,7 +206,8 @@ def front_bisectors(pts, ids, off):
 def sharp_nodes(pts, front, n_fixed, below):
     """Positions along the paving boundary ``front`` (node ids) of its floating nodes
     (ids from ``n_fixed`` on) whose interior angle is below ``below`` degrees, sharpest
-    first (ties in boundary order): the seams' candidates.  Returns (j,) int64."""
+    first (ties in boundary order; an insertion sort: there are few): the seams'
+    candidates.  Returns (j,) int64."""
     n = front.shape[0]
     deg = np.empty(n)
     pick = np.empty(n, dtype=np.int64)
@@ -226,24 +225,36 @@ def sharp_nodes(pts, front, n_fixed, below):
             a += 2.0 * np.pi
         a *= 180.0 / np.pi
         if a < below and v >= n_fixed:
-            deg[j] = a
-            pick[j] = i
+            t = j
+            while t > 0 and deg[t - 1] > a:
+                deg[t] = deg[t - 1]
+                pick[t] = pick[t - 1]
+                t -= 1
+            deg[t] = a
+            pick[t] = i
             j += 1
-    return pick[:j][np.argsort(deg[:j], kind="mergesort")]
+    return pick[:j].copy()
 
 
 @njit(cache=True)
 def edges_once(ids, off):
     """Whether every directed edge of several paving boundaries (``ids[off[k]:off[k + 1]]``
     is boundary k, cyclic) occurs once and none joins a node to itself: what a seam or
-    joint must leave.  A sort of the edge keys, no hashing."""
+    joint must leave.  The edges are grouped by their first node (a counting sort), and
+    each group's ends compared pairwise (a node is on few paving boundaries)."""
     m = ids.shape[0]
     if m == 0:
         return True
     top = 0
     for i in range(m):
         top = max(top, ids[i])
-    key = np.empty(m, dtype=np.int64)
+    ptr = np.zeros(top + 2, dtype=np.int64)
+    for i in range(m):
+        ptr[ids[i] + 1] += 1
+    for v in range(top + 1):
+        ptr[v + 1] += ptr[v]
+    fill = ptr[:-1].copy()
+    dest = np.empty(m, dtype=np.int64)
     for k in range(off.shape[0] - 1):
         s = off[k]
         n = off[k + 1] - s
@@ -252,9 +263,11 @@ def edges_once(ids, off):
             b = ids[s + (i + 1) % n]
             if a == b:
                 return False
-            key[s + i] = a * (top + 1) + b
-    key.sort()
-    for i in range(1, m):
-        if key[i] == key[i - 1]:
-            return False
+            dest[fill[a]] = b
+            fill[a] += 1
+    for v in range(top + 1):
+        for x in range(ptr[v], ptr[v + 1]):
+            for y in range(x + 1, ptr[v + 1]):
+                if dest[x] == dest[y]:
+                    return False
     return True
