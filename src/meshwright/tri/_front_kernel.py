@@ -172,6 +172,19 @@ def add_face(u, v, fs):
     return f
 
 
+@njit(cache=True)
+def seed_front(faces, free, fs):
+    """The initial front: faces (k, 2) int32 ``u -> v`` (:func:`add_face`, in order) and free
+    points (j,) int32 (:func:`add_item`); room for all of them is the caller's.  One call
+    instead of one per face from Python, each of which unboxed the whole bundle."""
+    fs = borrowed(fs)
+    for i in range(faces.shape[0]):
+        add_face(faces[i, 0], faces[i, 1], fs)
+    for i in range(free.shape[0]):
+        v = free[i]
+        fs.vint[v, V_FREE] = add_item(v, v, fs)
+
+
 # ------------------------------------------------------------------------------- geometry
 @njit(inline="always")
 def _orient(pts, a, b, c):
@@ -226,12 +239,13 @@ def _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l
         cy = pts[c, 1]
         sax, say = _to_metric(l11, l21, l22, pts[a, 0] - cx, pts[a, 1] - cy)
         sbx, sby = _to_metric(l11, l21, l22, pts[b, 0] - cx, pts[b, 1] - cy)
+        clear2 = clear * clear
         for i in range(nn):
             v = nodes[i]
             if v == c:
                 continue
             vx, vy = _to_metric(l11, l21, l22, pts[v, 0] - cx, pts[v, 1] - cy)
-            if _seg_dist(sax - vx, say - vy, -vx, -vy) < clear or _seg_dist(sbx - vx, sby - vy, -vx, -vy) < clear:
+            if _seg_dist2(sax - vx, say - vy, -vx, -vy) < clear2 or _seg_dist2(sbx - vx, sby - vy, -vx, -vy) < clear2:
                 return False
     for i in range(ni):
         g = items[i]
@@ -241,7 +255,11 @@ def _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l
             continue
         if qbox[g, 2] < x0 or qbox[g, 0] > x1 or qbox[g, 3] < y0 or qbox[g, 1] > y1:
             continue
-        if _meets(pts, a, c, r, s) or _meets(pts, c, b, r, s):
+        # A side whose closed box misses the face's cannot meet it: most faces of the
+        # triangle's box lie beside one of its two new sides, so their exact tests are skipped.
+        if _boxes_meet(pts, qbox, g, a, c) and _meets(pts, a, c, r, s):
+            return False
+        if _boxes_meet(pts, qbox, g, c, b) and _meets(pts, c, b, r, s):
             return False
     for i in range(nn):
         v = nodes[i]
@@ -259,13 +277,27 @@ def _to_metric(l11, l21, l22, dx, dy):
 
 
 @njit(inline="always")
-def _seg_dist(ux, uy, vx, vy):
-    """Distance from the origin to segment uv."""
+def _seg_dist2(ux, uy, vx, vy):
+    """Squared distance from the origin to segment uv (compared with a squared bound: no
+    square root, and no libm call, per node and candidate)."""
     ex = vx - ux
     ey = vy - uy
     den = ex * ex + ey * ey
     t = 0.0 if den == 0.0 else min(1.0, max(0.0, -(ux * ex + uy * ey) / den))
-    return np.hypot(ux + t * ex, uy + t * ey)
+    wx = ux + t * ex
+    wy = uy + t * ey
+    return wx * wx + wy * wy
+
+
+@njit(inline="always")
+def _boxes_meet(pts, qbox, g, p, q):
+    """Whether the closed box of segment pq meets item g's box (exact comparisons)."""
+    return not (
+        qbox[g, 2] < min(pts[p, 0], pts[q, 0])
+        or qbox[g, 0] > max(pts[p, 0], pts[q, 0])
+        or qbox[g, 3] < min(pts[p, 1], pts[q, 1])
+        or qbox[g, 1] > max(pts[p, 1], pts[q, 1])
+    )
 
 
 @njit(inline="always")
@@ -496,7 +528,7 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
         if g != f and r != s and p_ok and not (r == b and s == a):
             rx, ry = _to_metric(l11, l21, l22, pts[r, 0] - px, pts[r, 1] - py)
             sx, sy = _to_metric(l11, l21, l22, pts[s, 0] - px, pts[s, 1] - py)
-            if _seg_dist(rx, ry, sx, sy) < clear_f:
+            if _seg_dist2(rx, ry, sx, sy) < clear_f * clear_f:
                 p_ok = False
     if cand.shape[0] < nn:
         cand = np.empty(2 * nn, dtype=np.int32)
@@ -507,8 +539,8 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
     for i in range(nn):
         v = nodes[i]
         dx, dy = _to_metric(l11, l21, l22, pts[v, 0] - px, pts[v, 1] - py)
-        d = np.hypot(dx, dy)
-        if d < clear_n:
+        d2 = dx * dx + dy * dy
+        if d2 < clear_n * clear_n:
             p_ok = False
         # A candidate outside the search box would make a triangle reaching faces the
         # query did not return.
@@ -516,8 +548,8 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
         if inbox and _orient(pts, a, b, v) > 0.0:
             # Nodes near the apex come first, nearest first (keys < 1); the others after
             # the new point, best triangle first (keys 2 - quality, in (1, 2]).
-            if d < close:
-                key = d / close
+            if d2 < close * close:
+                key = np.sqrt(d2) / close
             else:
                 qx, qy = _to_metric(l11, l21, l22, pts[v, 0] - ax, pts[v, 1] - ay)
                 key = 2.0 - _quality(0.0, 0.0, u0, u1, qx, qy)
@@ -546,7 +578,8 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
         if i < n_close:
             c = np.int64(cand[i])
             qx, qy = _to_metric(l11, l21, l22, pts[c, 0] - ax, pts[c, 1] - ay)
-            if _quality(0.0, 0.0, u0, u1, qx, qy) < qmin or max(np.hypot(qx, qy), np.hypot(qx - u0, qy - u1)) > longest:
+            long2 = longest * longest
+            if _quality(0.0, 0.0, u0, u1, qx, qy) < qmin or max(qx * qx + qy * qy, (qx - u0) ** 2 + (qy - u1) ** 2) > long2:
                 continue
         elif i == n_close:
             if not p_ok:

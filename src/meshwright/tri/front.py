@@ -195,10 +195,9 @@ class _Front:
             talive=np.zeros(tcap, dtype=np.int8), meta=meta,
         )
         self.room()
-        for u, v in faces.tolist():
-            fk.add_face(u, v, self.fs)
-        for v in free.tolist():
-            self.fs.vint[v, fk.V_FREE] = fk.add_item(v, v, self.fs)
+        fk.seed_front(
+            np.ascontiguousarray(faces, dtype=np.int32).reshape(-1, 2), np.ascontiguousarray(free, dtype=np.int32), self.fs
+        )
 
     def room(self) -> None:
         """Grow every array the kernel asked room in (doubling)."""
