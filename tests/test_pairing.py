@@ -773,3 +773,62 @@ def test_curve_slider_keeps_nodes_that_do_not_move_and_follows_the_curve():
         target = c.evaluate(t + dt)
         got = slider(nodes, target, at)
         np.testing.assert_allclose(got, target, rtol=0, atol=1e-9)
+
+
+def test_curve_slider_with_known_parameters_searches_nothing():
+    """Given the nodes' parameters (as the pairing passes the discretisation's), the slider
+    never searches the curve (its ``project`` is made to fail here) and its trial
+    positions agree with those of the searching slider; oracle: the curve evaluated at
+    the parameters the test drew, and the tangent step computed here by hand."""
+    from meshwright.geometry import builtin
+    from meshwright.geometry.curves import Parametric
+    from meshwright.quad.enhancement import _CurveSlider
+
+    dom = builtin("three-element")
+    cid = next(i for i, c in enumerate(dom.curves) if isinstance(c, Parametric))
+    c = dom.curves[cid]
+    span = c.t1 - c.t0
+    t = np.sort(np.random.default_rng(5).uniform(c.t0 + 0.05 * span, c.t1 - 0.05 * span, 100))
+    at = c.evaluate(t)
+    nodes = np.arange(len(t))
+    dt = 1e-5 * span
+    target = c.evaluate(t + dt)
+    searched = _CurveSlider(dom, np.full(len(t), cid))(nodes, target, at)
+    known = _CurveSlider(dom, np.full(len(t), cid), at, t)
+
+    def no_search(*a, **k):
+        raise AssertionError("the slider searched the curve for a known parameter")
+
+    c.project = no_search
+    try:
+        got = known(nodes, target, at)
+    finally:
+        del c.project
+    # One Newton step of the distance from t along a central-difference tangent.
+    h = 1e-7 * span
+    tan = (c.evaluate(t + h) - c.evaluate(t - h)) / (2 * h)
+    step = ((target - at) * tan).sum(axis=1) / (tan * tan).sum(axis=1)
+    np.testing.assert_allclose(got, c.evaluate(t + step), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(got, searched, rtol=0, atol=1e-9)
+
+
+def test_smooth_quads_refuses_parameters_of_the_wrong_shape():
+    from meshwright.quad.enhancement import smooth_quads
+
+    dom = circle()
+    xy = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    quads = np.array([[0, 1, 2, 3]], dtype=np.int32)
+    lines = np.array([[0, 1], [1, 2], [2, 3], [3, 0]], dtype=np.int32)
+    with pytest.raises(InputError, match="params"):
+        smooth_quads(xy, quads, np.zeros((0, 3), np.int32), lines, np.zeros(4, np.int64), dom, np.zeros(0, np.int64),
+                     1, True, np.zeros(3))
+
+
+def test_pairing_keeps_the_seam_node_of_a_closed_parametric_curve():
+    """The NACA 0012 section is one closed parametric curve whose seam is the sharp
+    trailing edge: the pairing's sliding keeps that node exactly where the
+    discretisation put it (oracle: the section's formula gives x = 1, y = 0 there)."""
+    dom = airfoil_in_farfield("0012")
+    mesh = quadrangulate(dom, 0.1, method="pairing")
+    p = mesh.points
+    assert np.min(np.hypot(p[:, 0] - 1.0, p[:, 1])) <= 1e-15

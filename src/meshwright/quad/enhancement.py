@@ -176,7 +176,7 @@ def _fixed_nodes(xy, lines, line_curve, domain: Domain, n_interior_fixed) -> np.
     return fixed, np.where(hi >= 0, hi, 0)
 
 
-def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, sliding=True):
+def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, sliding=True, params=None):
     """Laplacian smoothing of a quad-dominant mesh that keeps every quad strictly convex.
 
     Parameters
@@ -196,6 +196,11 @@ def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, 
     passes : int
     sliding : bool
         False keeps every line node fixed.
+    params : (n,) float64, optional
+        Curve parameter of each line node where it is known (NaN elsewhere): the
+        parameter of the discretisation that placed the node, on its curve
+        (``line_curve``), so that sliding on a parametric curve starts from it instead of
+        a golden-section search (:class:`_CurveSlider`).
 
     Returns
     -------
@@ -205,7 +210,8 @@ def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, 
     Raises
     ------
     InputError
-        ``domain`` not a Domain, ``passes`` not a count, connectivity out of range.
+        ``domain`` not a Domain, ``passes`` not a count, connectivity out of range,
+        ``params`` not (n,) numbers.
     """
     if not isinstance(domain, Domain):
         raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
@@ -219,13 +225,17 @@ def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, 
         domain.curves
     )):
         raise InputError(f"line_curve must give one curve of the domain per line, got shape {line_curve.shape}")
+    if params is not None:
+        params = np.asarray(params, dtype=np.float64)
+        if params.shape != (len(xy),):
+            raise InputError(f"params must be ({len(xy)},) float64 (NaN where unknown), got shape {params.shape}")
     if passes == 0 or not len(lines):
         return xy
     fixed, vcurve = _fixed_nodes(xy, lines, line_curve, domain, fixed_pts)
     if not sliding:
         fixed[lines.ravel()] = True
 
-    project = _CurveSlider(domain, vcurve)
+    project = _CurveSlider(domain, vcurve, xy, params)
     return smooth_sliding(xy, quads, np.asarray(tris).reshape(-1, 3), lines, fixed, project, passes, ENHANCE_SETTLE)
 
 
@@ -241,17 +251,25 @@ class _CurveSlider:
     at ``C(t')``: exactly on the curve, three evaluations per call.  The parameters of
     the last call's trials are remembered, so the node's next position is recognised
     (exact coordinates) and needs no search.  A step that would leave ``[t0, t1]`` (the
-    seam of a closed curve) keeps the node where it is.
+    seam of a closed curve) keeps the node where it is.  Nodes whose parameter is given
+    (``params``, finite: where the discretisation put them, at ``xy``) start from it, so
+    the search runs only for nodes made later (a chord's boundary midpoints): some forty
+    curve evaluations per curve and call, a sixth of the pairing's time on the
+    three-element airfoil when every node searched.
     """
 
     SLOTS = 3  # remembered (parameter, point) pairs per node: where it is, and two trials
 
-    def __init__(self, domain: Domain, vcurve: np.ndarray):
+    def __init__(self, domain: Domain, vcurve: np.ndarray, xy=None, params=None):
         self.domain = domain
         self.vcurve = vcurve
         self.param = np.array([isinstance(c, Parametric) for c in domain.curves], dtype=bool)
         self.memo_t = np.full((len(vcurve), self.SLOTS), np.nan)
         self.memo_xy = np.full((len(vcurve), self.SLOTS, 2), np.nan)
+        if params is not None:
+            known = np.isfinite(params)
+            self.memo_t[known, 0] = params[known]
+            self.memo_xy[known, 0] = xy[known]
 
     def __call__(self, nodes, xy, at):
         nodes = np.asarray(nodes, dtype=np.int64)

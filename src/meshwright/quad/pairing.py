@@ -108,6 +108,7 @@ from meshwright.core.validate_input import (
     check_flag,
     check_seed,
 )
+from meshwright.geometry.curves import Parametric
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.chords import chord_split
@@ -695,6 +696,19 @@ def pair_domain(
     n_free = len(domain.points)
     fixed_pts = newid[ct.index_map[len(disc.points) - n_free :]] if n_free else np.zeros(0, dtype=np.int64)
 
+    # Where the discretisation put each boundary node on its curve: the enhancement's
+    # sliding starts from that parameter instead of searching the curve for it.  A node at
+    # the seam of a closed parametric curve (parameter t0 or t1) stays, as at a joint of two
+    # curves: a step from it leaves the curve's parameter range on one side.
+    starts = ct.index_map[disc.segments[:, 0]]
+    on = used[starts]
+    node_t = np.full(n, np.nan)
+    node_t[newid[starts[on]]] = disc.segment_params[on, 0]
+    span = np.array([(c.t0, c.t1) if isinstance(c, Parametric) else (np.nan, np.nan) for c in domain.curves])
+    ta, sc = disc.segment_params[:, 0], disc.segment_curve
+    seam = on & ((ta == span[sc, 0]) | (ta == span[sc, 1]))
+    fixed_pts = np.concatenate([fixed_pts, newid[starts[seam]]]).astype(np.int64)
+
     tri_in = as_cells(base.cells["triangle"], "triangles", 3, n).copy()
     lkey = np.sort(lines.astype(np.int64), axis=1)
     bkey = np.unique(lkey[:, 0] * n + lkey[:, 1])
@@ -711,7 +725,8 @@ def pair_domain(
         bnd[lines.ravel()] = True
         bnd[fixed_pts] = True
         pts, quads, _, counts = enhance(pts, quads, bnd, lt)
-        pts = smooth_quads(pts, quads, lt, lines, line_curve, domain, fixed_pts, passes, smooth_boundary)
+        params = np.concatenate([node_t, np.full(len(pts) - n, np.nan)])
+        pts = smooth_quads(pts, quads, lt, lines, line_curve, domain, fixed_pts, passes, smooth_boundary, params)
         n_quads = len(quads)
         quads, lt = unpair_nonconvex(pts, quads, lt)
         return pts, quads, lt, (len(t3), len(first), chains, len(left), n_quads - len(quads), counts)
@@ -731,6 +746,7 @@ def pair_domain(
     xy, quads, lt, stats = attempt(paired) if chosen is None else chosen
     xy, (quads, lt, lines), remap = _compact(xy, [quads, lt, lines])
     fixed_pts = remap[fixed_pts]
+    node_t = np.concatenate([node_t, np.full(len(remap) - n, np.nan)])[remap >= 0]
     fill = QuadFill(xy, quads, lt, lines, line_marker, line_curve)
     split = bool(all_quad and len(lt))
     if split:
@@ -746,6 +762,7 @@ def pair_domain(
         moved = smooth_quads(
             fill.points, fill.quads, fill.triangles, fill.lines, fill.line_curves, domain,
             np.concatenate([fixed_pts, np.flatnonzero(~near)]), passes, smooth_boundary,
+            np.concatenate([node_t, np.full(len(fill.points) - n_before, np.nan)]),
         )
         fill = fill._replace(points=np.ascontiguousarray(moved))
     _check(fill.points, fill.quads, fill.triangles)
