@@ -5,10 +5,12 @@ its new edges crosses or touches an edge of any paving boundary or another new e
 node of a paving boundary lies inside or on one of its new quads (step 7's intersection
 check); every sign is the exact ``orient2d``; :func:`check_row` runs the whole check of
 one row (its new edges found, the crossings, the quads' convexity and the nodes inside
-them, the culprits traced back to the paving nodes they grew from) in one call.  :func:`facing_pairs` finds the paving
-nodes close enough to be joined and :func:`polish_nodes` is the cleanup's pattern search
-(quality rules, floating point; quads (q, 4) int64 with a vertex-to-quad table in CSR
-form, ``cell_ptr`` (n + 1,), ``cell_idx``).
+them, the culprits traced back to the paving nodes they grew from) in one call;
+:func:`row_nodes` builds a row's nodes and quads and :func:`adjust_row` its tucks and
+wedges.  :func:`facing_pairs` finds the paving nodes close enough to be joined, and
+:func:`polish_rounds` / :func:`polish_nodes` are the cleanup's pattern search (quality
+rules, floating point; quads (q, 4) int64 with a vertex-to-quad table in CSR form,
+``cell_ptr`` (n + 1,), ``cell_idx``).
 
 Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``, ``sb``
 (node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.  The
