@@ -6,6 +6,7 @@ Usage::
     python benchmarks/quad2d.py --quick    # coarser sizes, a smoke run
     python benchmarks/quad2d.py --no-gmsh  # meshwright only
     python benchmarks/quad2d.py --no-jit   # skip the cold / cached JIT compile measurement
+    python benchmarks/quad2d.py --methods pairing   # some meshwright methods only (Gmsh still runs)
 
 Cases (every method meshes the same domain in one process, after a JIT warm-up):
 
@@ -158,8 +159,9 @@ def quality(points, quads, triangles) -> dict:
     }
 
 
-def methods(gmsh_too: bool) -> dict:
-    """Name -> callable(domain, size, grading) -> (points, quads, triangles)."""
+def methods(gmsh_too: bool, only=None) -> dict:
+    """Name -> callable(domain, size, grading) -> (points, quads, triangles); ``only``: the
+    meshwright methods to run (default: every ``QUAD_METHODS`` entry)."""
     from meshwright.quad import QUAD_METHODS, quadrangulate
 
     def mw(method):
@@ -169,7 +171,10 @@ def methods(gmsh_too: bool) -> dict:
 
         return go
 
-    found = {f"meshwright {name}": mw(name) for name in QUAD_METHODS}
+    unknown = sorted(set(only or ()) - set(QUAD_METHODS))
+    if unknown:
+        raise SystemExit(f"unknown quad method(s) {', '.join(unknown)}; choose from {', '.join(sorted(QUAD_METHODS))}")
+    found = {f"meshwright {name}": mw(name) for name in QUAD_METHODS if not only or name in only}
     if gmsh_too:
         try:
             import gmsh  # noqa: F401
@@ -187,6 +192,7 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=1, help="timed runs per method (best is reported)")
     ap.add_argument("--no-gmsh", action="store_true", help="skip Gmsh")
     ap.add_argument("--no-jit", action="store_true", help="skip the cold / cached JIT compile measurement")
+    ap.add_argument("--methods", nargs="+", metavar="METHOD", help="meshwright methods to run (default: all)")
     args = ap.parse_args(argv)
 
     if not args.no_jit:
@@ -199,7 +205,7 @@ def main(argv=None) -> int:
     from meshwright.geometry import circle
     from meshwright.sizing import as_size_field
 
-    found = methods(not args.no_gmsh)
+    found = methods(not args.no_gmsh, args.methods)
     for fn in found.values():
         fn(circle(), as_size_field(0.25), (0.25, 0.0, 0.25))
 
