@@ -459,19 +459,65 @@ def unique_edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     Returns
     -------
     edges : (e, 2) int32
-        Sorted vertex pairs.
+        Sorted vertex pairs, in increasing (low, high) order.
     face_edges : (m, 3) int64
         ``face_edges[f, k]`` is the edge opposite corner k of face f.
     """
-    a = faces[:, [1, 2, 0]].astype(np.int64)
-    b = faces[:, [2, 0, 1]].astype(np.int64)
-    lo = np.minimum(a, b)
-    hi = np.maximum(a, b)
-    n = int(faces.max()) + 1 if faces.size else 1
-    keys = (lo * n + hi).ravel()
-    uniq, inv = np.unique(keys, return_inverse=True)
-    edges = np.stack([uniq // n, uniq % n], axis=1).astype(np.int32)
-    return edges, inv.reshape(-1, 3)
+    if faces.shape[0] == 0:
+        return np.zeros((0, 2), dtype=np.int32), np.zeros((0, 3), dtype=np.int64)
+    return _unique_edges(np.ascontiguousarray(faces, dtype=np.int32), int(faces.max()) + 1)
+
+
+@njit(cache=True)
+def _unique_edges(faces, n):
+    """:func:`unique_edges` by distribution counting on the low vertex, then insertion sort
+    of each low vertex's few high vertices (Knuth, TAOCP vol. 3, 5.2): the order of
+    ``np.unique`` on the keys ``low * n + high`` (its argsort of 3 m keys was 8 ms a call,
+    66 calls in the level-5 sphere's run)."""
+    m = faces.shape[0]
+    start = np.zeros(n + 1, dtype=np.int64)
+    for f in range(m):
+        for k in range(3):
+            a = faces[f, (k + 1) % 3]
+            b = faces[f, (k + 2) % 3]
+            start[min(a, b) + 1] += 1
+    for v in range(n):
+        start[v + 1] += start[v]
+    fill = start[:n].copy()
+    hi = np.empty(3 * m, dtype=np.int64)
+    half = np.empty(3 * m, dtype=np.int64)  # 3 f + k of each slot
+    for f in range(m):
+        for k in range(3):
+            a = faces[f, (k + 1) % 3]
+            b = faces[f, (k + 2) % 3]
+            lo = min(a, b)
+            p = fill[lo]
+            hi[p] = max(a, b)
+            half[p] = 3 * f + k
+            fill[lo] += 1
+    face_edges = np.empty((m, 3), dtype=np.int64)
+    edges = np.empty((3 * m, 2), dtype=np.int32)
+    ne = 0
+    for v in range(n):
+        lo_p = start[v]
+        hi_p = start[v + 1]
+        for p in range(lo_p + 1, hi_p):
+            x = hi[p]
+            y = half[p]
+            q = p - 1
+            while q >= lo_p and hi[q] > x:
+                hi[q + 1] = hi[q]
+                half[q + 1] = half[q]
+                q -= 1
+            hi[q + 1] = x
+            half[q + 1] = y
+        for p in range(lo_p, hi_p):
+            if p == lo_p or hi[p] != hi[p - 1]:
+                edges[ne, 0] = v
+                edges[ne, 1] = hi[p]
+                ne += 1
+            face_edges[half[p] // 3, half[p] % 3] = ne - 1
+    return edges[:ne].copy(), face_edges
 
 
 @njit(cache=True)
