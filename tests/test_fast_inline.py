@@ -24,6 +24,9 @@ import numpy as np
 from numba import njit
 from meshwright.core import fast_inline, jit  # noqa: F401  (jit installs the patch)
 
+if sys.argv[2] == "ours":
+    fast_inline.SCOPE.append("__main__")  # this script's helpers take the patched path
+
 @njit(inline="always")
 def _leaf(a, i):
     s = 0.0
@@ -64,7 +67,8 @@ for fn in fns:
         lines = [re.sub(r"_ZN\S+", "SYM", l) for l in fn.inspect_asm(sig).splitlines()
                  if l.strip() and not l.strip().startswith(("#", ".file", ".ident", ".loc"))]
         digests[f"{fn.py_func.__name__}{sig}"] = hashlib.md5("\n".join(lines).encode()).hexdigest()
-print(json.dumps({"installed": fast_inline.installed(), "value": value, "asm": digests}))
+kept = sum(1 for key in fast_inline._UNTYPED if key[0].__module__ == "__main__")
+print(json.dumps({"installed": fast_inline.installed(), "value": value, "asm": digests, "kept": kept}))
 """
 
 
@@ -81,10 +85,12 @@ def _mid(a, i, j):
     return x
 
 
-def _compile(tmp_path, stock: bool, what: str) -> dict:
-    cache = tmp_path / ("stock" if stock else "fast")
+def _compile(tmp_path, stock: bool, what: str, scope: str = "ours") -> dict:
+    cache = tmp_path / (("stock" if stock else "fast") + scope)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), MESHWRIGHT_STOCK_INLINING="1" if stock else "0")
-    res = subprocess.run([sys.executable, "-c", CHILD, what], capture_output=True, text=True, env=env, timeout=600, check=False)
+    res = subprocess.run(
+        [sys.executable, "-c", CHILD, what, scope], capture_output=True, text=True, env=env, timeout=600, check=False
+    )
     assert res.returncode == 0, res.stderr[-3000:]
     return json.loads(res.stdout.strip().splitlines()[-1])
 
@@ -102,3 +108,13 @@ def test_patched_inlining_compiles_the_same_machine_code(tmp_path, what):
     assert fast["value"] == stock["value"]
     assert len(fast["asm"]) >= (3 if what == "delaunay" else 1)
     assert fast["asm"] == stock["asm"]
+
+
+@pytest.mark.skipif(not fast_inline.installed(), reason="this Numba's inliner is not the one the patch knows")
+def test_functions_outside_the_scope_are_inlined_by_numba_itself(tmp_path):
+    """A user's own helpers (here ``__main__``'s, outside ``SCOPE``) go through the stock
+    inliner: no IR of theirs is kept, and the code is the stock code."""
+    stock = _compile(tmp_path, True, "nested", "user")
+    fast = _compile(tmp_path, False, "nested", "user")
+    assert fast["installed"] and fast["kept"] == 0
+    assert fast["asm"] == stock["asm"] and fast["value"] == stock["value"]

@@ -28,10 +28,14 @@ What :func:`install` changes, and why the inlined IR stays the same:
   variables; the copies now do too.
 
 Nothing in the typed pipeline, the lowering or the code changes, and Numba's compile cache
-is unaffected (it keys on the source, not on how the IR was built).  The patch is
-process-wide (a user's own ``inline="always"`` functions compile faster too) and is not
-installed where the methods it replaces differ from the ones it was written against, or
-where ``MESHWRIGHT_STOCK_INLINING=1`` is set (for A/B measurements and as a way out).
+is unaffected (it keys on the source, not on how the IR was built).  Only functions of the
+modules named in :data:`SCOPE` (meshwright's) take the patched path: a user's own
+``inline="always"`` functions are inlined by Numba's stock code, since keeping a callee's IR
+would freeze the globals it read at its first inlining (a user redefining a global between
+two compilations expects the new value; meshwright's kernels read module constants only).
+The patch is not installed where the methods it replaces differ from the ones it was
+written against, or where ``MESHWRIGHT_STOCK_INLINING=1`` is set (for A/B measurements and
+as a way out).
 """
 
 from __future__ import annotations
@@ -41,7 +45,10 @@ import inspect
 import os
 import types
 
-__all__ = ["install", "installed"]
+__all__ = ["SCOPE", "install", "installed"]
+
+# Module name prefixes whose inline="always" functions take the patched path.
+SCOPE = ["meshwright."]
 
 _STATE = {"installed": False}
 # (function, flags, typing context, target context, pipeline) -> the callee's untyped IR.
@@ -114,7 +121,11 @@ def install() -> bool:
         finally:
             shim.memos = saved
 
+    stock_inline_function = worker.inline_function
+
     def inline_function(self, caller_ir, block, i, function, arg_typs=None):
+        if not (getattr(function, "__module__", None) or "").startswith(tuple(SCOPE)):
+            return stock_inline_function(self, caller_ir, block, i, function, arg_typs)
         if self.locals:
             callee_ir = self.run_untyped_passes(function)
         else:
@@ -125,11 +136,9 @@ def install() -> bool:
             if callee_ir is None:
                 callee_ir = self.run_untyped_passes(function)
                 _UNTYPED[key] = callee_ir
-        return self.inline_ir(caller_ir, block, i, callee_ir, function.__code__.co_freevars, arg_typs=arg_typs)
+        return inline_ir(self, caller_ir, block, i, callee_ir, function.__code__.co_freevars, arg_typs=arg_typs)
 
-    inline_ir.__doc__ = stock_inline_ir.__doc__
-    inline_function.__doc__ = worker.inline_function.__doc__
-    worker.inline_ir = inline_ir
+    inline_function.__doc__ = stock_inline_function.__doc__
     worker.inline_function = inline_function
     _STATE["installed"] = True
     return True
