@@ -314,7 +314,7 @@ def facing_pairs(p, nrm, reach, ids, fid, pos, size, out_u, out_v, out_d):
     return cnt
 
 
-@njit(inline="always")
+@njit
 def _quad_min_sine(p, q, c):
     """Smallest corner sine of quad c, written as :func:`~meshwright.quad._paving_close.min_sine`
     computes it (the same rounding: which quads are below the floor is the same)."""
@@ -333,7 +333,7 @@ def _quad_min_sine(p, q, c):
     return worst
 
 
-@njit(inline="always")
+@njit
 def _sine_at(p, a, b, d, v, x, y):
     """Sine of the corner at b between b->d and b->a, node ``v`` taken at ``(x, y)``."""
     bx = x if b == v else p[b, 0]
@@ -346,7 +346,7 @@ def _sine_at(p, a, b, d, v, x, y):
     return (ux * wy - uy * wx) / den if den > 0.0 else -1.0
 
 
-@njit(inline="always")
+@njit
 def _moving_min_sine(p, q, cell_ptr, cell_idx, v, x, y, best):
     """Smallest sine of the corners that move with node ``v`` (all but the one opposite
     ``v`` in each of its quads) with ``v`` at ``(x, y)``; stops at the first one not
