@@ -359,7 +359,8 @@ class Tetrahedralization:
             self._exported = True
         elif name == "neighbors":
             nb = self._s.nbr[: 4 * nt].reshape(nt, 4)
-            out = pub[nb[keep]] if self._vb else np.where(nb >= nt, np.int32(-1), nb).astype(np.int32)
+            # np.where of two int32 operands is int32 already: no second copy of 4 nt entries
+            out = pub[nb[keep]] if self._vb else np.where(nb >= nt, np.int32(-1), nb).astype(np.int32, copy=False)
         else:
             tets = self._public("tetrahedra")
             t, k = np.nonzero(self._public("neighbors") < 0)
