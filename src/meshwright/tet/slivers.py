@@ -204,9 +204,8 @@ def remove_slivers(mesh: Mesh, threshold: float = 0.01, move_points: bool = True
         Cap on the flip + move passes; the loop also stops when a pass changes nothing,
         when three passes in a row did not lower the number of slivers, or when the vertex
         moves have used :data:`MOVE_WORK` star-tet evaluations per input tet and
-        :data:`MOVE_WORK_MIN` more (the slivers
-        left are then reported under ``"work_cap"``; the mesh is valid and every flip
-        and move made was an improvement).
+        :data:`MOVE_WORK_MIN` more (the slivers left are then reported under
+        ``"work_cap"``; the mesh is valid and every flip and move made was an improvement).
     radius_edge : float, optional
         A radius-edge bound B (circumradius over shortest edge, at least the regular tet's
         sqrt(6)/4) the flips and moves keep: a tet with R / l_min > B counts with the
