@@ -37,6 +37,7 @@ from fractions import Fraction
 import numpy as np
 
 from meshwright.core.predicates import orient2d
+from meshwright.geometry._kernels import ON_BOUNDARY, classify_points
 from meshwright.geometry.curves import Line, Polyline
 
 __all__ = ["apply_splits", "junction_splits", "planarize", "point_splits"]
@@ -199,35 +200,41 @@ def point_splits(points, segments, seg_curve, seg_local, curves, xy):
     seg_curve, seg_local : (m,) int64
     curves : sequence of Curve
     xy : (k, 2) float64
-        Interior points found on a boundary or constraint.
+        The domain's interior points.
 
     Returns
     -------
     splits : dict
         As :func:`junction_splits`.
-    absorbed : list of int
-        Indices into ``xy`` of points that are (or become) vertices of a segment.
+    keep : (k,) bool
+        False for the points that are (or become) vertices of a segment.
     culprit : int
         Index into ``xy`` of a point on a curved piece (no exact split), or -1.
     """
     splits: dict = {}
-    absorbed = []
+    keep = np.ones(len(xy), dtype=bool)
+    if not len(xy):
+        return splits, keep, -1
     a, b = points[segments[:, 0]], points[segments[:, 1]]
-    for i, p in enumerate(xy):
+    ok = np.isfinite(xy).all(axis=1)
+    on = np.zeros(len(xy), dtype=bool)
+    on[ok] = classify_points(xy[ok], a, b) == ON_BOUNDARY
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    for i in np.flatnonzero(on):
+        p = xy[i]
         if ((points == p).all(axis=1)).any():
-            absorbed.append(i)
+            keep[i] = False
             continue
-        lo, hi = np.minimum(a, b), np.maximum(a, b)
         cand = np.flatnonzero((lo <= p).all(axis=1) & (p <= hi).all(axis=1))
         hosts = [int(s) for s in cand if _orient(a[s], b[s], p) == 0 and _strictly_inside(a[s], b[s], p)]
         if not hosts:
             continue
         if not all(isinstance(curves[int(seg_curve[s])], (Line, Polyline)) for s in hosts):
-            return splits, absorbed, i
+            return {}, keep, int(i)
+        keep[i] = False
         for s in hosts:
             splits.setdefault((int(seg_curve[s]), int(seg_local[s])), []).append(np.asarray(p, dtype=np.float64))
-        absorbed.append(i)
-    return splits, absorbed, -1
+    return splits, keep, -1
 
 
 def _split_points(p0, p1, extra):

@@ -24,7 +24,6 @@ the loop, curve, segment and coordinates at fault.
 
 from __future__ import annotations
 
-import numbers
 from typing import NamedTuple
 
 import numpy as np
@@ -33,6 +32,7 @@ from meshwright.core.errors import GeometryError, InputError, fmt_point
 from meshwright.core.predicates import orient2d, orient2d_batch
 from meshwright.core.validate_input import check_coordinate_range
 from meshwright.geometry._discretize import interior_seed, place_params, unique_rows
+from meshwright.geometry._domain_args import as_chain, check_region_attributes, region_row
 from meshwright.geometry._junctions import apply_splits, junction_splits, point_splits
 from meshwright.geometry._kernels import (
     INSIDE,
@@ -41,7 +41,7 @@ from meshwright.geometry._kernels import (
     find_bad_pairs,
     nearest_segment,
 )
-from meshwright.geometry.curves import Curve, Line, Polyline
+from meshwright.geometry.curves import Line, Polyline
 from meshwright.sizing.field import as_size_field
 
 __all__ = ["Domain", "Discretization"]
@@ -98,57 +98,6 @@ class _Assembly(NamedTuple):
     seg_local: np.ndarray  # (M,) index of the segment within its curve
     point_group: np.ndarray  # (N,) loop index, or -1 - chain index
     seg_slices: dict  # group -> slice of its segments (groups are contiguous)
-
-
-def _as_chain(item, what: str) -> tuple[Curve, ...]:
-    """A loop or chain given as a Curve, a sequence of Curves or an (n, 2) vertex array."""
-    if isinstance(item, Curve):
-        return (item,)
-    if isinstance(item, (list, tuple)) and item and all(isinstance(c, Curve) for c in item):
-        return tuple(item)
-    try:
-        arr = np.asarray(item, dtype=np.float64)
-    except (TypeError, ValueError):
-        arr = None
-    if arr is None or arr.ndim != 2 or arr.shape[1] != 2:
-        raise InputError(f"{what} must be a Curve, a sequence of Curves or an (n, 2) array")
-    return (Polyline(arr, closed=what.startswith(("outer", "hole"))),)
-
-
-def _region(r, i: int) -> tuple[float, float, int, float | None]:
-    """One region row ``(x, y, marker[, max_area])`` checked entry by entry."""
-    if isinstance(r, (str, bytes)) or not hasattr(r, "__len__") or len(r) not in (3, 4):
-        raise InputError(f"region {i} must be a row (x, y, marker[, max_area]), got {r!r}")
-    for k, name in enumerate(("x", "y", "marker")):
-        if isinstance(r[k], (bool, np.bool_)) or not isinstance(r[k], numbers.Real):
-            raise InputError(f"region {i} {name} must be a number, got {r[k]!r} ({type(r[k]).__name__})")
-    x, y = float(r[0]), float(r[1])
-    if not float(r[2]).is_integer():
-        raise InputError(f"region {i} marker must be an integer, got {r[2]!r}")
-    marker = int(r[2])
-    area = None if len(r) == 3 or r[3] is None else r[3]
-    if area is not None and (isinstance(area, (bool, np.bool_)) or not isinstance(area, numbers.Real)):
-        raise InputError(f"region {i} max_area must be a number or None, got {area!r} ({type(area).__name__})")
-    area = None if area is None else float(area)
-    if not (np.isfinite(x) and np.isfinite(y)):
-        raise GeometryError(f"region {i} seed has non-finite coordinates ({x}, {y})")
-    if area is not None and not (np.isfinite(area) and area > 0):
-        raise GeometryError(f"region {i} at ({x}, {y}) has max_area {area!r}; use None or > 0")
-    return x, y, marker, area
-
-
-def _region_attributes(values, regions) -> np.ndarray:
-    """(r,) float64 regional attributes, checked one per region (default: the markers)."""
-    if values is None:
-        return np.array([float(r[2]) for r in regions], dtype=np.float64)
-    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
-        raise InputError(f"region_attributes must be a sequence of numbers, got {values!r}")
-    if len(values) != len(regions):
-        raise InputError(f"region_attributes has {len(values)} entries for {len(regions)} regions")
-    for i, v in enumerate(values):
-        if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real) or not np.isfinite(v):
-            raise InputError(f"region {i} attribute must be a finite number, got {v!r}")
-    return np.array([float(v) for v in values], dtype=np.float64)
 
 
 class Domain:
@@ -210,10 +159,10 @@ class Domain:
         self, outer, holes=(), *, segments=(), points=None, regions=(), size=None, region_attributes=None,
         open_boundary=False,
     ):
-        self._raw_loops = [_as_chain(outer, "outer loop")] + [
-            _as_chain(h, f"hole {i}") for i, h in enumerate(holes)
+        self._raw_loops = [as_chain(outer, "outer loop")] + [
+            as_chain(h, f"hole {i}") for i, h in enumerate(holes)
         ]
-        self.constraints = tuple(_as_chain(s, f"segment {i}") for i, s in enumerate(segments))
+        self.constraints = tuple(as_chain(s, f"segment {i}") for i, s in enumerate(segments))
         try:
             pts = np.zeros((0, 2)) if points is None else np.asarray(points, dtype=np.float64)
         except (TypeError, ValueError) as exc:
@@ -224,10 +173,10 @@ class Domain:
         check_coordinate_range(self.points, "interior points")
         if isinstance(regions, (str, bytes)) or not hasattr(regions, "__iter__"):
             raise InputError(f"regions must be a sequence of (x, y, marker[, max_area]) rows, got {regions!r}")
-        self.regions = tuple(_region(r, i) for i, r in enumerate(regions))
+        self.regions = tuple(region_row(r, i) for i, r in enumerate(regions))
         if self.regions:
             check_coordinate_range(np.array([r[:2] for r in self.regions]), "region seeds")
-        self.region_attributes = _region_attributes(region_attributes, self.regions)
+        self.region_attributes = check_region_attributes(region_attributes, self.regions)
         if not isinstance(open_boundary, (bool, np.bool_)):
             raise InputError(f"open_boundary must be True or False, got {open_boundary!r}")
         self.open_boundary = bool(open_boundary)
@@ -408,29 +357,14 @@ class Domain:
         if culprit >= 0:
             s, t = bad[culprit]
             raise GeometryError(f"{self._describe(asm, s)} intersects {self._describe(asm, t)}")
-        keep = np.ones(len(self.points), dtype=bool)
-        if len(self.points):
+        at, keep, culprit = point_splits(verts, segs, asm.seg_curve, asm.seg_local, self.curves, self.points)
+        if culprit >= 0:
+            raise GeometryError(
+                f"interior point {culprit} at {fmt_point(self.points[culprit])} lies on a curved boundary or constraint"
+            )
+        if at or not keep.all():
             # Points on segments are exact splits: they go before any rounded crossing.
-            ok = np.isfinite(self.points).all(axis=1)
-            on = np.zeros(len(self.points), dtype=bool)
-            on[ok] = classify_points(self.points[ok], verts[segs[:, 0]], verts[segs[:, 1]]) == ON_BOUNDARY
-            idx = np.flatnonzero(on)
-            if len(idx):
-                at, absorbed, culprit = point_splits(
-                    verts, segs, asm.seg_curve, asm.seg_local, self.curves, self.points[idx]
-                )
-                if culprit >= 0:
-                    i = idx[culprit]
-                    raise GeometryError(
-                        f"interior point {i} at {fmt_point(self.points[i])} lies on a curved boundary or constraint"
-                    )
-                keep[idx[absorbed]] = False
-                if at or not keep.all():
-                    if rounded:
-                        splits = at
-                    else:
-                        for key, ps in at.items():
-                            splits.setdefault(key, []).extend(ps)
+            splits = at if rounded else {k: splits.get(k, []) + at.get(k, []) for k in {*splits, *at}}
         if not splits and keep.all():
             return False
         first = [cids[0] for _, cids in self._groups]

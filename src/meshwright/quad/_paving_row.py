@@ -23,6 +23,16 @@ from numba import njit
 __all__ = ["edges_once", "front_bisectors", "row_classes", "row_finish", "row_prepare", "sharp_nodes"]
 
 
+@njit(inline="always")
+def _interior(nx, ny, px, py):
+    """Interior angle in (0, 2 pi] at a node whose next neighbour lies at (nx, ny) and whose
+    previous one at (px, py) from it (the region on the left)."""
+    a = np.arctan2(nx * py - ny * px, nx * px + ny * py)
+    if a <= 0.0:
+        a += 2.0 * np.pi
+    return a
+
+
 @njit(cache=True)
 def row_classes(deg, end, corner, reversal):
     """Node classes from interior angles in degrees (step 1; see
@@ -101,9 +111,7 @@ def row_prepare(p, h, scale, end, corner, reversal):
         ny = p[(i + 1) % n, 1] - p[i, 1]
         px = p[(i - 1) % n, 0] - p[i, 0]
         py = p[(i - 1) % n, 1] - p[i, 1]
-        a = np.arctan2(nx * py - ny * px, nx * px + ny * py)
-        if a <= 0.0:
-            a += 2.0 * np.pi
+        a = _interior(nx, ny, px, py)
         ang[i] = a
         deg[i] = a * (180.0 / np.pi)
         th0[i] = np.arctan2(ny, nx)
@@ -193,10 +201,7 @@ def front_bisectors(pts, ids, off):
             ny = pts[w, 1] - pts[v, 1]
             px = pts[u, 0] - pts[v, 0]
             py = pts[u, 1] - pts[v, 1]
-            a = np.arctan2(nx * py - ny * px, nx * px + ny * py)
-            if a <= 0.0:
-                a += 2.0 * np.pi
-            th = np.arctan2(ny, nx) + 0.5 * a
+            th = np.arctan2(ny, nx) + 0.5 * _interior(nx, ny, px, py)
             out[s + i, 0] = np.cos(th)
             out[s + i, 1] = np.sin(th)
     return out
@@ -220,10 +225,7 @@ def sharp_nodes(pts, front, n_fixed, below):
         ny = pts[w, 1] - pts[v, 1]
         px = pts[u, 0] - pts[v, 0]
         py = pts[u, 1] - pts[v, 1]
-        a = np.arctan2(nx * py - ny * px, nx * px + ny * py)
-        if a <= 0.0:
-            a += 2.0 * np.pi
-        a *= 180.0 / np.pi
+        a = _interior(nx, ny, px, py) * (180.0 / np.pi)
         if a < below and v >= n_fixed:
             t = j
             while t > 0 and deg[t - 1] > a:
