@@ -123,3 +123,40 @@ def test_lawson_flips_subfaces_to_the_planar_delaunay_triangulation():
         s = next(v for v in faces[g] if v not in faces[f])
         assert _incircle_exact(*xy[faces[f]], xy[s]) <= 0
     assert _areas(pts, faces).sum() == pytest.approx(_areas(pts, tri).sum(), rel=1e-12)
+
+
+def _sliver_ratios(points, tets):
+    """a = r_in / R per tet: r_in = 3 V / (sum of face areas), R from the circumcentre solved
+    by numpy (this test's own formulas)."""
+    p = points[tets]
+    v = np.abs(_tet_volumes(points, tets))
+    faces = ((1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 1, 2))
+    area = sum(0.5 * np.linalg.norm(np.cross(p[:, b] - p[:, a], p[:, c] - p[:, a]), axis=1) for a, b, c in faces)
+    r_in = 3.0 * v / area
+    e = p[:, 1:] - p[:, :1]  # (m, 3, 3): edge vectors from vertex 0
+    rhs = 0.5 * np.einsum("mij,mij->mi", e, e)
+    x = np.linalg.solve(e, rhs[..., None])[..., 0]  # circumcentre relative to vertex 0
+    return r_in / np.linalg.norm(x, axis=1)
+
+
+def test_slivers_left_after_removal_are_announced():
+    """Where the sliver stage leaves chapter slivers (a < 0.01), tetrahedralize says how many
+    (SliverWarning); where it leaves none it stays silent."""
+    import warnings
+
+    surf, kw = _load("extruded_crease170")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mesh = mw.tetrahedralize(surf, **kw)
+    left = int(np.count_nonzero(_sliver_ratios(mesh.points, mesh.cells["tetra"]) < 0.01))
+    said = [w for w in caught if issubclass(w.category, mw.SliverWarning)]
+    if left:
+        assert len(said) == 1 and f"{left} tets" in str(said[0].message)
+        assert said[0].filename == __file__  # points at the caller
+    else:
+        assert not said
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mesh = mw.tetrahedralize(mw.geometry.sphere(level=2), 0.3)
+    assert (_sliver_ratios(mesh.points, mesh.cells["tetra"]) >= 0.01).all()
+    assert not [w for w in caught if issubclass(w.category, mw.SliverWarning)]

@@ -21,7 +21,9 @@ from meshwright.core.errors import (
     InputError,
     MeshingError,
     MeshwrightError,
+    MeshwrightWarning,
     SizeError,
+    SliverWarning,
     ValidationError,
 )
 from meshwright.core.mesh import Mesh
@@ -89,4 +91,6 @@ __all__ = [
     "MeshingError",
     "ValidationError",
     "FormatError",
+    "MeshwrightWarning",
+    "SliverWarning",
 ]

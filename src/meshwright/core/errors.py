@@ -27,6 +27,8 @@ __all__ = [
     "MeshingError",
     "ValidationError",
     "FormatError",
+    "MeshwrightWarning",
+    "SliverWarning",
     "fmt_point",
 ]
 
@@ -81,3 +83,12 @@ class ValidationError(MeshwrightError):
 
 class FormatError(MeshwrightError, ValueError):
     """A file cannot be read or written in the requested format."""
+
+
+class MeshwrightWarning(UserWarning):
+    """Base class of the warnings meshwright gives on purpose (a documented shortfall)."""
+
+
+class SliverWarning(MeshwrightWarning):
+    """A tetrahedral mesh keeps slivers (sliver ratio r_in / R below 0.01) after sliver
+    removal; ``min_dihedral`` turns an unmet bound into a :class:`MeshingError`."""

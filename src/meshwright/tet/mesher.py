@@ -18,11 +18,12 @@ recovered subfaces of the input faces.
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Callable, NamedTuple
 
 import numpy as np
 
-from meshwright.core.errors import GeometryError, InputError, MeshingError
+from meshwright.core.errors import GeometryError, InputError, MeshingError, SliverWarning
 from meshwright.core.flat import TET_FACES
 from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d, orient3d_batch
@@ -194,7 +195,9 @@ def tetrahedralize(
         (boundary recovery and exterior removal only, TetGen's ``-p``).
     min_dihedral : float, optional
         Degrees in (0, 20]: sliver removal raises its threshold until no dihedral angle is
-        smaller, or raises :class:`MeshingError`; needs ``slivers="remove"``.
+        smaller, or raises :class:`MeshingError`; needs ``slivers="remove"``.  Without it, tets
+        left with a sliver ratio below 0.01 (the chapter's sliver) give a
+        :class:`~meshwright.core.errors.SliverWarning` naming how many.
     holes : (h, 3) array_like
         Hole seeds (their components are void), added to the surface's own.
     regions : (r, 4) or (r, 5) array_like
@@ -698,9 +701,19 @@ def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float |
         # stopped at the moves' work budget (slivers.MOVE_WORK: most tets slivers, a cascaded
         # refinement): the mesh is kept as the stage left it, as after its other stops
         out_of_work = report.left_reasons.get("work_cap", 0) > 0
+        q = tetra_quality(out.points, out.cells["tetra"])
+        worst = float(q["min_dihedral"].min())
         if min_dihedral is None:
+            flat = int(np.count_nonzero(q["sliver_ratio"] < 0.01))
+            if flat:
+                warnings.warn(
+                    f"tetrahedralize: {flat} tets keep a sliver ratio r_in / R below 0.01 after sliver removal "
+                    f"(smallest dihedral {worst:.3g} degrees{', moves stopped at their work budget' if out_of_work else ''}); "
+                    "pass min_dihedral to make an unmet bound an error",
+                    SliverWarning,
+                    stacklevel=5,  # the caller of tetrahedralize (-> _run_delaunay -> _to_mesh -> here)
+                )
             return out
-        worst = float(tetra_quality(out.points, out.cells["tetra"])["min_dihedral"].min())
         if worst >= min_dihedral:
             return out
         if threshold >= SLIVER_RATIO_MAX or out_of_work:
