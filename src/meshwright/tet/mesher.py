@@ -701,19 +701,12 @@ def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float |
         # stopped at the moves' work budget (slivers.MOVE_WORK: most tets slivers, a cascaded
         # refinement): the mesh is kept as the stage left it, as after its other stops
         out_of_work = report.left_reasons.get("work_cap", 0) > 0
-        q = tetra_quality(out.points, out.cells["tetra"])
-        worst = float(q["min_dihedral"].min())
         if min_dihedral is None:
-            flat = int(np.count_nonzero(q["sliver_ratio"] < 0.01))
-            if flat:
-                warnings.warn(
-                    f"tetrahedralize: {flat} tets keep a sliver ratio r_in / R below 0.01 after sliver removal "
-                    f"(smallest dihedral {worst:.3g} degrees{', moves stopped at their work budget' if out_of_work else ''}); "
-                    "pass min_dihedral to make an unmet bound an error",
-                    SliverWarning,
-                    stacklevel=5,  # the caller of tetrahedralize (-> _run_delaunay -> _to_mesh -> here)
-                )
+            # The stage's ratios never exceed the plain a = r_in / R: only below 0.01 count them.
+            if report.min_ratio_after < 0.01:
+                _warn_slivers(out, out_of_work)
             return out
+        worst = float(tetra_quality(out.points, out.cells["tetra"])["min_dihedral"].min())
         if worst >= min_dihedral:
             return out
         if threshold >= SLIVER_RATIO_MAX or out_of_work:
@@ -724,6 +717,24 @@ def _remove_slivers(mesh: Mesh, min_dihedral: float | None, radius_edge: float |
             )
         mesh = out
         threshold = min(SLIVER_RATIO_MAX, threshold + 0.04)
+
+
+def _warn_slivers(mesh: Mesh, out_of_work: bool) -> None:
+    """A :class:`SliverWarning` naming the tets of ``mesh`` whose sliver ratio a = r_in / R is
+    below 0.01, if any (one pass of the sliver kernels' ratio, no radius-edge factor)."""
+    from meshwright.tet._flips import all_ratios
+
+    tets = mesh.cells["tetra"]
+    a = all_ratios(mesh.points, np.ascontiguousarray(tets, dtype=np.int32).ravel(), len(tets), np.zeros(2))
+    flat = int(np.count_nonzero(a < 0.01))
+    if flat:
+        warnings.warn(
+            f"tetrahedralize: {flat} tets keep a sliver ratio r_in / R below 0.01 after sliver removal (smallest "
+            f"{float(a.min()):.3g}{', moves stopped at their work budget' if out_of_work else ''}); pass "
+            "min_dihedral to make an unmet bound an error",
+            SliverWarning,
+            stacklevel=6,  # the caller of tetrahedralize (-> _run_delaunay -> _to_mesh -> _remove_slivers -> here)
+        )
 
 
 TET_METHODS = {
