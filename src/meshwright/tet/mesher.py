@@ -25,6 +25,7 @@ import numpy as np
 
 from meshwright.core.errors import GeometryError, InputError, MeshingError, SliverWarning
 from meshwright.core.flat import TET_FACES
+from meshwright.core.hugepages import small_pages
 from meshwright.core.mesh import Mesh
 from meshwright.core.predicates import orient2d, orient3d_batch
 from meshwright.core.validate_input import (
@@ -228,7 +229,8 @@ def tetrahedralize(
     GeometryError, InputError, SizeError, MeshingError
     """
     job = _door(surface, size, max_volume, radius_edge, min_dihedral, holes, regions, slivers, method, smooth, max_points, seed, progress)
-    return TET_METHODS[method].run(job)
+    with small_pages():  # no huge-page compaction stalls on the large arrays (core/hugepages.py)
+        return TET_METHODS[method].run(job)
 
 
 def _door(surface, size, max_volume, radius_edge, min_dihedral, holes, regions, slivers, method, smooth, max_points, seed, progress) -> _Job:
