@@ -1,5 +1,5 @@
 """core.hugepages: NumPy's huge-page advice is off inside small_pages() and inside
-tetrahedralize, and restored afterwards, also when the call raises."""
+tetrahedralize, restored afterwards (also when the call raises), and restored by delaunay."""
 
 from __future__ import annotations
 
@@ -50,3 +50,11 @@ def test_tetrahedralize_restores_the_advice(monkeypatch):
     mesh.validate()
     assert seen == [False] and _state() is before
     assert np.isfinite(mesh.points).all()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_delaunay_restores_the_advice(dim):
+    before = _state()
+    tri = mw.delaunay(np.random.default_rng(dim).random((200, dim)))
+    assert _state() is before
+    tri.to_mesh().validate()

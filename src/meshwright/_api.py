@@ -14,6 +14,7 @@ import numpy as np
 from typing import TYPE_CHECKING
 
 from meshwright.core.errors import InputError
+from meshwright.core.hugepages import small_pages
 from meshwright.tri import DELAUNAY_ALGORITHMS, Triangulation
 from meshwright.tri import delaunay as delaunay2d
 
@@ -73,7 +74,9 @@ def delaunay(points, algorithm: str = "bowyer", duplicates: str = "merge", seed=
     if shape[1] == 3:
         from meshwright.tet import delaunay3d
 
-        return delaunay3d(points, algorithm=algorithm, duplicates=duplicates, seed=seed, superstructure=superstructure)
+        with small_pages():  # no huge-page compaction stalls on the large arrays (core/hugepages.py)
+            return delaunay3d(points, algorithm=algorithm, duplicates=duplicates, seed=seed, superstructure=superstructure)
     if superstructure != "ghost":
         raise InputError("superstructure='box' is offered for 3-D points only; 2-D uses the vertex at infinity")
-    return delaunay2d(points, algorithm=algorithm, duplicates=duplicates, seed=seed)
+    with small_pages():
+        return delaunay2d(points, algorithm=algorithm, duplicates=duplicates, seed=seed)
