@@ -66,19 +66,12 @@ def _live_count(alive, off, idx, v):
 
 
 @njit(inline="always")
-def _star_dirty(off, idx, dirty, v):
+def _star_any(off, idx, flag, v):
+    """Whether a quad of node v's star has its flag (dirty, locked) set."""
     for s in range(off[v], off[v + 1]):
-        if dirty[idx[s]] != 0:
+        if flag[idx[s]] != 0:
             return True
     return False
-
-
-@njit(inline="always")
-def _star_free(off, idx, lock, v):
-    for s in range(off[v], off[v + 1]):
-        if lock[idx[s]] != 0:
-            return False
-    return True
 
 
 @njit(inline="always")
@@ -102,9 +95,9 @@ def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, dirty):
     done = 0
     n = xy.shape[0]
     for v in range(n):
-        if bnd[v] != 0 or tri_node[v] != 0 or not _star_free(off, idx, lock, v):
+        if bnd[v] != 0 or tri_node[v] != 0 or _star_any(off, idx, lock, v):
             continue
-        if not _star_dirty(off, idx, dirty, v):
+        if not _star_any(off, idx, dirty, v):
             continue
         q1 = -1
         q2 = -1
@@ -153,7 +146,7 @@ def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept,
             d = quad[q, (r + 3) % 4]
             if _live_count(alive, off, idx, b) < 3 or _live_count(alive, off, idx, d) < 3:
                 continue
-            if not (_star_free(off, idx, lock, a) and _star_free(off, idx, lock, c)):
+            if _star_any(off, idx, lock, a) or _star_any(off, idx, lock, c):
                 continue
             old = min(_local_min(xy, quad, alive, off, idx, a, none, none, none),
                       _local_min(xy, quad, alive, off, idx, c, none, none, none))
