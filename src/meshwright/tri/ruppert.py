@@ -367,7 +367,7 @@ class _Run:
         """Call the loop until it is done, serving its requests; raise on caps and errors.
 
         ``progress(n_vertices)`` is called whenever the loop hands control back to Python;
-        ``caps`` may raise default caps once when one is reached (:mod:`._refine_caps`).
+        ``caps`` may raise a default cap when it is reached (:mod:`._refine_caps`).
         """
         ct = self.ct
         while True:
@@ -387,8 +387,9 @@ class _Run:
                 apply_sizes(h, ct.state, self.r)
             elif code == R_CURVE:
                 self.curve_point()
-            elif code in (R_CAP_POINTS, R_CAP_STEPS) and caps is not None and caps.relax(ct):
+            elif code == R_CAP_POINTS and caps is not None and caps.relax(ct):
                 st[S_MAXPTS] = caps.max_points
+            elif code == R_CAP_STEPS and caps is not None and caps.more_steps(ct):
                 st[S_MAXSTEPS] = caps.max_steps
             else:
                 self._fail(code, what)
@@ -443,7 +444,8 @@ def refine(
         when reached (:mod:`meshwright.tri._refine_caps`).
     max_steps : int, optional
         Cap on loop steps (default ``20 * min(max_points, nv + 50 nv + 4 * estimate + 1000)``,
-        so a stalled loop stops early even under a large ``max_points``; raised likewise).
+        so a stalled loop stops early even under a large ``max_points``; raised when reached
+        while the run keeps inserting vertices).
     offcenters : bool
         Insert Üngör's off-centres instead of circumcentres where nearer (fewer vertices).
     curves : SegmentCurves or callable, optional
