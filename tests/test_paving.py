@@ -350,6 +350,37 @@ def test_seam_keeps_a_node_another_paving_boundary_holds():
 
 
 
+@pytest.mark.parametrize(("r_in", "n", "closes"), [(0.2, 200, False), (0.97, 200, True), (0.2, 20, True)])
+def test_stopped_region_is_bridged_only_when_it_may_close(r_in, n, closes, monkeypatch):
+    """join_and_close builds the bridge of a stopped region to its holes only when the
+    region may then be closed: few nodes, or thin with every chord as long as the outer
+    boundary's diagonal (oracle: the ring's area and perimeter written out with math)."""
+    import math
+
+    import meshwright.quad.paving as pv_mod
+    from meshwright.quad.paving import SPLIT_MAX, THIN, _Paver
+
+    t = 2.0 * np.pi * np.arange(n) / n
+    pv = _Paver(np.zeros((0, 2)), as_size_field(0.05), 10**6)
+    outer = pv.add_points(np.column_stack([np.cos(t), np.sin(t)]), 0)
+    hole = pv.add_points(r_in * np.column_stack([np.cos(-t), np.sin(-t)]), 0)
+    chord = 2.0 * math.sin(math.pi / n)
+    area = 0.5 * n * math.sin(2.0 * math.pi / n) * (1.0 - r_in**2)
+    perimeter = n * chord * (1.0 + r_in) + 2.0 * 2.0 * math.sqrt(2.0)  # n % 4 == 0: the box is [-1, 1]^2
+    expect = 2 * n + 2 <= SPLIT_MAX or area < THIN * perimeter * 0.05
+    assert expect == closes
+    assert pv._may_close([outer, hole]) == closes
+    calls = []
+
+    def spy(*a):
+        calls.append(1)
+
+    monkeypatch.setattr(pv_mod, "bridge", spy)
+    left = pv.join_and_close([outer, hole], 1)
+    assert len(calls) == (1 if closes else 0)
+    assert len(left) == 2 and left[0] is outer and left[1] is hole
+
+
 def _plain_polish(xy, quads, fixed, floor, rounds):
     """The cleanup's pattern search written out in plain Python (`math`): every pass
     recomputes every sine, every trial the whole star's minimum."""

@@ -493,6 +493,9 @@ class _Paver:
         for i in outer:
             holes = [loops[h] for h, o in owner.items() if o == i]
             region = [loops[i]] + holes
+            if not self._may_close(region):
+                left += region
+                continue
             rest = [g for g in loops if not any(g is r for r in region)]
             joined = loops[i]
             for h in holes:
@@ -513,6 +516,22 @@ class _Paver:
                     continue
             left += region
         return left
+
+    def _may_close(self, region) -> bool:
+        """Whether the region bounded by ``region`` (a paving boundary and the holes'
+        inside it) may pass :meth:`join_and_close`'s test once bridged: the bridges' nodes
+        (two more per hole at least) within :data:`SPLIT_MAX`, or thin with every chord
+        as long as the outer boundary's diagonal.  The bridges' chords, searched over
+        every pair of nodes, are built only then: the three-element airfoil's void
+        (its far field around the stopped rows) never closes, and its bridge cost 6 %
+        of the paving."""
+        if sum(len(f) for f in region) + 2 * (len(region) - 1) <= SPLIT_MAX:
+            return True
+        pts = [self.pts[f] for f in region]
+        perimeter = sum(float(np.hypot(*(shift_next(p) - p).T).sum()) for p in pts)
+        perimeter += 2.0 * (len(region) - 1) * float(np.hypot(*np.ptp(pts[0], axis=0)))
+        size = float(np.mean(self.field(np.concatenate(pts))))
+        return sum(signed_area(p) for p in pts) < THIN * perimeter * size
 
     # -- step 4: smoothing -----------------------------------------------------------------
     def smooth_recent(self, rnd: int, on_front: np.ndarray) -> None:
