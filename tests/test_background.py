@@ -34,6 +34,44 @@ def test_outside_takes_the_nearest_point():
     assert np.allclose(got, [2.5, 3.0, 1.5])
 
 
+def _nearest_edge_values(pts, delta, x, y, atol=1e-12):
+    """Exact oracle: the linear interpolations of delta along the triangle's edges nearest
+    (x, y), in rationals: every edge within ``atol`` of the least distance (a point within
+    rounding of two edges of a needle may take either)."""
+    import math
+    from fractions import Fraction as F
+
+    cand = []
+    for u, w in ((0, 1), (1, 2), (2, 0)):
+        ux, uy, wx, wy = F(pts[u][0]), F(pts[u][1]), F(pts[w][0]), F(pts[w][1])
+        ex, ey = wx - ux, wy - uy
+        f = min(F(1), max(F(0), ((F(x) - ux) * ex + (F(y) - uy) * ey) / (ex * ex + ey * ey)))
+        d2 = (ux + f * ex - F(x)) ** 2 + (uy + f * ey - F(y)) ** 2
+        cand.append((math.sqrt(d2), float((1 - f) * F(delta[u]) + f * F(delta[w]))))
+    least = min(d for d, _ in cand)
+    return [v for d, v in cand if d <= least + atol]
+
+
+def test_outside_a_needle_interpolates_along_its_nearest_edge():
+    # A needle met by the stress harness (seed 1701, the chapter's background of a boundary
+    # with a tiny feature): long sides of 13, a short one of 2e-5, coordinates near 70.  The
+    # barycentric coordinates of the nearest point, divided by its tiny area, came out at
+    # (-10.2, 0, 11.2): a size of -0.4 from nodal sizes 6.6-13.4.
+    pts = np.array([[70.63561065751219, 15.310125055742597], [70.46272388581933, 2.0723100669390107],
+                    [70.63561039747951, 15.310105145228587]])
+    delta = np.array([7.30772771, 13.43360089, 6.61947195])
+    bg = BackgroundGrid(pts, [(0, 1, 2)], delta)
+    rng = np.random.default_rng(3)
+    q = np.vstack([[70.63560775944069, 15.309903152505834],
+                   pts[2] + rng.normal(0.0, 3e-4, (40, 2)), pts[0] + rng.normal(0.0, 3e-4, (40, 2))])
+    got = bg(q)
+    assert (got >= delta.min()).all() and (got <= delta.max()).all()
+    inside = mw.delaunay(np.vstack([pts, pts.mean(axis=0)])).locate(q) >= 0  # not ours to judge
+    for (x, y), h in zip(q[~inside], got[~inside]):
+        near = _nearest_edge_values(pts, delta, x, y)
+        assert min(near) * (1 - 1e-9) <= h <= max(near) * (1 + 1e-9)
+
+
 def test_direction_is_an_axis():
     # 170 and 10 degrees are 20 degrees apart as axes: the midpoint is 0, not 90.
     bg = BackgroundGrid(SQUARE, HALVES, 1.0, 2.0, np.radians([170, 10, 10, 170]))

@@ -146,6 +146,23 @@ def test_outside_one_tet_by_hand():
     np.testing.assert_allclose(bg(q), [2.3, 2.0, 3.0, 2.5, 1.0], rtol=1e-12)
 
 
+def test_outside_a_sliver_stays_between_its_nodal_values():
+    # A sliver of height 1e-15 over a triangle, far from the origin (coordinates near 70,
+    # like the 2-D needle the stress harness met): the barycentric coordinates of the
+    # nearest point, divided by the sliver's tiny volume, must not leave the nodal range.
+    # Oracle: any convex combination of the nodal sizes lies in [min, max] (which face is
+    # nearest is a tie within rounding here: every face lies within 1e-15 of z = 3).
+    base = np.array([70.0, 15.0, 3.0])
+    pts = base + np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.3, 0.3, 1e-15]])
+    delta = np.array([7.3, 13.4, 6.6, 2.0])
+    bg = BackgroundGrid(pts, [(0, 1, 2, 3)], delta)
+    rng = np.random.default_rng(0)
+    q = base + np.column_stack([rng.uniform(-0.5, 1.5, 3000), rng.uniform(-0.5, 1.5, 3000),
+                                rng.uniform(-1e-3, 1e-3, 3000)])  # the old weights gave 1.55 here
+    got = bg(q)
+    assert (got >= delta.min() * (1 - 1e-12)).all() and (got <= delta.max() * (1 + 1e-12)).all()
+
+
 def test_face_neighbours_match_the_delaunay_kernel(cube_grid):
     bg, tz = cube_grid
     np.testing.assert_array_equal(bg.kernel_args()[2], tz.neighbors)

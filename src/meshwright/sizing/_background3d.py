@@ -76,62 +76,71 @@ def _barycentric(pts, tets, t, x, y, z):
 
 @njit(inline="always")
 def _closest_on_triangle(ax, ay, az, bx, by, bz, cx, cy, cz, px, py, pz):
-    """Point of the triangle abc nearest p (Ericson's Voronoi-region cases)."""
+    """Weights ``(u, v, w)`` of a, b, c of the point of the triangle abc nearest p
+    (Ericson's Voronoi-region cases): non-negative, summing to 1."""
     abx, aby, abz = bx - ax, by - ay, bz - az
     acx, acy, acz = cx - ax, cy - ay, cz - az
     d1 = abx * (px - ax) + aby * (py - ay) + abz * (pz - az)
     d2 = acx * (px - ax) + acy * (py - ay) + acz * (pz - az)
     if d1 <= 0.0 and d2 <= 0.0:
-        return ax, ay, az
+        return 1.0, 0.0, 0.0
     d3 = abx * (px - bx) + aby * (py - by) + abz * (pz - bz)
     d4 = acx * (px - bx) + acy * (py - by) + acz * (pz - bz)
     if d3 >= 0.0 and d4 <= d3:
-        return bx, by, bz
+        return 0.0, 1.0, 0.0
     vc = d1 * d4 - d3 * d2
     if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
         v = d1 / (d1 - d3)
-        return ax + v * abx, ay + v * aby, az + v * abz
+        return 1.0 - v, v, 0.0
     d5 = abx * (px - cx) + aby * (py - cy) + abz * (pz - cz)
     d6 = acx * (px - cx) + acy * (py - cy) + acz * (pz - cz)
     if d6 >= 0.0 and d5 <= d6:
-        return cx, cy, cz
+        return 0.0, 0.0, 1.0
     vb = d5 * d2 - d1 * d6
     if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
         w = d2 / (d2 - d6)
-        return ax + w * acx, ay + w * acy, az + w * acz
+        return 1.0 - w, 0.0, w
     va = d3 * d6 - d5 * d4
     if va <= 0.0 and d4 - d3 >= 0.0 and d5 - d6 >= 0.0:
         w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        return bx + w * (cx - bx), by + w * (cy - by), bz + w * (cz - bz)
+        return 0.0, 1.0 - w, w
     den = va + vb + vc
     if den == 0.0:
-        return ax, ay, az
-    v = vb / den
-    w = vc / den
-    return ax + v * abx + w * acx, ay + v * aby + w * acy, az + v * abz + w * acz
+        return 1.0, 0.0, 0.0
+    # Inside the face: rounding may leave a weight a hair below zero; clamp and renormalise
+    # so the interpolation stays a convex combination.
+    v = min(1.0, max(0.0, vb / den))
+    w = min(1.0 - v, max(0.0, vc / den))
+    return 1.0 - v - w, v, w
 
 
 @njit(inline="always")
 def _nearest_on_border(pts, tets, nbr, t, x, y, z):
-    """``(d2, qx, qy, qz)``: the point of tet t's border faces (no neighbour) nearest
-    (x, y, z) and its squared distance; infinite when t has no border face."""
+    """``(d2, f, u, v, w)``: the border face f of tet t (one without a neighbour) nearest
+    (x, y, z), the squared distance and the weights of its vertices ``tets[t, (f + 1) % 4]``,
+    ``(f + 2) % 4``, ``(f + 3) % 4`` at the nearest point; d2 infinite when t has no border
+    face."""
     best = np.inf
-    qx = x
-    qy = y
-    qz = z
+    bf = 0
+    bu = 1.0
+    bv = 0.0
+    bw = 0.0
     for f in range(4):
         if nbr[t, f] >= 0:
             continue
         a = tets[t, (f + 1) % 4]
         b = tets[t, (f + 2) % 4]
         c = tets[t, (f + 3) % 4]
-        cx, cy, cz = _closest_on_triangle(
+        u, v, w = _closest_on_triangle(
             pts[a, 0], pts[a, 1], pts[a, 2], pts[b, 0], pts[b, 1], pts[b, 2], pts[c, 0], pts[c, 1], pts[c, 2], x, y, z
         )
-        d2 = (cx - x) ** 2 + (cy - y) ** 2 + (cz - z) ** 2
+        qx = u * pts[a, 0] + v * pts[b, 0] + w * pts[c, 0]
+        qy = u * pts[a, 1] + v * pts[b, 1] + w * pts[c, 1]
+        qz = u * pts[a, 2] + v * pts[b, 2] + w * pts[c, 2]
+        d2 = (qx - x) ** 2 + (qy - y) ** 2 + (qz - z) ** 2
         if d2 < best:
-            best, qx, qy, qz = d2, cx, cy, cz
-    return best, qx, qy, qz
+            best, bf, bu, bv, bw = d2, f, u, v, w
+    return best, bf, bu, bv, bw
 
 
 @njit(inline="always")
@@ -167,9 +176,10 @@ def weights3d(pts, tets, nbr, start, items, x0, y0, z0, cell, nx, ny, nz, x, y, 
             return t, w0, w1, w2, w3
     best = -1
     best_d2 = np.inf
-    bx = x
-    by = y
-    bz = z
+    bf = 0
+    bu = 1.0
+    bv = 0.0
+    bw = 0.0
     for ring in range(max(nx, ny, nz) + 1):
         ring_d2 = np.inf
         for k in range(max(0, ck - ring), min(nz, ck + ring + 1)):
@@ -190,13 +200,17 @@ def weights3d(pts, tets, nbr, start, items, x0, y0, z0, cell, nx, ny, nz, x, y, 
                     c = i + nx * (j + ny * k)
                     for s in range(start[c], start[c + 1]):
                         t = items[s]
-                        d2, qx, qy, qz = _nearest_on_border(pts, tets, nbr, t, x, y, z)
+                        d2, f, u, v, w = _nearest_on_border(pts, tets, nbr, t, x, y, z)
                         if d2 < best_d2:
-                            best, best_d2, bx, by, bz = t, d2, qx, qy, qz
+                            best, best_d2, bf, bu, bv, bw = t, d2, f, u, v, w
         if ring_d2 >= best_d2:
             break
-    w0, w1, w2, w3 = _barycentric(pts, tets, best, bx, by, bz)
-    return best, w0, w1, w2, w3
+    # Slot bf gets nothing; slots bf + 1, bf + 2, bf + 3 (mod 4) get u, v, w.
+    ws = np.zeros(4)
+    ws[(bf + 1) % 4] = bu
+    ws[(bf + 2) % 4] = bv
+    ws[(bf + 3) % 4] = bw
+    return best, ws[0], ws[1], ws[2], ws[3]
 
 
 @njit(inline="always")

@@ -57,7 +57,6 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import FormatError, InputError, SizeError, ValidationError
-from meshwright.core.geom2d import closest_on_segment
 from meshwright.core.mesh import build_neighbors, build_neighbors_tet
 from meshwright.sizing._background3d import interpolate3d
 from meshwright.sizing._buckets import bucket_grid, bucket_shape
@@ -88,14 +87,17 @@ def _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y):
     """Background triangle and barycentric weights ``(t, w0, w1, w2)`` for the point (x, y).
 
     The containing triangle is searched in the query's cell; a point in no triangle takes
-    the weights of the nearest point of the nearest triangle, searched in growing rings.
+    the weights of the nearest point of the nearest triangle, searched in growing rings:
+    that point's position along its edge, so the weights stay a convex combination (the
+    barycentric coordinates of a point on an edge of a needle, divided by its tiny area,
+    could be anything).
     """
     ci = min(nx - 1, max(0, int((x - x0) / cell)))
     cj = min(ny - 1, max(0, int((y - y0) / cell)))
     best = -1
     best_d2 = np.inf
-    bx_ = x
-    by_ = y
+    best_e = 0
+    best_s = 0.0
     ring = 0
     found_ring = -1
     while ring <= max(nx, ny):
@@ -108,22 +110,31 @@ def _weights(pts, tris, start, items, x0, y0, cell, nx, ny, x, y):
                     t = items[s]
                     w0, w1, w2 = _barycentric(pts, tris, t, x, y)
                     if min(w0, w1, w2) >= 0.0:
-                        best, best_d2, bx_, by_ = t, 0.0, x, y
+                        best, best_d2, best_e = t, 0.0, -1
                         continue
                     for e in range(3):
                         u = tris[t, (e + 1) % 3]
                         w = tris[t, (e + 2) % 3]
-                        cx, cy = closest_on_segment(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y)
-                        d2 = (cx - x) ** 2 + (cy - y) ** 2
+                        ex = pts[w, 0] - pts[u, 0]
+                        ey = pts[w, 1] - pts[u, 1]
+                        den = ex * ex + ey * ey
+                        f = 0.0 if den == 0.0 else min(1.0, max(0.0, ((x - pts[u, 0]) * ex + (y - pts[u, 1]) * ey) / den))
+                        d2 = (pts[u, 0] + f * ex - x) ** 2 + (pts[u, 1] + f * ey - y) ** 2
                         if d2 < best_d2:
-                            best, best_d2, bx_, by_ = t, d2, cx, cy
+                            best, best_d2, best_e, best_s = t, d2, e, f
         if best >= 0 and found_ring < 0:
             found_ring = ring
         # Once something is found, one more ring covers every nearer candidate.
         if best_d2 == 0.0 or (found_ring >= 0 and ring > found_ring):
             break
         ring += 1
-    w0, w1, w2 = _barycentric(pts, tris, best, bx_, by_)
+    if best_e < 0:
+        w0, w1, w2 = _barycentric(pts, tris, best, x, y)
+        return best, w0, w1, w2
+    # Weight 1 - f on the edge's first vertex, f on its second, none on the opposite one.
+    w0 = 0.0 if best_e == 0 else (1.0 - best_s if best_e == 2 else best_s)
+    w1 = 0.0 if best_e == 1 else (1.0 - best_s if best_e == 0 else best_s)
+    w2 = 0.0 if best_e == 2 else (1.0 - best_s if best_e == 1 else best_s)
     return best, w0, w1, w2
 
 
