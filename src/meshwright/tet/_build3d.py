@@ -4,8 +4,9 @@ Helpers of :class:`meshwright.tet.tetrahedralization.Tetrahedralization` around 
 kernel (:mod:`meshwright.tet._kernel3d`, whose module docstring gives the flat layout):
 :func:`find_start` chooses four non-coplanar points, :func:`init_tets` builds given finite
 tets (one, or the chapter's five box tets) with ghosts on their free faces, and after the
-insertions :func:`compact` puts finite tets first, ghosts next and drops freed slots, and
-:func:`relabel` renumbers vertices.
+insertions :func:`compact` puts finite tets first, ghosts next and drops freed slots
+(:func:`compact_tagged` also moves a per-slot tag, so a caller can follow the old tets
+through the compaction), and :func:`relabel` renumbers vertices.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from meshwright.tet._kernel3d import DELETED, M_LAST, M_NFREE, M_NTET
 
 _MARK = -3  # temporary link value while two swapped slots are repaired
 
-__all__ = ["find_start", "init_tets", "compact", "relabel", "scatter_rows", "input_order_maps", "first_repeat"]
+__all__ = ["compact", "compact_tagged", "find_start", "first_repeat", "init_tets", "input_order_maps", "relabel", "scatter_rows"]
 
 
 @njit(cache=True)
@@ -134,8 +135,9 @@ def _repoint(nbr, t, skip, old, new):
 
 
 @njit(inline="always")
-def _swap_slots(tet, nbr, sph, meta, i, j, live_i, live_j):
-    """Exchange the tets in slots i and j and repair every link to them.
+def _swap_slots(tet, nbr, sph, tag, meta, i, j, live_i, live_j):
+    """Exchange the tets in slots i and j (and their ``tag`` entries, if any) and repair every
+    link to them.
 
     ``live_x``: whether the tet first in slot x is finite or ghost (a freed slot's links are
     stale and are neither followed nor repaired).  A neighbour of both is repaired through a
@@ -153,6 +155,10 @@ def _swap_slots(tet, nbr, sph, meta, i, j, live_i, live_j):
             z = sph[watson.RECORD * i + k]
             sph[watson.RECORD * i + k] = sph[watson.RECORD * j + k]
             sph[watson.RECORD * j + k] = z
+    if tag.shape[0] > 0:
+        x = tag[i]
+        tag[i] = tag[j]
+        tag[j] = x
     # slot i now holds the old j (live_j), slot j the old i (live_i)
     for k in range(4):
         if live_j and nbr[4 * i + k] == i:
@@ -183,6 +189,17 @@ def compact(tet, nbr, sph, meta):
     int
         nt, the number of finite tets.
     """
+    return compact_tagged(tet, nbr, sph, np.empty(0, dtype=np.int32), meta)
+
+
+@njit(cache=True)
+def compact_tagged(tet, nbr, sph, tag, meta):
+    """:func:`compact`, moving ``tag`` (one int32 per slot, or empty) with the slots.
+
+    A caller that writes ``tag[t] = t`` before inserting and compacting finds in
+    ``tag[t]`` afterwards the slot an old tet occupied before (tets created meanwhile hold
+    stale values there; they are the tets with a new vertex).
+    """
     ntet = meta[M_NTET]
     # sweep 1: finite before the rest; sweep 2: ghosts before freed slots
     bounds = (0, 0)
@@ -197,7 +214,7 @@ def compact(tet, nbr, sph, meta):
                 j -= 1
             if i >= j:
                 break
-            _swap_slots(tet, nbr, sph, meta, i, j, tet[4 * i + 3] != DELETED, True)
+            _swap_slots(tet, nbr, sph, tag, meta, i, j, tet[4 * i + 3] != DELETED, True)
         # first slot past the class just gathered
         k = nt if sweep == 1 else 0
         while k < ntet and (tet[4 * k + 3] >= 0 if sweep == 0 else tet[4 * k + 3] == GHOST):

@@ -11,6 +11,11 @@ meshes the space between them, and two boxes sharing a face (an interface) are b
 Seeds override it, as in TetGen: a hole seed makes its component void, a region seed makes
 it solid with the seed's id and volume bound.
 
+Refinement only inserts points (every new tet has a new vertex; the old tets it keeps are the
+same solids) and only splits subfaces, so a component's label never changes:
+:func:`carry_labels` takes the old tets' labels from the previous classification and floods
+them into the new tets across unprotected faces, instead of a new search over every tet.
+
 Arrays: ``tets``, ``nbr`` (nt, 4) int32 as in :mod:`meshwright.tet.recovery`; ``barrier``
 (nt, 4) bool, true on both sides of every subface.
 """
@@ -22,7 +27,7 @@ from numba import njit
 
 from meshwright.core.errors import GeometryError, fmt_point
 
-__all__ = ["components", "depths", "classify"]
+__all__ = ["carry_labels", "classify", "components", "depths"]
 
 
 @njit(cache=True)
@@ -188,3 +193,114 @@ def classify(tz, barrier: np.ndarray, holes: np.ndarray, regions: np.ndarray):
         order = unseeded[np.argsort(lowest[unseeded], kind="stable")]
         rid[order] = np.arange(1, order.size + 1, dtype=np.int32)
     return solid_c[comp], rid[comp], vmax[comp]
+
+
+@njit(cache=True)
+def carry_labels(tets, nbr, barrier, nv0, src, barrier0, solid0, region0, vmax0, seeded):
+    """Labels of a tetrahedralization that grew from a classified one by insertions.
+
+    Parameters
+    ----------
+    tets, nbr : (nt, 4) int32
+    barrier : (nt, 4) bool
+    nv0 : int
+        Vertices at the previous classification: a tet with a vertex ``>= nv0`` is new, the
+        others were tets then.
+    src : (nt,) int32
+        Each old tet's index then (:meth:`Tetrahedralization.tracked`).
+    barrier0 : (nt0, 4) bool
+        The barrier flags then.  An old tet with a face whose protection changed since
+        (a subface flip: recovery's Lawson flips, unflatten's) is labelled afresh, as new
+        tets are: the flat tet four coplanar subface corners make changes sides.
+    solid0, region0, vmax0 : (nt0,) bool, int32, float64
+        The previous classification (:func:`classify`).
+    seeded : bool
+        Hole or region seeds were given.  Without seeds a new tet with an unprotected hull
+        face is outside (depth 0: void, region 0, no bound), as :func:`classify` finds; the
+        outside between a convex surface and its hull is often new tets only.
+
+    Returns
+    -------
+    ok : bool
+        False when a fresh tet is reached from no old one across unprotected faces, or when
+        a fresh tet and a tet across one of its unprotected faces got different labels (the
+        caller then runs :func:`classify`).  Two other tets sharing a face shared it before,
+        protected or not as now, so their labels agree already.
+    solid, region, vmax : (nt,) as in :func:`classify`
+    fresh : (k,) int64
+        The new and re-protected tets, ascending.
+    """
+    nt = tets.shape[0]
+    nt0 = solid0.shape[0]
+    solid = np.zeros(nt, dtype=np.bool_)
+    region = np.zeros(nt, dtype=np.int32)
+    vmax = np.full(nt, np.inf)
+    known = np.zeros(nt, dtype=np.bool_)
+    fresh = np.empty(nt, dtype=np.int64)
+    nn = 0
+    for t in range(nt):
+        new = False
+        for k in range(4):
+            if tets[t, k] >= nv0:
+                new = True
+        s = src[t]
+        if not new:
+            if s < 0 or s >= nt0:
+                return False, solid, region, vmax, fresh[:0].copy()
+            for k in range(4):
+                if barrier[t, k] != barrier0[s, k]:
+                    new = True
+        if new:
+            fresh[nn] = t
+            nn += 1
+            continue
+        solid[t] = solid0[s]
+        region[t] = region0[s]
+        vmax[t] = vmax0[s]
+        known[t] = True
+    # flood: fresh tets take the label of a labelled tet across an unprotected face
+    queue = np.empty(max(nn, 1), dtype=np.int64)
+    tail = 0
+    for i in range(nn):
+        t = fresh[i]
+        for k in range(4):
+            u = nbr[t, k]
+            if barrier[t, k]:
+                continue
+            if u >= 0 and known[u]:
+                solid[t] = solid[u]
+                region[t] = region[u]
+                vmax[t] = vmax[u]
+            elif u >= 0 or seeded:
+                continue
+            known[t] = True
+            queue[tail] = t
+            tail += 1
+            break
+    head = 0
+    while head < tail:
+        t = queue[head]
+        head += 1
+        for k in range(4):
+            u = nbr[t, k]
+            if barrier[t, k] or u < 0 or known[u]:
+                continue
+            solid[u] = solid[t]
+            region[u] = region[t]
+            vmax[u] = vmax[t]
+            known[u] = True
+            queue[tail] = u
+            tail += 1
+    for i in range(nn):
+        if not known[fresh[i]]:
+            return False, solid, region, vmax, fresh[:nn].copy()
+    # a label is one per component: unprotected neighbours must agree
+    for i in range(nn):
+        t = fresh[i]
+        for k in range(4):
+            u = nbr[t, k]
+            if barrier[t, k] or u < 0:
+                continue
+            if solid[u] != solid[t] or region[u] != region[t] or vmax[u] != vmax[t]:
+                return False, solid, region, vmax, fresh[:nn].copy()
+    return True, solid, region, vmax, fresh[:nn].copy()

@@ -34,7 +34,7 @@ from meshwright.core.validate_input import (
     check_positive,
     check_seed,
 )
-from meshwright.tet.exterior import classify
+from meshwright.tet.exterior import carry_labels, classify
 from meshwright.tet.recovery import (
     SplitOrigins,
     _longest,
@@ -329,30 +329,41 @@ def _run_delaunay(job: _Job) -> Mesh:
     state = None
     changed = True
     kept = set()  # flat tets unflatten moved out: recovery's Lawson flips leave them so
+    # The last state's labels and bad tets, carried: the tets that survive keep them, only
+    # the new tets are labelled and examined (tz.track / tracked, exterior.carry_labels).
+    carry = None
+    queue_bound = job.field is None or job.field.constant is not None
     while refine:
         rounds += 1
         if rounds > REFINE_ROUNDS:
             raise MeshingError(f"Delaunay refinement did not finish in {REFINE_ROUNDS} rounds ({tz.points.shape[0]} vertices)")
         if changed:
-            faces, where, flat, state, settled = _unflatten(job, tz, faces, parent, where, axis, origins, kept)
-            barrier, face_of, solid, vmax, _ = state
+            faces, where, flat, state, settled, new = _unflatten(job, tz, faces, parent, where, axis, origins, kept, carry)
+            barrier, face_of, solid, vmax, region = state
             tets = tz.tetrahedra
             nbr = tz.neighbors
             pts = tz.points
             vbound = np.minimum(vmax, job.max_volume)
             spheres = None  # circumcentres, radii, volumes and reach: for the rounds that need them
-            if job.field is None or job.field.constant is not None:
+            if queue_bound:
                 # one pass without the circumcentres: the queue rounds need the bad tets only
                 h = job.field.constant if job.field is not None else np.inf
-                bad = bad_solid(
-                    pts, tets, solid, vbound, SIZE_FACTOR * h if job.field is not None else np.inf,
+                bound = (
+                    SIZE_FACTOR * h if job.field is not None else np.inf,
                     MARGIN * job.radius_edge if job.radius_edge is not None else np.inf, EXEMPT / FLOOR * float(floor.min()),
                 )
+                if new is None:
+                    bad = bad_solid(pts, tets, solid, vbound, *bound)
+                else:
+                    # a surviving tet is bad exactly when it was: same shape, label and bounds
+                    bad = np.sort(np.concatenate([bad_solid(pts, tets, solid, vbound, *bound, among=new), _survivors(tz, new, carry[4], solid)]))
             else:
                 spheres = _spheres(job, pts, tets, solid, vbound, EXEMPT / FLOOR * float(floor.min()), guard)
                 bad = spheres[4]
+            carry = (barrier, solid, region, vmax, bad, pts.shape[0])
+            tz.track()
             changed = not settled
-        queue_round = bad.size and not caps_only and (job.field is None or job.field.constant is not None)
+        queue_round = bad.size and not caps_only and queue_bound
         if not queue_round and spheres is None:
             spheres = _spheres(job, pts, tets, solid, vbound, EXEMPT / FLOOR * float(floor.min()), guard)
         cc, r2, vol, reach = spheres[:4] if spheres is not None else (None, None, None, None)
@@ -427,11 +438,38 @@ def _run_delaunay(job: _Job) -> Mesh:
     if bar is not None:
         bar.close()
     if changed:
-        faces, where, _, state, _ = _unflatten(job, tz, faces, parent, where, axis, origins, kept)
+        faces, where, _, state, _, _ = _unflatten(job, tz, faces, parent, where, axis, origins, kept, carry)
     return _to_mesh(job, tz, faces, parent, where, state)
 
 
-def _unflatten(job: _Job, tz, faces, parent, where, axis, origins, kept: set):
+def _survivors(tz, new: np.ndarray, bad0: np.ndarray, solid: np.ndarray) -> np.ndarray:
+    """The tets (k,) int64 of ``tz`` that were bad (``bad0``) at the last ``tz.track()`` and
+    are still there, solid; ``new`` (c,) int64 are the tets labelled afresh since."""
+    src = np.array(tz.tracked(), dtype=np.int64)
+    nt0 = int(max(src.max(initial=0), bad0.max(initial=0))) + 1
+    src[new] = nt0  # a slot that was never bad
+    hit = np.zeros(nt0 + 1, dtype=bool)
+    hit[bad0] = True
+    return np.flatnonzero(hit[src] & solid)
+
+
+def _labels(job: _Job, tz, barrier, carry, nv0=None, src=None):
+    """``(solid, region, vmax, fresh)`` of the current tets: carried from ``carry`` (the last
+    state's barrier, labels, bad tets and vertex count, :func:`carry_labels`) where
+    possible, else :func:`classify` (``fresh`` None)."""
+    if carry is not None:
+        tets = tz.tetrahedra
+        ok, solid, region, vmax, new = carry_labels(
+            tets, tz.neighbors, barrier, carry[5] if nv0 is None else nv0, tz.tracked() if src is None else src,
+            carry[0], carry[1], carry[2], carry[3], len(job.holes) + len(job.regions) > 0,
+        )
+        if ok:
+            return solid, region, vmax, new
+    solid, region, vmax = classify(tz, barrier, job.holes, job.regions)
+    return solid, region, vmax, None
+
+
+def _unflatten(job: _Job, tz, faces, parent, where, axis, origins, kept: set, carry=None):
     """Move flat solid tets lying on an input face out of the solid by flipping its subfaces.
 
     Steiner points on a general plane are off it by round-off, so four nearly cocircular
@@ -447,18 +485,34 @@ def _unflatten(job: _Job, tz, faces, parent, where, axis, origins, kept: set):
     added to ``kept``, which recovery's Lawson flips leave alone (they flipped every such
     pair back, and each round paid a second classification to flip it again).
 
+    ``carry`` (barrier, solid, region, vmax, bad, nv) holds the last state, which ``tz`` has
+    tracked since (:meth:`Tetrahedralization.track`).
+
     Returns the subfaces (m, 3) int32, their positions ``where`` (m,) int64, the subfaces
     (s,) int64 to split, the barrier flags, ``face_of``, solid flags, volume bounds and region
-    ids of the result (:func:`_barrier`, :func:`classify`), and whether it settled (False: it
-    stopped at :data:`UNFLATTEN_PASSES` with flips left, so another call may flip more).
+    ids of the result (:func:`_barrier`, :func:`classify` or :func:`carry_labels`), whether it
+    settled (False: it stopped at :data:`UNFLATTEN_PASSES` with flips left, so another call
+    may flip more), and the tets (k,) int64 new or re-protected since ``carry`` (None: every
+    tet labelled afresh).
     """
     settled = True
+    fresh = None
+    barrier = None
     for sweep in range(UNFLATTEN_PASSES + 1):
         split = np.zeros(0, dtype=np.int64)
         tets = tz.tetrahedra
         nbr = tz.neighbors
+        old_barrier = barrier
         barrier, face_of = _barrier(tets.shape[0], nbr, where)
-        solid, region, vmax = classify(tz, barrier, job.holes, job.regions)
+        if sweep == 0:
+            solid, region, vmax, fresh = _labels(job, tz, barrier, carry)
+        elif fresh is not None:
+            # the flat tets just flipped changed sides (their faces' protection changed):
+            # labelled afresh, the others keep theirs
+            solid, region, vmax, checked = _labels(job, tz, barrier, (old_barrier, solid, region, vmax), tz.points.shape[0], np.arange(tets.shape[0], dtype=np.int32))
+            fresh = None if checked is None else np.union1d(fresh, checked)  # None: classified afresh, so are the bad tets
+        else:
+            solid, region, vmax = classify(tz, barrier, job.holes, job.regions)
         cand = np.flatnonzero(solid & (flag_counts(barrier) == 2))
         if cand.size == 0:
             break
@@ -509,7 +563,7 @@ def _unflatten(job: _Job, tz, faces, parent, where, axis, origins, kept: set):
             flipped += 1
         if flipped == 0:
             break
-    return faces, where, split, (barrier, face_of, solid, vmax, region), settled
+    return faces, where, split, (barrier, face_of, solid, vmax, region), settled, fresh
 
 
 def _subfaces_of(faces, enc) -> tuple[np.ndarray, np.ndarray]:

@@ -137,7 +137,7 @@ def _circumspheres(pts, tets):
     return cc, r2, lmin, vol
 
 
-def bad_solid(pts: np.ndarray, tets: np.ndarray, solid: np.ndarray, vbound: np.ndarray, rmax: float, quality: float, floor: float) -> np.ndarray:
+def bad_solid(pts: np.ndarray, tets: np.ndarray, solid: np.ndarray, vbound: np.ndarray, rmax: float, quality: float, floor: float, among=None) -> np.ndarray:
     """Solid tets over a volume, size or radius-edge bound, in one pass without the
     circumcentres: (b,) int64 ascending.
 
@@ -153,21 +153,24 @@ def bad_solid(pts: np.ndarray, tets: np.ndarray, solid: np.ndarray, vbound: np.n
     quality : float
         Bound on circumradius / shortest edge (inf: none), for tets whose shortest edge is
         at least ``floor``.
+    among : (c,) int64 ascending, optional
+        Only these tets are examined (the new tets of an incremental round).
 
     A tet is bad when ``vol > vbound``, ``R > rmax`` or ``R > quality * l_min`` with
     ``l_min >= floor``: the test of ``tet.mesher._bad`` for a constant size, evaluated in the
     same order on the same numbers (the whole-mesh :func:`circumspheres` and its four output
     arrays were refinement's largest pass per round).
     """
-    return _bad_solid(pts, np.ascontiguousarray(tets), solid, vbound, rmax, quality, floor)
+    cand = np.arange(tets.shape[0], dtype=np.int64) if among is None else np.ascontiguousarray(among, dtype=np.int64)
+    return _bad_solid(pts, np.ascontiguousarray(tets), solid, vbound, rmax, quality, floor, cand)
 
 
 @njit(cache=True)
-def _bad_solid(pts, tets, solid, vbound, rmax, quality, floor):
-    nt = tets.shape[0]
-    out = np.empty(nt, dtype=np.int64)
+def _bad_solid(pts, tets, solid, vbound, rmax, quality, floor, cand):
+    out = np.empty(cand.shape[0], dtype=np.int64)
     n = 0
-    for t in range(nt):
+    for i in range(cand.shape[0]):
+        t = cand[i]
         if not solid[t]:
             continue
         ox, oy, oz, det, e2 = _sphere_terms(pts, tets, t)

@@ -53,7 +53,7 @@ from meshwright.core.rng import seed_state
 from meshwright.core.spatial_sort import brio_order
 from meshwright.core.validate_input import as_exact_points, check_coordinate_range, check_seed
 from meshwright.tet import bowyer, watson
-from meshwright.tet._build3d import compact, find_start, first_repeat, init_tets, input_order_maps, relabel, scatter_rows
+from meshwright.tet._build3d import compact_tagged, find_start, first_repeat, init_tets, input_order_maps, relabel, scatter_rows
 from meshwright.tet._kernel3d import (
     BROKEN,
     M_NEED,
@@ -209,6 +209,7 @@ class Tetrahedralization:
         self._rng = np.random.default_rng(seed)
         self._cache: dict = {}
         self._exported = False
+        self._tag = np.empty(0, dtype=np.int32)  # per-slot tags moved by compaction (see track)
         order = self._order(pts)
         vb = 8 if superstructure == "box" else 0
         self._vb = vb
@@ -264,9 +265,34 @@ class Tetrahedralization:
                 )
         self.index_map = self._merge(index_map, vb)
         self.index_map -= vb
-        self._nt = compact(self._s.tet, self._s.nbr, self._s.sph, self._s.meta)
+        self._nt = self._compact()
 
     # ------------------------------------------------------------------ build helpers
+    def _compact(self) -> int:
+        """Compact the slots (:func:`compact_tagged`, moving the tracking tags); nt."""
+        s = self._s
+        slots = int(s.meta[M_NTET])
+        if self._tag.shape[0] and self._tag.shape[0] < slots:
+            # slots appended since track() hold tets with a new vertex: their tags are unused
+            tag = np.full(max(slots, 2 * self._tag.shape[0]), -1, dtype=np.int32)
+            tag[: self._tag.shape[0]] = self._tag
+            self._tag = tag
+        return compact_tagged(s.tet, s.nbr, s.sph, self._tag, s.meta)
+
+    def track(self) -> None:
+        """Start following the current tets through later insertions (see :meth:`tracked`)."""
+        self._tag = np.arange(int(self._s.meta[M_NTET]), dtype=np.int32)
+
+    def tracked(self) -> np.ndarray:
+        """(nt,) int32: for each tet of :attr:`tetrahedra` that has no vertex inserted since
+        :meth:`track`, its index in :attr:`tetrahedra` at that call; other entries are
+        meaningless.  Every tet an insertion creates has the inserted vertex, so the tets
+        without a newer vertex are exactly the ones that survived (Bowyer and Watson never
+        change a tet but by deleting it)."""
+        if self._tag.shape[0] == 0:
+            raise MeshingError("Tetrahedralization.tracked() before track()")
+        return self._tag[: self._nt]
+
     def _order(self, pts: np.ndarray) -> np.ndarray:
         """BRIO order (int32) whose first four points span a tet."""
         order = brio_order(pts, self._rng).astype(np.int32)
@@ -306,7 +332,7 @@ class Tetrahedralization:
             if st == BROKEN:
                 v = int(order[i])
                 who = int(input_ids[v - vbase]) if input_ids is not None else v - self._vb
-                self._nt = compact(self._s.tet, self._s.nbr, self._s.sph, self._s.meta)
+                self._nt = self._compact()
                 raise MeshingError(
                     f"inserting point {who} at {fmt_point(self._s.pts[v])} met an inconsistent cavity; "
                     "the tetrahedralization is no longer usable"
@@ -445,7 +471,7 @@ class Tetrahedralization:
         self._nv += k
         self._run(order, vmap, base)
         out = self._merge(vmap, base) - self._vb
-        self._nt = compact(self._s.tet, self._s.nbr, self._s.sph, self._s.meta)
+        self._nt = self._compact()
         return out.astype(np.int32)
 
     def _edit_begin(self) -> TetState:
@@ -467,7 +493,7 @@ class Tetrahedralization:
         self._s = s
         self._nv += int(added)
         self._cache = {}
-        self._nt = compact(s.tet, s.nbr, s.sph, s.meta)
+        self._nt = self._compact()
 
     def locate(self, xyz):
         """Tetrahedron containing each point (boundary included), -1 outside.
