@@ -364,12 +364,9 @@ def _run_delaunay(job: _Job) -> Mesh:
             tz.track()
             changed = not settled
         queue_round = bad.size and not caps_only and queue_bound
-        if not queue_round and spheres is None:
-            spheres = _spheres(job, pts, tets, solid, vbound, EXEMPT / FLOOR * float(floor.min()), guard)
-        cc, r2, vol, reach = spheres[:4] if spheres is not None else (None, None, None, None)
         # the queue rounds leave crease caps alone (most vanish under refinement: 6,456 at the
         # start of the level-5 sphere, 3 after it), so they are looked for in the other rounds only
-        caps, apex = (np.zeros(0, dtype=np.int64), np.zeros((0, 3))) if queue_round else _new_caps(tets, barrier, solid, face_of, parent, pts, cc, r2, vol, tried)
+        caps, apex = (np.zeros(0, dtype=np.int64), np.zeros((0, 3))) if queue_round else _new_caps(tets, barrier, solid, face_of, parent, pts, tried)
         if bad.size == 0 and flat.size == 0 and caps.size == 0:
             break
         inserted = 0
@@ -392,15 +389,23 @@ def _run_delaunay(job: _Job) -> Mesh:
             least = np.concatenate([reach_of[why], np.full(flat.size, np.inf)])
             new_interior = np.zeros((0, 3))
         else:
-            order = bad[np.argsort(-r2[bad], kind="stable")].astype(np.int32)[: 0 if caps_only else bad.size]
-            target = np.concatenate([cc[order], apex])
+            # with a queue (spheres None) these rounds propose the caps only: no circumsphere
+            # pass over every tet
+            if spheres is None:
+                order = np.zeros(0, dtype=np.int32)
+                target = apex
+            else:
+                order = bad[np.argsort(-spheres[1][bad], kind="stable")].astype(np.int32)[: 0 if caps_only else bad.size]
+                target = np.concatenate([spheres[0][order], apex])
             close = np.concatenate([np.zeros(order.size, dtype=bool), np.ones(caps.size, dtype=bool)])
             order = np.concatenate([order, caps]).astype(np.int32)
-            accept, enc = select_points(pts, tets, nbr, barrier, cc, r2, order, target, close, int(rng.integers(1, 2**31)))
+            accept, enc = select_points(pts, tets, nbr, barrier, order, target, close, int(rng.integers(1, 2**31)))
             # a subface edge is split down to the tet's reach (size and volume bounds), else to
             # the surface floor (quality, flat tets)
             hit = np.concatenate([face_of[enc[enc >= 0]], flat])
-            least = np.concatenate([reach[order[enc >= 0]], np.full(flat.size, np.inf)])
+            sel = order[enc >= 0]
+            reach = spheres[3][sel] if spheres is not None else _spheres(job, pts, tets[sel], solid[sel], vbound[sel], 0.0, guard)[3]
+            least = np.concatenate([reach, np.full(flat.size, np.inf)])
             new_interior = np.ascontiguousarray(target[accept])
         added = 0
         if hit.size:
@@ -591,11 +596,10 @@ def _triple_keys(rows: np.ndarray, n: int) -> np.ndarray:
     return np.ascontiguousarray(r).view([("a", np.int64), ("b", np.int64), ("c", np.int64)]).ravel()
 
 
-def _new_caps(tets, barrier, solid, face_of, parent, pts, cc, r2, vol, tried: set):
+def _new_caps(tets, barrier, solid, face_of, parent, pts, tried: set):
     """:func:`crease_caps` of this round not proposed before (one apex per cap: an apex that
     did not remove its cap is not tried again), as (c,) int64 tets and (c, 3) apexes."""
-    fp = np.where(barrier, parent[np.maximum(face_of, 0)].reshape(barrier.shape), -1)
-    caps, apex = crease_caps(pts, tets, barrier, solid, fp, cc, r2, vol, SLIVER_RATIO)
+    caps, apex = crease_caps(pts, tets, barrier, solid, face_of, parent, SLIVER_RATIO)
     if caps.size and tried:
         fresh = np.array([tuple(sorted(r)) not in tried for r in tets[caps].tolist()], dtype=bool)
         caps, apex = caps[fresh], apex[fresh]

@@ -36,9 +36,10 @@ midpoints are inserted into the Delaunay tetrahedralization in BRIO order
 O(n) array passes.
 
 Arrays (kernel :func:`select_points`): ``pts`` (nv, 3) float64; ``tets``, ``nbr`` (nt, 4)
-int32 and ``barrier`` (nt, 4) bool as in :mod:`meshwright.tet.exterior`; ``cc`` (nt, 3)
-float64 circumcentres and ``r2`` (nt,) float64 squared circumradii; ``bad`` (b,) int32 the
-bad tets in priority order.
+int32 and ``barrier`` (nt, 4) bool as in :mod:`meshwright.tet.exterior`; ``bad`` (b,) int32
+the bad tets in priority order.  The circumspheres of the tets a cavity meets are computed
+where they are needed (:func:`_sphere_at`, the bits of :func:`circumspheres`): a round for a
+few crease caps no longer pays a pass over every tet.
 """
 
 from __future__ import annotations
@@ -116,6 +117,15 @@ def _sphere_terms(pts, tets, t):
         dz = pts[p, 2] - pts[q, 2]
         e2 = min(e2, dx * dx + dy * dy + dz * dz)
     return ox, oy, oz, det, e2
+
+
+@njit(inline="always")
+def _sphere_at(pts, tets, t):
+    """Circumcentre (x, y, z) and squared circumradius of tet t, as :func:`_circumspheres`
+    stores them (the same operations, so the same bits)."""
+    ox, oy, oz, _, _ = _sphere_terms(pts, tets, t)
+    a = tets[t, 0]
+    return pts[a, 0] + ox, pts[a, 1] + oy, pts[a, 2] + oz, ox * ox + oy * oy + oz * oz
 
 
 @njit(cache=True)
@@ -204,7 +214,7 @@ def _in_diametral_ball(pts, tets, w, k, cx, cy, cz):
 
 
 @njit(cache=True)
-def select_points(pts, tets, nbr, barrier, cc, r2, bad, target, close, rng_state):
+def select_points(pts, tets, nbr, barrier, bad, target, close, rng_state):
     """Walk to each bad tet's point, grow its cavity, accept, defer or redirect it.
 
     Parameters
@@ -212,8 +222,6 @@ def select_points(pts, tets, nbr, barrier, cc, r2, bad, target, close, rng_state
     pts : (nv, 3) float64
     tets, nbr : (nt, 4) int32
     barrier : (nt, 4) bool
-    cc : (nt, 3) float64
-    r2 : (nt,) float64
     bad : (b,) int32
         Bad tets in priority order.
     target : (b, 3) float64
@@ -286,10 +294,11 @@ def select_points(pts, tets, nbr, barrier, cc, r2, bad, target, close, rng_state
                     x = nbr[w, k]
                     gone = False
                     if x >= 0:
-                        dx = cx - cc[x, 0]
-                        dy = cy - cc[x, 1]
-                        dz = cz - cc[x, 2]
-                        gone = dx * dx + dy * dy + dz * dz < r2[x]
+                        sx, sy, sz, sr2 = _sphere_at(pts, tets, x)
+                        dx = cx - sx
+                        dy = cy - sy
+                        dz = cz - sz
+                        gone = dx * dx + dy * dy + dz * dz < sr2
                     if gone or (not close[i] and _in_diametral_ball(pts, tets, w, k, cx, cy, cz)):
                         enc[i] = 4 * w + k
                         break
@@ -297,10 +306,11 @@ def select_points(pts, tets, nbr, barrier, cc, r2, bad, target, close, rng_state
                 x = nbr[w, k]
                 if x < 0 or stamp[x] == gen:
                     continue
-                dx = cx - cc[x, 0]
-                dy = cy - cc[x, 1]
-                dz = cz - cc[x, 2]
-                if dx * dx + dy * dy + dz * dz < r2[x]:
+                sx, sy, sz, sr2 = _sphere_at(pts, tets, x)
+                dx = cx - sx
+                dy = cy - sy
+                dz = cz - sz
+                if dx * dx + dy * dy + dz * dz < sr2:
                     stamp[x] = gen
                     queue[tail] = x
                     tail += 1
@@ -312,7 +322,7 @@ def select_points(pts, tets, nbr, barrier, cc, r2, bad, target, close, rng_state
     return accept, enc
 
 
-def crease_caps(pts, tets, barrier, solid, face_parent, cc, r2, vol, threshold):
+def crease_caps(pts, tets, barrier, solid, face_of, parent, threshold):
     """Solid tets flattened over a crease of the surface, and an apex point to remove each.
 
     A solid tet whose two faces are subfaces of two different input faces has the crease
@@ -331,11 +341,10 @@ def crease_caps(pts, tets, barrier, solid, face_parent, cc, r2, vol, threshold):
     tets : (nt, 4) int32
     barrier : (nt, 4) bool
     solid : (nt,) bool
-    face_parent : (nt, 4) int64
-        The input face of the subface at each barrier slot, -1 elsewhere.
-    cc : (nt, 3) float64
-    r2, vol : (nt,) float64
-        Circumcentres, squared circumradii and volumes (:func:`circumspheres`).
+    face_of : (4 nt,) int32
+        The subface at each barrier slot ``4 t + k``, -1 elsewhere.
+    parent : (m,) int32
+        The input face of each subface.
     threshold : float
         Sliver ratio ``a = r_in / R`` below which a crease tet is a cap.
 
@@ -349,6 +358,7 @@ def crease_caps(pts, tets, barrier, solid, face_parent, cc, r2, vol, threshold):
     cand = np.flatnonzero(solid & (flag_counts(barrier) >= 2))
     if cand.size == 0:
         return cand, np.zeros((0, 3))
+    cc, r2, _, vol = circumspheres(pts, tets[cand])  # of the candidates only
     p = pts[tets[cand]]
     area = np.zeros(cand.size)
     normals = np.empty((cand.size, 4, 3))
@@ -358,19 +368,22 @@ def crease_caps(pts, tets, barrier, solid, face_parent, cc, r2, vol, threshold):
         normals[:, k] = n
         area += 0.5 * np.linalg.norm(n, axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = 3.0 * np.abs(vol[cand]) / area / np.sqrt(r2[cand])
+        ratio = 3.0 * np.abs(vol) / area / np.sqrt(r2)
     low = ~(ratio >= threshold)
     cand = cand[low]
     normals = normals[low]
     p = p[low]
+    cc = cc[low]
+    r2 = r2[low]
     caps = []
     apex = []
     for i, t in enumerate(cand.tolist()):
         slots = np.flatnonzero(barrier[t])
+        face_parent = parent[face_of[4 * t + slots]]
         pair = None
         for x in range(slots.size):
             for y in range(x + 1, slots.size):
-                if face_parent[t, slots[x]] != face_parent[t, slots[y]]:
+                if face_parent[x] != face_parent[y]:
                     pair = (int(slots[x]), int(slots[y]))
                     break
             if pair is not None:
@@ -386,7 +399,7 @@ def crease_caps(pts, tets, barrier, solid, face_parent, cc, r2, vol, threshold):
             continue
         for depth in (0.3, 0.2, 0.1, 0.05):
             q = mid - out / size * depth * length
-            if float(np.sum((q - cc[t]) ** 2)) < r2[t]:
+            if float(np.sum((q - cc[i]) ** 2)) < r2[i]:
                 caps.append(t)
                 apex.append(q)
                 break
