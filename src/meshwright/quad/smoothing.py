@@ -27,10 +27,23 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import InputError
-from meshwright.core.predicates import orient2d
+from meshwright.core.predicates import CCW_ERRBOUND_A, orient2d
 from meshwright.core.validate_input import check_count
 
-__all__ = ["smooth_cells", "smooth_sliding", "cell_tables"]
+__all__ = ["cell_tables", "smooth_cells", "smooth_sliding"]
+
+
+@njit(inline="always")
+def _nxt(k, nv):
+    """Corner after ``k`` in a cell of ``nv`` corners (no integer division: a modulo by the
+    run-time ``nv`` was a hardware divide per corner)."""
+    return k + 1 if k + 1 < nv else 0
+
+
+@njit(inline="always")
+def _prv(k, nv):
+    """Corner before ``k`` in a cell of ``nv`` corners."""
+    return k - 1 if k > 0 else nv - 1
 
 
 @njit(inline="always")
@@ -57,26 +70,33 @@ def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
 
 
 @njit(inline="always")
-def _settled(nbr_ptr, nbr_idx, last, now, v):
-    """Whether neither ``v`` nor an edge neighbour moved in the last sweep or this one."""
-    if last[v] != 0 or now[v] != 0:
-        return False
+def _wake(nbr_ptr, nbr_idx, awake, v):
+    """Mark ``v`` and its edge neighbours in ``awake``."""
+    awake[v] = 1
     for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
-        w = nbr_idx[t]
-        if last[w] != 0 or now[w] != 0:
-            return False
-    return True
+        awake[nbr_idx[t]] = 1
 
 
 @njit(inline="always")
-def _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle):
-    """Flag ``v`` in ``now`` if it moved from (x0, y0) by more than ``settle`` times its
-    distance to its first neighbour."""
+def _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
+    """If ``v`` moved from (x0, y0) by more than ``settle`` times its distance to its
+    first neighbour, wake it and its neighbours for the rest of this sweep (``cur``) and
+    for the next (``nxt``); returns whether it did."""
     w = nbr_idx[nbr_ptr[v]]
     ref = (points[w, 0] - x0) ** 2 + (points[w, 1] - y0) ** 2
     shift = (points[v, 0] - x0) ** 2 + (points[v, 1] - y0) ** 2
     if shift > settle * settle * ref:
-        now[v] = 1
+        _wake(nbr_ptr, nbr_idx, cur, v)
+        _wake(nbr_ptr, nbr_idx, nxt, v)
+        return True
+    return False
+
+
+@njit(cache=True)
+def _wake_all(nbr_ptr, nbr_idx, awake, nodes):
+    """Mark ``nodes`` and their edge neighbours in ``awake``."""
+    for s in range(nodes.shape[0]):
+        _wake(nbr_ptr, nbr_idx, awake, nodes[s])
 
 
 @njit(cache=True)
@@ -88,54 +108,81 @@ def _corner_table(points, cells):
     for c in range(m):
         nv = 4 if cells[c, 3] >= 0 else 3
         for k in range(nv):
-            cs[c, k] = _corner_sine(points, cells[c, (k + nv - 1) % nv], cells[c, k], cells[c, (k + 1) % nv])
+            cs[c, k] = _corner_sine(points, cells[c, _prv(k, nv)], cells[c, k], cells[c, _nxt(k, nv)])
     return cs
 
 
 @njit(cache=True)
 def _star_min(cs, cells, cell_ptr, cell_idx, v):
-    """Smallest corner sine over the cells around ``v``, read from the table ``cs``."""
+    """Smallest corner sine over the cells around ``v``, read from the table ``cs``, and
+    the corner holding it (``4 * cell + corner``; -1 when no sine is below 1)."""
     worst = 1.0
+    at = -1
     for t in range(cell_ptr[v], cell_ptr[v + 1]):
         c = cell_idx[t]
         nv = 4 if cells[c, 3] >= 0 else 3
         for k in range(nv):
             if cs[c, k] < worst:
                 worst = cs[c, k]
-    return worst
+                at = 4 * c + k
+    return worst, at
 
 
-@njit(cache=True)
-def _moved_sines(points, cells, cell_ptr, cell_idx, v, bound, tmp):
-    """Whether every corner sine that moving ``v`` changes is at least ``bound``.
+@njit(inline="always")
+def _corner_cross(points, a, b, d):
+    """Sine, floating cross product and its error scale at corner b (between b->d and b->a).
 
-    With ``bound`` the star's smallest sine before the move, this is the guard's test
-    (the smallest sine does not fall) without the corners opposite ``v`` in its quads
-    (unchanged, and not below ``bound``), stopping at the first failure.  The sines are
-    kept in ``tmp`` (star order) for :func:`_store_sines`.
+    The cross product is computed with exactly the operations of ``orient2d(d, a, b)``'s
+    filter, so ``cross >= CCW_ERRBOUND_A * scale`` (Shewchuk 1997) certifies that the
+    exact ``orient2d(a, b, d)`` (the same determinant, cyclically permuted) is positive.
+    The sine is :func:`_corner_sine`'s, bit for bit.
     """
-    i = 0
-    for t in range(cell_ptr[v], cell_ptr[v + 1]):
-        c = cell_idx[t]
-        nv = 4 if cells[c, 3] >= 0 else 3
-        kv = 0
-        while cells[c, kv] != v:
-            kv += 1
-        for k in range(nv):
-            if nv == 4 and k == (kv + 2) % 4:
-                continue
-            s = _corner_sine(points, cells[c, (k + nv - 1) % nv], cells[c, k], cells[c, (k + 1) % nv])
-            if s < bound:
-                return False
-            tmp[i] = s
-            i += 1
-    return True
+    ux = points[d, 0] - points[b, 0]
+    uy = points[d, 1] - points[b, 1]
+    wx = points[a, 0] - points[b, 0]
+    wy = points[a, 1] - points[b, 1]
+    left = ux * wy
+    right = uy * wx
+    cross = left - right
+    den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+    return (cross / den if den > 0.0 else -1.0), cross, abs(left) + abs(right)
+
+
+@njit(inline="always")
+def _convex(points, a, b, d, cross, scale):
+    """Whether the exact ``orient2d(a, b, d)`` is positive: by the filter when ``cross``
+    (:func:`_corner_cross`) is certain, else by the adaptive predicate."""
+    if cross > 0.0 and cross >= CCW_ERRBOUND_A * scale:
+        return True
+    return orient2d(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1]) > 0.0
 
 
 @njit(cache=True)
-def _store_sines(cs, cells, cell_ptr, cell_idx, v, tmp):
-    """Write the sines :func:`_moved_sines` kept back into the corner table."""
+def _guard(points, cells, cell_ptr, cell_idx, cs, v, bound, worst, slot, old, exact):
+    """Test ``v``'s new position and bring the corner table ``cs`` up to date if it passes.
+
+    Passes if every corner sine that moving ``v`` changes is at least ``bound`` (the
+    star's smallest sine before the move: the guard's test without the corners opposite
+    ``v`` in its quads, unchanged and not below ``bound``) and, with ``exact``, every
+    cell of the star is strictly convex (a triangle strictly counter-clockwise) by exact
+    ``orient2d``, certified from the same cross products where the filter allows.  One
+    walk of the star: the new sines are written into ``cs`` as they are computed, the old
+    ones kept in ``slot`` / ``old`` and put back at the first failure.
+
+    A refused move almost always fails at the star's worst corner (``worst``, from
+    :func:`_star_min`), so that corner, if the move changes it, is tested first: the
+    same decision, without the walk up to it.
+    """
+    if worst >= 0:
+        c = worst >> 2
+        k = worst & 3
+        nv = 4 if cells[c, 3] >= 0 else 3
+        if nv == 3 or cells[c, (k + 2) & 3] != v:
+            sn = _corner_sine(points, cells[c, _prv(k, nv)], cells[c, k], cells[c, _nxt(k, nv)])
+            if sn < bound:
+                return False
     i = 0
+    ok = True
     for t in range(cell_ptr[v], cell_ptr[v + 1]):
         c = cell_idx[t]
         nv = 4 if cells[c, 3] >= 0 else 3
@@ -143,10 +190,30 @@ def _store_sines(cs, cells, cell_ptr, cell_idx, v, tmp):
         while cells[c, kv] != v:
             kv += 1
         for k in range(nv):
-            if nv == 4 and k == (kv + 2) % 4:
+            a = cells[c, _prv(k, nv)]
+            b = cells[c, k]
+            d = cells[c, _nxt(k, nv)]
+            if nv == 4 and k == ((kv + 2) & 3):
+                if exact:
+                    _, cross, scale = _corner_cross(points, a, b, d)
+                    if not _convex(points, a, b, d, cross, scale):
+                        ok = False
+                        break
                 continue
-            cs[c, k] = tmp[i]
+            sn, cross, scale = _corner_cross(points, a, b, d)
+            if sn < bound or (exact and not _convex(points, a, b, d, cross, scale)):
+                ok = False
+                break
+            slot[i] = 4 * c + k
+            old[i] = cs[c, k]
+            cs[c, k] = sn
             i += 1
+        if not ok:
+            break
+    if not ok:
+        for j in range(i):
+            cs[slot[j] >> 2, slot[j] & 3] = old[j]
+    return ok
 
 
 @njit(cache=True)
@@ -155,43 +222,49 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
 
     With ``settle > 0`` a vertex is visited again only while it or an edge neighbour
     moved, in this sweep or the last, by more than ``settle`` times the vertex's distance
-    to its first neighbour; 0 visits every free vertex in every sweep.  The sine of every
+    to its first neighbour; 0 visits every free vertex in every sweep.  The active set is
+    kept as wake flags, set around each such move for this sweep and the next (the
+    vertices of the previous sweep's moves and their neighbours, joined by this sweep's
+    as they come), so a skipped vertex costs one byte read.  The sine of every
     corner is kept in a table (:func:`_corner_table`), brought up to
     date with each kept move from the sines its test computed: a visit reads its star's
     smallest sine instead of computing it.
     """
     n = points.shape[0]
     kept = 0
-    last = np.ones(n, np.int8)
-    now = np.zeros(n, np.int8)
+    cur = np.ones(n, np.int8)
+    nxt = np.zeros(n, np.int8)
     cs = _corner_table(points, cells)
     most = 0
     for v in range(n):
         most = max(most, cell_ptr[v + 1] - cell_ptr[v])
-    tmp = np.empty(4 * most + 1)
-    for sweep in range(passes):
+    slot = np.empty(4 * most + 1, np.int64)
+    old = np.empty(4 * most + 1)
+    for _ in range(passes):
+        woke = False
         for v in range(n):
             if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
                 continue
-            if settle > 0.0 and sweep > 0 and _settled(nbr_ptr, nbr_idx, last, now, v):
+            if settle > 0.0 and cur[v] == 0:
                 continue
             tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
             x0 = points[v, 0]
             y0 = points[v, 1]
-            before = _star_min(cs, cells, cell_ptr, cell_idx, v)
+            before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
             for step in (1.0, 0.5):
                 points[v, 0] = x0 + step * (tx - x0)
                 points[v, 1] = y0 + step * (ty - y0)
-                if _moved_sines(points, cells, cell_ptr, cell_idx, v, before, tmp):
-                    _store_sines(cs, cells, cell_ptr, cell_idx, v, tmp)
+                if _guard(points, cells, cell_ptr, cell_idx, cs, v, before, worst, slot, old, False):
                     kept += 1
-                    if settle > 0.0:
-                        _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle)
+                    if settle > 0.0 and _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
+                        woke = True
                     break
                 points[v, 0] = x0
                 points[v, 1] = y0
-        last, now = now, last
-        now[:] = 0
+        if settle > 0.0 and not woke:
+            break  # nothing is awake: every later sweep would visit no vertex
+        cur, nxt = nxt, cur
+        nxt[:] = 0
     return kept
 
 @njit(cache=True)
@@ -224,7 +297,7 @@ def _tables(cells, n):
             nv = 4 if cells[c, 3] >= 0 else 3
             for k in range(nv):
                 if cells[c, k] == v:
-                    for w in (cells[c, (k + 1) % nv], cells[c, (k + nv - 1) % nv]):
+                    for w in (cells[c, _nxt(k, nv)], cells[c, _prv(k, nv)]):
                         if stamp[w] != v:
                             stamp[w] = v
                             nbr_idx[top] = w
@@ -258,66 +331,47 @@ def cell_tables(points, quads, triangles):
 
 
 @njit(cache=True)
-def _valid_cell(points, cells, c):
-    """Whether cell c is strictly convex (quad) or strictly counter-clockwise (triangle), exact."""
-    nv = 4 if cells[c, 3] >= 0 else 3
-    for k in range(nv if nv == 4 else 1):
-        a = cells[c, (k + nv - 1) % nv]
-        b = cells[c, k]
-        d = cells[c, (k + 1) % nv]
-        if orient2d(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1]) <= 0.0:
-            return False
-    return True
-
-
-@njit(cache=True)
-def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, cs, tmp):
+def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, worst, cs, slot, old):
     """Move v to (tx, ty) if every cell of its star is valid there (exact) and the star's
-    smallest corner sine (``before``, :func:`_star_min` where v is now) does not fall; a
+    smallest corner sine (``before`` at corner ``worst``, :func:`_star_min` where v is
+    now) does not fall; a
     star with a non-convex quad thus moves only to become valid, as the pairing's relaxed
-    pairs need.  A kept move updates the corner table ``cs`` (:func:`_corner_table`)."""
+    pairs need.  A kept move updates the corner table ``cs`` (:func:`_guard`)."""
     x0 = points[v, 0]
     y0 = points[v, 1]
     points[v, 0] = tx
     points[v, 1] = ty
-    if _moved_sines(points, cells, cell_ptr, cell_idx, v, before, tmp):
-        ok = True
-        for s in range(cell_ptr[v], cell_ptr[v + 1]):
-            if not _valid_cell(points, cells, cell_idx[s]):
-                ok = False
-                break
-        if ok:
-            _store_sines(cs, cells, cell_ptr, cell_idx, v, tmp)
-            return True
+    if _guard(points, cells, cell_ptr, cell_idx, cs, v, before, worst, slot, old, True):
+        return True
     points[v, 0] = x0
     points[v, 1] = y0
     return False
 
 
 @njit(cache=True)
-def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, last, now, settle, cs, tmp):
+def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, slot, old):
     """One Gauss-Seidel guarded Laplacian sweep over the free vertices, exact validity
-    kept; with ``settle > 0`` only those not :func:`_settled` (``last``: the moves of the
-    previous sweep, ``now``: this one's, flagged here).  ``cs``: the corner table, kept
-    up to date; ``tmp``: scratch for a star's sines."""
+    kept; with ``settle > 0`` only those awake in ``cur`` (:func:`_sweeps`; this sweep's
+    moves wake their neighbours in ``cur`` and ``nxt``, :func:`_note_move`).  ``cs``: the corner table, kept
+    up to date; ``slot``, ``old``: scratch for a star's sines (:func:`_guard`)."""
     kept = 0
     for v in range(points.shape[0]):
         if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
             continue
-        if settle > 0.0 and _settled(nbr_ptr, nbr_idx, last, now, v):
+        if settle > 0.0 and cur[v] == 0:
             continue
         tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
         x0 = points[v, 0]
         y0 = points[v, 1]
         # A refused trial puts v back exactly, so both trials share one ``before``.
-        before = _star_min(cs, cells, cell_ptr, cell_idx, v)
+        before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
         for step in (1.0, 0.5):
             if _try_move(
-                points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0), before, cs, tmp
+                points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0), before, worst, cs, slot, old
             ):
                 kept += 1
                 if settle > 0.0:
-                    _note_move(points, nbr_ptr, nbr_idx, now, v, x0, y0, settle)
+                    _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle)
                 break
     return kept
 
@@ -341,15 +395,15 @@ def _tangent_steps(points, nbr_ptr, nbr_idx, nodes, chord):
 
 
 @njit(cache=True)
-def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half, cs, tmp):
+def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half, cs, slot, old):
     """Move each sliding vertex to its projected full step, else its projected half step
-    (``cs``, ``tmp``: as :func:`_interior_sweep`)."""
+    (``cs``, ``slot``, ``old``: as :func:`_interior_sweep`)."""
     kept = 0
     for s in range(nodes.shape[0]):
         v = nodes[s]
-        before = _star_min(cs, cells, cell_ptr, cell_idx, v)
-        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1], before, cs, tmp) or _try_move(
-            points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1], before, cs, tmp
+        before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
+        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1], before, worst, cs, slot, old) or _try_move(
+            points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1], before, worst, cs, slot, old
         ):
             kept += 1
     return kept
@@ -453,16 +507,17 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     start = np.concatenate([[0], np.cumsum(deg)[:-1]])
     slide = np.flatnonzero((deg == 2) & ~np.asarray(fixed, dtype=bool))
     ends = other[order][np.stack([start[slide], start[slide] + 1], axis=1)]
-    last = np.ones(n, np.int8)
-    now = np.zeros(n, np.int8)
+    cur = np.ones(n, np.int8)
+    nxt = np.zeros(n, np.int8)
     cs = _corner_table(pts, cells)
-    tmp = np.empty(4 * int(np.diff(cell_ptr).max(initial=0)) + 1)
+    slot = np.empty(4 * int(np.diff(cell_ptr).max(initial=0)) + 1, np.int64)
+    old = np.empty(len(slot))
     for _ in range(passes):
-        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, last, now, settle, cs, tmp)
-        last, now = now, last
-        now[:] = 0
+        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, slot, old)
+        cur, nxt = nxt, cur
+        nxt[:] = 0
         # Sliding vertices count as moved: their interior neighbours stay awake.
-        last[slide] = 1
+        _wake_all(nbr_ptr, nbr_idx, cur, slide)
         if not len(slide):
             continue
         chord = pts[ends[:, 1]] - pts[ends[:, 0]]
@@ -478,5 +533,5 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
         both = project(np.concatenate([nodes, nodes]), np.vstack([at + step, at + 0.5 * step]), np.vstack([at, at]))
         full = np.ascontiguousarray(both[: len(nodes)], dtype=np.float64)
         half = np.ascontiguousarray(both[len(nodes) :], dtype=np.float64)
-        _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half, cs, tmp)
+        _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half, cs, slot, old)
     return pts
