@@ -419,7 +419,8 @@ def _run_delaunay(job: _Job) -> Mesh:
             if mark.any():
                 if tz.points.shape[0] + int(mark.sum()) > job.max_points:
                     raise_cap(job.max_points, "Delaunay refinement")
-                faces, parent, added = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
+                faces, parent, added, same = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
+                where = np.where(same >= 0, where[np.maximum(same, 0)], -1)
                 changed = True
         if new_interior.shape[0] and added == 0:
             if tz.points.shape[0] + new_interior.shape[0] > job.max_points:
@@ -438,7 +439,7 @@ def _run_delaunay(job: _Job) -> Mesh:
         if added == 0:
             break
         caps_only = False
-        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins, kept=kept)
+        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins, kept=kept, hint=where)
         changed = True
     if bar is not None:
         bar.close()

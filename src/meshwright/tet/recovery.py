@@ -133,7 +133,7 @@ def _star_search(tets, nbr, vt, stamp, queue, gen, a, b, c):
 
 
 @njit(cache=True)
-def find_faces(tets, nbr, vt, faces):
+def find_faces(tets, nbr, vt, faces, hint):
     """Where each face occurs in the tetrahedralization.
 
     Parameters
@@ -142,6 +142,10 @@ def find_faces(tets, nbr, vt, faces):
     vt : (nv,) int32
         :func:`vertex_tets`.
     faces : (m, 3) int32
+    hint : (m,) int64 or (0,)
+        A position ``4 t + k`` each face had before (-1: none).  Insertions move few tets
+        (compaction fills the freed slots from the end), so most are still right; each is
+        checked, and a face whose hint is wrong is searched in a star as without one.
 
     Returns
     -------
@@ -152,9 +156,27 @@ def find_faces(tets, nbr, vt, faces):
     stamp = np.zeros(nt, dtype=np.int32)
     queue = np.empty(nt, dtype=np.int32)
     out = np.empty(faces.shape[0], dtype=np.int64)
+    hinted = hint.shape[0] == faces.shape[0]
     for i in range(faces.shape[0]):
+        if hinted and 0 <= hint[i] < 4 * nt and _holds_face(tets, hint[i], faces[i, 0], faces[i, 1], faces[i, 2]):
+            out[i] = hint[i]
+            continue
         out[i] = _star_search(tets, nbr, vt, stamp, queue, i + 1, faces[i, 0], faces[i, 1], faces[i, 2])
     return out
+
+
+@njit(inline="always")
+def _holds_face(tets, h, a, b, c):
+    """Whether tet ``h // 4`` minus slot ``h % 4`` is the face {a, b, c}."""
+    t = h // 4
+    k = h % 4
+    found = 0
+    for j in range(4):
+        if j != k:
+            w = tets[t, j]
+            if w == a or w == b or w == c:
+                found += 1
+    return found == 3
 
 
 @njit(cache=True)
@@ -554,10 +576,12 @@ def _close_marks(pts, faces, face_edges, mark):
 
 @njit(cache=True)
 def _bisect(pts, faces, parent, face_edges, mark, mid):
-    """Split every face with marked edges (longest first); (faces', parent') new arrays."""
+    """Split every face with marked edges (longest first); (faces', parent', kept) new arrays,
+    ``kept`` (m',) int64 the face each unsplit row is a copy of, -1 for the halves."""
     m = faces.shape[0]
     out = np.empty((4 * m, 3), dtype=np.int32)
     par = np.empty(4 * m, dtype=np.int32)
+    kept = np.full(4 * m, -1, dtype=np.int64)
     n = 0
     for f in range(m):
         k = _longest(pts, faces, face_edges, f)
@@ -566,6 +590,7 @@ def _bisect(pts, faces, parent, face_edges, mark, mid):
             out[n, 1] = faces[f, 1]
             out[n, 2] = faces[f, 2]
             par[n] = parent[f]
+            kept[n] = f
             n += 1
             continue
         vi = faces[f, k]
@@ -596,7 +621,7 @@ def _bisect(pts, faces, parent, face_edges, mark, mid):
             out[n, 0], out[n, 1], out[n, 2] = vi, mm, v2
             par[n] = parent[f]
             n += 1
-    return out[:n].copy(), par[:n].copy()
+    return out[:n].copy(), par[:n].copy(), kept[:n].copy()
 
 
 def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex, origins=None):
@@ -620,11 +645,15 @@ def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex, origi
     Returns
     -------
     faces, parent : the bisected subfaces; ``pts`` rows are not updated (read them again).
+    count : int
+        Midpoints inserted.
+    kept : (m',) int64
+        The input face each unsplit output face is, -1 for the halves.
     """
     _close_marks(pts, faces, face_edges, mark)
     sel = np.flatnonzero(mark)
     if sel.size == 0:
-        return faces, parent, 0
+        return faces, parent, 0, np.arange(faces.shape[0], dtype=np.int64)
     e = edges[sel]
     midpoints = 0.5 * (pts[e[:, 0]] + pts[e[:, 1]])
     ids = new_vertex(midpoints)
@@ -632,11 +661,11 @@ def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex, origi
         origins.record(ids, e)
     mid = np.full(edges.shape[0], -1, dtype=np.int32)
     mid[sel] = ids
-    faces2, parent2 = _bisect(pts, faces, parent, face_edges, mark, mid)
-    return faces2, parent2, int(sel.size)
+    faces2, parent2, kept = _bisect(pts, faces, parent, face_edges, mark, mid)
+    return faces2, parent2, int(sel.size), kept
 
 
-def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, origins, rounds: int = RECOVERY_ROUNDS, kept=None):
+def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, origins, rounds: int = RECOVERY_ROUNDS, kept=None, hint=None):
     """Split missing subfaces until every one is a face of the tetrahedralization ``tz``.
 
     Parameters
@@ -658,6 +687,8 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
     rounds : int
     kept : iterable of 4 vertex ids, optional
         Quadruples whose subface pair :func:`lawson` leaves as it is.
+    hint : (m,) int64, optional
+        Where each face was last found (:func:`find_faces`).
 
     Returns
     -------
@@ -666,11 +697,13 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
     faces = np.array(faces, dtype=np.int32)  # flips change it in place
     lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis, kept)
     splits = 0
+    hint = np.zeros(0, dtype=np.int64) if hint is None else hint
     for _ in range(8 * rounds):
         tets = tz.tetrahedra
         nbr = tz.neighbors
         vt = vertex_tets(tets, tz.points.shape[0])
-        where = find_faces(tets, nbr, vt, faces)
+        where = find_faces(tets, nbr, vt, faces, hint)
+        hint = where
         missing = where < 0
         if not missing.any():
             return faces, parent, where
@@ -696,7 +729,8 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
             )
         if tz.points.shape[0] + int(mark.sum()) > max_points:
             raise_cap(max_points, "boundary recovery")
-        faces, parent, _ = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
+        faces, parent, _, same = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
+        hint = np.where(same >= 0, where[np.maximum(same, 0)], -1)
         lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis, kept)
     f = int(np.flatnonzero(missing)[0])
     raise MeshingError(
