@@ -187,7 +187,7 @@ def test_a_flat_ear_of_the_front_is_opened(d, split):
     xy = np.array([[0, -0.05], [1, 0], [-1, 0], d], dtype=np.float64)
     tris = np.array([[0, 1, 2], [2, 1, 3], [0, 0, 0], [0, 0, 0]], dtype=np.int32)
     nbr = np.array([[1, -1, -1], [2, 3, 0], [-1, -1, -1], [-1, -1, -1]], dtype=np.int32)
-    out_xy, out_t, changed = _open_ears(xy, tris, nbr)
+    out_xy, out_t, changed = _open_ears(xy, tris, nbr, np.full(4, -1, dtype=np.int32))
     assert changed == 1
     assert len(out_xy) == 4 + split and len(out_t) == 4 + 2 * split
     live = [0, 1] + ([4, 5] if split else [])

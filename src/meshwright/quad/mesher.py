@@ -8,6 +8,8 @@ method:
   :mod:`meshwright.quad.quadtree`;
 * ``pairing``: advancing-front triangles paired into quads (Zhu et al. 1991, 18.5.1),
   :mod:`meshwright.quad.pairing`;
+* ``zhu``: the same with the chapter's own front, which makes the two triangles of every
+  quad together and keeps every sub-front even (:mod:`meshwright.quad.zhu`);
 * ``paving``: rows of quads laid inward from the boundaries (Blacker and Stephenson
   1991, 18.5.2), :mod:`meshwright.quad.paving`.
 
@@ -156,6 +158,12 @@ def _pairing(job: QuadJob) -> QuadFill:
     return pairing_fill(job)
 
 
+def _zhu(job: QuadJob) -> QuadFill:
+    from meshwright.quad.pairing import pairing_fill
+
+    return pairing_fill(job, front="pairs")
+
+
 def _paving(job: QuadJob) -> QuadFill:
     from meshwright.quad.paving import paving_fill
 
@@ -173,6 +181,12 @@ QUAD_METHODS: dict[str, QuadMethod] = {
         QuadMethod(
             "pairing", "advancing-front triangles paired into quads, then shape enhancement (Zhu et al., 18.5.1)",
             _pairing, needs_size=False, smooths=True, reports_progress=False, segments=True, points=True,
+            regions=False,
+        ),
+        QuadMethod(
+            "zhu", "pairs made two triangles at a time by the advancing front, every sub-front even, then shape "
+            "enhancement (Zhu et al., 18.5.1 steps 1-9)",
+            _zhu, needs_size=False, smooths=True, reports_progress=False, segments=True, points=True,
             regions=False,
         ),
         QuadMethod(

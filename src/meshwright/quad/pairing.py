@@ -79,13 +79,9 @@ skipped: the enhancement and the quad smoothing below reshape the quads themselv
    With ``all_quad=False`` the quad-dominant mesh is returned and :class:`PairingReport`
    counts the triangles left.
 
-Still missing from the chapter's full method: the second triangle is not *generated* by the
-front beside the first (the front makes triangles only; pairing follows their creation
-order), so the chapter's per-sub-front parity bookkeeping (steps 3, 5(a)-(c), 6) is
-replaced by the even loops of step 1 plus the alternating chains of step 3, and the
-placement of the front's nodes ignores the pairing (so a boundary fan of triangles can
-leave an unpairable one: centroid splits try first, then chords refine through it).
-The chapter does not define its four enhancement operations; "side elimination" is read
+With ``front="pairs"`` (method ``"zhu"``) the chapter's own front makes the triangles two
+at a time, every sub-front even (steps 1-9, :mod:`meshwright.quad.zhu`), and steps 2-3
+only pair what it left to the triangle front.  The chapter does not define its four enhancement operations; "side elimination" is read
 here as the removal of the side between two unpaired triangles (step 3) and the others
 as in Zhu et al.'s names.
 
@@ -112,6 +108,7 @@ from meshwright.geometry.curves import Parametric
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.chords import chord_split
+from meshwright.quad.zhu import zhu_front
 from meshwright.quad.enhancement import (
     ENHANCE_SMOOTH,
     enhance,
@@ -126,24 +123,9 @@ from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
 
 __all__ = [
-    "CENTRE_KEEP",
-    "CENTRE_ROUNDS",
-    "CHORD_RINGS",
-    "DOMAIN_EARLY_VISIT",
-    "DOMAIN_STALE_WALKS",
-    "EARLY_VISIT",
-    "FLAT_ANGLE",
-    "MAX_VISIT",
-    "MAX_WALKS",
-    "PAIR_BOUNDS",
-    "RESPACE",
-    "STALE_WALKS",
-    "PairingReport",
-    "ParityError",
-    "make_loops_even",
-    "pair_domain",
-    "pair_triangles",
-    "pairing_fill",
+    "CENTRE_KEEP", "CENTRE_ROUNDS", "CHORD_RINGS", "DOMAIN_EARLY_VISIT", "DOMAIN_STALE_WALKS", "EARLY_VISIT",
+    "FLAT_ANGLE", "FRONTS", "MAX_VISIT", "MAX_WALKS", "PAIR_BOUNDS", "RESPACE", "STALE_WALKS", "PairingReport",
+    "ParityError", "make_loops_even", "pair_domain", "pair_triangles", "pairing_fill",
 ]
 
 PAIR_BOUNDS = (0.5, 0.3, 0.0, -1.0)  # scaled-Jacobian floors of the pairing rounds; 0: strictly convex; < 0: any
@@ -164,6 +146,7 @@ CENTRE_ROUNDS = 2  # rounds of splitting the still unpaired triangles at their c
 CENTRE_KEEP = 0.3  # ... kept only if it pairs everything with a scaled Jacobian of at least this
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
 RESPACE = 6  # segments on each side of a parity split spaced evenly again
+FRONTS = ("pairs", "triangles")  # pair_domain's fronts: Zhu's pair by pair, or triangles then matching
 CHORD_RINGS = 2  # rings of nodes around a chord refinement's new nodes smoothed again
 
 
@@ -360,10 +343,10 @@ def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> np.ndarray:
     return np.array(flipped, dtype=np.int64)
 
 
-def _open_ears(xy, tris, nbr):
-    """Open every triangle with two boundary sides and a corner between them wider than
-    ``FLAT_ANGLE`` (a sliver the front closed along the boundary): no pair could take it,
-    and any quad on it would keep that corner.  Its third side is flipped when the union
+def _open_ears(xy, tris, nbr, mate):
+    """Open every unpaired (``mate``) triangle with two boundary sides and a corner between
+    them wider than ``FLAT_ANGLE`` (a sliver the front closed along the boundary): no pair
+    could take it, and any quad on it would keep that corner.  Its third side is flipped when the union
     with the neighbour is strictly convex, else split at its midpoint (both triangles in
     two, the ear vertex then joined to the interior); every new triangle is checked
     counter-clockwise by exact ``orient2d``.
@@ -380,10 +363,12 @@ def _open_ears(xy, tris, nbr):
     new_xy, new_tris = [], []
     changed = 0
     for t in ears.tolist():
-        if (nbr[t] == -2).any():
+        if (nbr[t] == -2).any() or mate[t] >= 0:
             continue
         k = int(np.flatnonzero(nbr[t] >= 0)[0])
         s = int(nbr[t, k])
+        if mate[s] >= 0:
+            continue
         a, b, c = (int(v) for v in (tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]))
         u, w = xy[b] - xy[a], xy[c] - xy[a]
         if (nbr[s] < 0).sum() >= 2 or np.degrees(np.arctan2(u[0] * w[1] - u[1] * w[0], u @ w)) < FLAT_ANGLE:
@@ -527,16 +512,19 @@ class _PairState(NamedTuple):
 
 
 def _pair_rounds(
-    xy, tris, bkey, n, bounds, max_visit, walks, seed, stale_walks=STALE_WALKS, early_visit=EARLY_VISIT,
+    xy, tris, bkey, n, bounds, max_visit, walks, seed, stale_walks=STALE_WALKS, early_visit=EARLY_VISIT, mate=None,
 ) -> _PairState:
     """Ears opened, greedy and chain rounds per bound (searches of ``early_visit``
     triangles before the last), then the walks (steps 1-3), stopped after ``stale_walks``
-    rounds without fewer unpaired triangles."""
+    rounds without fewer unpaired triangles; ``mate`` (t,) int32, the pairs made already
+    (the pair front's), is completed in place (nothing to do when it pairs everything)."""
     nbr = _neighbours(tris, bkey, n)
-    xy, tris, changed = _open_ears(xy, tris, nbr)
+    mate = np.full(len(tris), -1, dtype=np.int32) if mate is None else mate
+    if (mate >= 0).all():
+        return _PairState(xy, tris, nbr, mate, 0, None)
+    xy, tris, changed = _open_ears(xy, tris, nbr, mate)
     if changed:
         nbr = _neighbours(tris, bkey, n)
-    mate = np.full(len(tris), -1, dtype=np.int32)
     chains = 0
     raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
     for i, q in enumerate(bounds):
@@ -615,6 +603,7 @@ def pair_domain(
     fixed_boundary: bool = False,
     seed=0,
     max_points: int | None = None,
+    front: str = "triangles",
 ):
     """Quadrilateral fill of ``domain`` by pairing advancing-front triangles (18.5.1).
 
@@ -637,6 +626,10 @@ def pair_domain(
         Randomness of the constrained triangulation and of the left-over walks.
     max_points : int, optional
         Cap on vertices (the front's nodes, and the chord refinement's).
+    front : {"triangles", "pairs"}
+        ``"triangles"``: the triangle front, then the matching of steps 2-3;
+        ``"pairs"``: Zhu's pair-by-pair front (:func:`meshwright.quad.zhu.zhu_front`),
+        the matching only for the triangles it leaves.
 
     Returns
     -------
@@ -665,6 +658,8 @@ def pair_domain(
     passes = check_count(smooth, "smooth (passes)")
     seed = check_seed(seed)
     cap = np.iinfo(np.int32).max if max_points is None else check_count(max_points, "max_points", 4)
+    if front not in FRONTS:
+        raise InputError(f"front must be one of {', '.join(map(repr, FRONTS))}, got {front!r}")
     disc, added = make_loops_even(domain, domain.discretize(field), fixed_boundary)
     curves = SegmentCurves.from_domain(domain, disc)
     ct = cdt_build(disc.points, disc.segments, seed=seed, curves=curves)
@@ -675,7 +670,10 @@ def pair_domain(
         # Chapter 18.3's background, as triangulate's front takes it: the triangulated
         # boundary nodes with their point distribution function.
         field = BackgroundGrid.from_boundary(ct.points, ct.segments()[0], ct.triangles(False))
-    pts, tris = advancing_front(ct, field, max_points=cap, finish=False)
+    if front == "pairs":
+        pts, tris, zpairs, _ = zhu_front(ct, field, max_points=cap)
+    else:
+        pts, tris, zpairs = *advancing_front(ct, field, max_points=cap, finish=False), np.zeros((0, 2), np.int64)
     base = ct.to_mesh(segment_markers=disc.segment_markers, fill=(pts, tris))
     # The mesh keeps the front's triangle order; recover each line's curve.
     used = np.zeros(len(pts), dtype=bool)
@@ -712,9 +710,11 @@ def pair_domain(
     tri_in = as_cells(base.cells["triangle"], "triangles", 3, n).copy()
     lkey = np.sort(lines.astype(np.int64), axis=1)
     bkey = np.unique(lkey[:, 0] * n + lkey[:, 1])
+    mate = np.full(len(tri_in), -1, dtype=np.int32)
+    mate[zpairs[:, 0]], mate[zpairs[:, 1]] = zpairs[:, 1], zpairs[:, 0]
     paired = _pair_rounds(
         as_points(xy, "points"), tri_in, bkey, n, PAIR_BOUNDS, MAX_VISIT, MAX_WALKS, seed, DOMAIN_STALE_WALKS,
-        DOMAIN_EARLY_VISIT,
+        DOMAIN_EARLY_VISIT, mate,
     )
 
     def attempt(st):
@@ -771,8 +771,8 @@ def pair_domain(
     return fill, report
 
 
-def pairing_fill(job):
-    """``QUAD_METHODS["pairing"].build``: :func:`pair_domain` on a checked :class:`QuadJob`.
+def pairing_fill(job, front="triangles"):
+    """``QUAD_METHODS["pairing"]`` / ``["zhu"]``: :func:`pair_domain` on a checked :class:`QuadJob`.
 
     The method's own smoothing (``ENHANCE_SMOOTH`` passes, boundary nodes sliding on
     their curves) is part of its shape enhancement and always runs, since the relaxed
@@ -781,7 +781,7 @@ def pairing_fill(job):
     """
     return pair_domain(
         job.domain, job.field, all_quad=job.all_quad, smooth=ENHANCE_SMOOTH, seed=job.seed,
-        max_points=job.max_points,
+        max_points=job.max_points, front=front,
     )[0]
 
 

@@ -1,0 +1,438 @@
+r"""Numba kernel of Zhu's pair-by-pair advancing front (see :mod:`meshwright.quad.zhu`).
+
+Source: J. Z. Zhu, O. C. Zienkiewicz, E. Hinton and J. Wu, "A new approach to the
+development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. Eng. 32,
+1991, as summarised in section 18.5.1 of the reference chapter (steps 1-9): the advancing
+front makes a triangle ABC on an active side AB, then at once a second triangle on one of
+ABC's active sides, the two forming a quadrilateral, every sub-front kept even.
+
+Parity by colours
+-----------------
+The chapter keeps the number of active sides of every sub-front even: a split by an
+existing node C leaves one sub-front odd (5(c)) and the second triangle must take its base
+there, and its apex must leave no odd sub-front (6).  Here that count is never walked: every
+front node carries a colour 0 / 1 fixed for its lifetime (``col``), and every front side
+joins two nodes of different colours (the front is properly two-coloured; the initial
+front is, when every loop of the boundary is even).  A closed loop of such sides has an
+even length, so every sub-front is even whatever splits or merges happen.  A quadrilateral
+ABCD made of ABC and its partner alternates colours, so its diagonal joins two nodes of the
+same colour: with ``col[C] == col[A]`` the second triangle lies on side A C (the chapter's
+odd sub-front of 5(c) is the one holding A C: the front path from C back to A has an even
+length), with ``col[C] == col[B]`` on side C B, and a new node C may take either colour
+(5(a)-(b): any active side).  The second triangle's apex D must have the colour of the
+opposite corner (a node of the other colour would close an odd sub-front, 6), or be new.
+So the parity rule is two table reads per candidate, and it costs nothing on splits.
+
+Both triangles are tested before either is made: the second one on the *virtual* face of
+the first (A -> C or C -> B), against the front as it is.  That is exact: the second
+triangle lies in the closed half-plane left of its base, the first triangle (and with it
+the face A -> B and any face the first closes) in the closed half-plane to the right, so no
+face the first triangle adds or removes can meet the second, and no node of the first lies
+inside the second.  Every decision is the front's exact validity test
+(:func:`meshwright.tri._front_kernel._valid`: ``orient2d``, crossings, nodes inside).
+
+State: the triangle front's :class:`~meshwright.tri._front_kernel.FrontState` (layout
+there) and two arrays of this kernel::
+
+    col    (pcap,) int8   colour of each node, -1 until it joins the front
+    tpair  (tcap,) int8   1 where triangle t is the first of a pair with t + 1
+
+A face with no admissible pair is postponed (``P_MAX_DEFER`` times; its last try adds a
+round that asks validity only, in the same search box: the triangle front's wider last
+search let a colour-restricted face take far nodes, slivers across a graded field), then
+given up until every other face has been tried, then left (``F_TRIES = LEFT``, off the
+heap, still on the front) for the caller to close (:mod:`meshwright.quad.zhu`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.borrowed import borrowed
+from meshwright.core.spatial.loose_quadtree import Q_DEPTH, Q_NODES, STACK_PER_LEVEL, qt_query
+from meshwright.quad._pairing_kernel import corner_flat
+from meshwright.tri._front_kernel import (
+    F_A,
+    F_B,
+    F_TRIES,
+    M_FAIL,
+    M_NF,
+    M_NIN,
+    M_NH,
+    M_NP,
+    M_NT,
+    M_NW,
+    M_STAMP,
+    M_STEPS,
+    M_SYNC,
+    P_CLEAR_E,
+    P_CLEAR_F,
+    P_CLEAR_N,
+    P_CLOSE,
+    P_DEFER,
+    P_LONG,
+    P_MAX_DEFER,
+    P_MAX_POINTS,
+    P_QMIN,
+    P_SEARCH,
+    P_SYNC_EVERY,
+    P_UNIFORM,
+    R_DONE,
+    R_POINTS,
+    R_ROOM,
+    R_STEPS,
+    R_SYNC,
+    ROOM_FACES,
+    V_STAMP,
+    _find_face,
+    _heap_pop,
+    _make_triangle,
+    _orient,
+    _quality,
+    _seg_dist2,
+    _to_metric,
+    _valid,
+    heap_push,
+)
+
+__all__ = ["LEFT", "R_PAUSE", "zhu_advance"]
+
+LEFT = -1  # F_TRIES of a face the pair front left to the triangle front
+R_PAUSE = 6  # the triangle count reached the caller's max_tris (R_* codes of the front kernel otherwise)
+
+
+@njit(inline="always")
+def _gather(a, b, fid, p, fs, par, col, want, items, nodes, cand, ckey, stack, fstack):
+    """Candidate apexes of a triangle on face a -> b (the triangle front's search, step 5 of
+    18.2), the ideal point written at ``pts[p]``.  ``fid`` is the face's id, -1 for a
+    virtual face; with ``want >= 0`` only nodes of that colour, or uncoloured, are
+    candidates (every node still counts for validity and clearance).
+
+    Returns ``(ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand,
+    ckey)``: query items and nodes, candidates (``n_close`` close ones first), whether the
+    ideal point keeps its clearances, the metric and the base in it; the scratch arrays
+    come back because they may have been replaced by larger ones.
+    """
+    pts, met, vint, face, falive, qbox, qgeo = fs.pts, fs.met, fs.vint, fs.face, fs.falive, fs.qbox, fs.qgeo
+    qchild, qhead, qnext, meta = fs.qchild, fs.qhead, fs.qnext, fs.meta
+    m11 = 0.5 * (met[a, 0] + met[b, 0])
+    m12 = 0.5 * (met[a, 1] + met[b, 1])
+    m22 = 0.5 * (met[a, 2] + met[b, 2])
+    l11 = np.sqrt(m11)
+    l21 = m12 / l11
+    l22 = np.sqrt(max(m22 - l21 * l21, 1e-12 * m22))
+    ax = pts[a, 0]
+    ay = pts[a, 1]
+    bx = pts[b, 0]
+    by = pts[b, 1]
+    u0, u1 = _to_metric(l11, l21, l22, bx - ax, by - ay)
+    ln = np.hypot(u0, u1)
+    rho = min(max(1.0, 0.55 * ln), 2.0 * ln)
+    hgt = np.sqrt(max(rho * rho - 0.25 * ln * ln, 0.0))
+    w0 = -u1 / ln * hgt
+    w1 = u0 / ln * hgt
+    oy = w1 / l22
+    ox = (w0 - l21 * oy) / l11
+    px = 0.5 * (ax + bx) + ox
+    py = 0.5 * (ay + by) + oy
+    pts[p, 0] = px
+    pts[p, 1] = py
+    det = m11 * m22 - m12 * m12
+    rad = par[P_SEARCH] * rho
+    wx = rad * np.sqrt(m22 / det)
+    wy = rad * np.sqrt(m11 / det)
+    x0 = min(px - wx, ax, bx)
+    x1 = max(px + wx, ax, bx)
+    y0 = min(py - wy, ay, by)
+    y1 = max(py + wy, ay, by)
+    ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
+    if ni > items.shape[0]:
+        items = np.empty(2 * ni, dtype=np.int32)
+        ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
+    meta[M_STAMP] += 1
+    stamp = meta[M_STAMP]
+    vint[a, V_STAMP] = stamp
+    vint[b, V_STAMP] = stamp
+    nn = 0
+    p_ok = True
+    clear_f = par[P_CLEAR_F] * rho
+    for i in range(ni):
+        g = items[i]
+        r = np.int64(face[g, F_A])
+        s = np.int64(face[g, F_B])
+        for v in (r, s):
+            if vint[v, V_STAMP] != stamp:
+                vint[v, V_STAMP] = stamp
+                if nn >= nodes.shape[0]:
+                    bigger = np.empty(2 * nodes.shape[0], dtype=np.int32)
+                    for j in range(nn):
+                        bigger[j] = nodes[j]
+                    nodes = bigger
+                nodes[nn] = v
+                nn += 1
+        if g != fid and r != s and p_ok and not (r == b and s == a):
+            rx, ry = _to_metric(l11, l21, l22, pts[r, 0] - px, pts[r, 1] - py)
+            sx, sy = _to_metric(l11, l21, l22, pts[s, 0] - px, pts[s, 1] - py)
+            if _seg_dist2(rx, ry, sx, sy) < clear_f * clear_f:
+                p_ok = False
+    if cand.shape[0] < nn:
+        cand = np.empty(2 * nn, dtype=np.int32)
+        ckey = np.empty(2 * nn)
+    nc = 0
+    close = par[P_CLOSE] * rho
+    clear_n = par[P_CLEAR_N] * rho
+    for i in range(nn):
+        v = nodes[i]
+        dx, dy = _to_metric(l11, l21, l22, pts[v, 0] - px, pts[v, 1] - py)
+        d2 = dx * dx + dy * dy
+        if d2 < clear_n * clear_n:
+            p_ok = False
+        if want >= 0 and col[v] >= 0 and col[v] != want:
+            continue
+        inbox = x0 <= pts[v, 0] <= x1 and y0 <= pts[v, 1] <= y1
+        if inbox and _orient(pts, a, b, v) > 0.0:
+            if d2 < close * close:
+                key = np.sqrt(d2) / close
+            else:
+                qx, qy = _to_metric(l11, l21, l22, pts[v, 0] - ax, pts[v, 1] - ay)
+                key = 2.0 - _quality(0.0, 0.0, u0, u1, qx, qy)
+            j = nc
+            while j > 0 and ckey[j - 1] > key:
+                cand[j] = cand[j - 1]
+                ckey[j] = ckey[j - 1]
+                j -= 1
+            cand[j] = v
+            ckey[j] = key
+            nc += 1
+    n_close = 0
+    while n_close < nc and ckey[n_close] < 1.0:
+        n_close += 1
+    return ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey
+
+
+@njit(inline="always")
+def _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, a):
+    """The apex tried ``i``-th (the triangle front's order: close nodes making a good, not
+    over-long triangle, the ideal point, then every candidate in list order) and the new
+    sides' clearance of that round; -1 to skip.  Rounds after the first ask validity only."""
+    per = nc + n_close + 1
+    clear = par[P_CLEAR_E] * rho if i < per else 0.0
+    i = i % per
+    if i < n_close:
+        c = np.int64(cand[i])
+        qx, qy = _to_metric(l11, l21, l22, pts[c, 0] - pts[a, 0], pts[c, 1] - pts[a, 1])
+        longest = par[P_LONG] * rho
+        if _quality(0.0, 0.0, u0, u1, qx, qy) < par[P_QMIN] or max(
+            qx * qx + qy * qy, (qx - u0) ** 2 + (qy - u1) ** 2
+        ) > longest * longest:
+            return np.int64(-1), clear
+        return c, clear
+    if i == n_close:
+        return (np.int64(p) if p_ok else np.int64(-1)), clear
+    return np.int64(cand[i - n_close - 1]), clear
+
+
+@njit(inline="always")
+def _convex(pts, q0, q1, q2, q3):
+    """Quadrilateral q0 q1 q2 q3 strictly convex (exact)."""
+    return (
+        _orient(pts, q3, q0, q1) > 0.0
+        and _orient(pts, q0, q1, q2) > 0.0
+        and _orient(pts, q1, q2, q3) > 0.0
+        and _orient(pts, q2, q3, q0) > 0.0
+    )
+
+
+@njit(inline="always")
+def _flat_input(pts, nin, q0, q1, q2, q3):
+    """Whether quadrilateral q0 q1 q2 q3 has a corner wider than 150 degrees at an input
+    node whose two neighbours in it are input nodes too (a quality rule)."""
+    for k in range(4):
+        v = q0 if k == 0 else (q1 if k == 1 else (q2 if k == 2 else q3))
+        prv = q3 if k == 0 else (q0 if k == 1 else (q1 if k == 2 else q2))
+        nxt = q1 if k == 0 else (q2 if k == 1 else (q3 if k == 2 else q0))
+        if v < nin and prv < nin and nxt < nin and corner_flat(pts, prv, v, nxt):
+            return True
+    return False
+
+
+@njit(inline="always")
+def _second(u, w, o, p, last, fs, par, col, want, items, nodes, cand, ckey, stack, fstack):
+    """Apex of the second triangle on the virtual face u -> w (step 6): a node of colour
+    ``want`` (or uncoloured), or the new point ``p``; ``o`` is the first triangle's third
+    corner, across u w.  Strictly convex quadrilaterals are preferred in the first round.
+
+    Returns ``(d, items, nodes, cand, ckey)``, d = -1 when none is admissible.
+    """
+    pts, face, qbox = fs.pts, fs.face, fs.qbox
+    nin = fs.meta[M_NIN]
+    ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
+        u, w, np.int64(-1), p, fs, par, col, want, items, nodes, cand, ckey, stack, fstack
+    )
+    rounds = 2 if last else 1
+    per = nc + n_close + 1
+    for i in range(rounds * per):
+        d, clear = _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, u)
+        if d < 0:
+            continue
+        # The quad is u o w d (o right of u -> w); its corners at u and w may be reflex,
+        # which the chapter allows (step 8) but only in the last round here.  A corner
+        # between two input nodes wider than 150 degrees is never made: they barely move,
+        # so no smoothing would open it (the face is left to the triangle front instead).
+        if (clear > 0.0 and not _convex(pts, u, o, w, d)) or _flat_input(pts, nin, u, o, w, d):
+            continue
+        if _valid(pts, face, qbox, u, w, d, np.int64(-1), items, ni, nodes, nn, clear, l11, l21, l22):
+            return d, items, nodes, cand, ckey
+    return np.int64(-1), items, nodes, cand, ckey
+
+
+@njit(inline="always")
+def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack):
+    """Advance face f by one quadrilateral (steps 1-9) if any admissible pair exists.
+
+    Returns ``(ok, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2)``.
+    """
+    pts, met, face, qbox, meta = fs.pts, fs.met, fs.face, fs.qbox, fs.meta
+    a = np.int64(face[f, F_A])
+    b = np.int64(face[f, F_B])
+    last = face[f, F_TRIES] >= par[P_MAX_DEFER]
+    p = meta[M_NP]
+    uniform = par[P_UNIFORM] != 0.0
+    ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
+        a, b, np.int64(f), p, fs, par, col, np.int64(-1), items, nodes, cand, ckey, stack, fstack
+    )
+    px = pts[p, 0]
+    py = pts[p, 1]
+    rounds = 2 if last else 1
+    per = nc + n_close + 1
+    for i in range(rounds * per):
+        c, clear = _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, a)
+        if c < 0:
+            continue
+        if c == p:
+            # The second triangle's search wrote its own ideal point; this one is the first's.
+            pts[p, 0] = px
+            pts[p, 1] = py
+        if not _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
+            continue
+        p2 = p + 1 if c == p else p
+        if c == p:
+            for k in range(3):
+                met[p, k] = met[a, k]
+        # Step 5: the base of the second triangle is the side of ABC joining two nodes of
+        # one colour; a new (or uncoloured) C may take either colour, A C tried first.
+        for side in range(2):
+            if side == 0 and col[c] >= 0 and col[c] != col[a]:
+                continue
+            if side == 1 and col[c] >= 0 and col[c] != col[b]:
+                continue
+            u = a if side == 0 else c
+            w = c if side == 0 else b
+            cu = col[a] if side == 0 else col[b]
+            want = np.int64(1 - cu)
+            d, items2, nodes2, cand2, ckey2 = _second(
+                u, w, b if side == 0 else a, p2, last, fs, par, col, want, items2, nodes2, cand2, ckey2, stack, fstack
+            )
+            if d < 0:
+                continue
+            dx = pts[d, 0]
+            dy = pts[d, 1]
+            if c == p:
+                pts[p, 0] = px
+                pts[p, 1] = py
+            _make_triangle(f, a, b, c, fs, uniform)
+            col[c] = cu
+            g = _find_face(u, w, fs.vint, face, fs.falive)
+            if d == p2:
+                pts[d, 0] = dx
+                pts[d, 1] = dy
+            _make_triangle(g, u, w, d, fs, uniform)
+            if col[d] < 0:
+                col[d] = want
+            tpair[meta[M_NT] - 2] = 1
+            tpair[meta[M_NT] - 1] = 0
+            return True, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
+    return False, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
+
+
+@njit(cache=True)
+def zhu_advance(fs, par, col, tpair, max_tris):
+    """Run the pair front until it is empty or Python must act; returns an ``R_*`` code of
+    :mod:`meshwright.tri._front_kernel` (``R_DONE``: no face left on the heap; faces
+    marked ``LEFT`` may remain on the front) or :data:`R_PAUSE`.
+
+    ``col`` (pcap,) int8 and ``tpair`` (tcap,) int8 as in the module docstring, at least
+    as long as ``fs.pts`` and ``fs.tri``; ``max_tris``: pause before the triangle count
+    would pass it (a caller stepping pair by pair).
+    """
+    fs, par, col, tpair = borrowed(fs), borrowed(par), borrowed(col), borrowed(tpair)
+    pts, face, falive, qmeta, qhead, hkey = fs.pts, fs.face, fs.falive, fs.qmeta, fs.qhead, fs.hkey
+    hface, wkey, wface, tri, meta = fs.hface, fs.wkey, fs.wface, fs.tri, fs.meta
+    for i in range(meta[M_NW]):
+        if falive[wface[i]]:
+            heap_push(hkey, hface, meta, wkey[i], wface[i])
+    meta[M_NW] = 0
+    items = np.empty(256, dtype=np.int32)
+    nodes = np.empty(256, dtype=np.int32)
+    cand = np.empty(256, dtype=np.int32)
+    ckey = np.empty(256)
+    items2 = np.empty(256, dtype=np.int32)
+    nodes2 = np.empty(256, dtype=np.int32)
+    cand2 = np.empty(256, dtype=np.int32)
+    ckey2 = np.empty(256)
+    depth = qmeta[Q_DEPTH]
+    stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
+    fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
+    sync_every = int(par[P_SYNC_EVERY])
+    max_defer = int(par[P_MAX_DEFER])
+    while True:
+        if (
+            meta[M_NP] + 2 > pts.shape[0]
+            or meta[M_NF] + ROOM_FACES > face.shape[0]
+            or meta[M_NH] + ROOM_FACES > hkey.shape[0]
+            or meta[M_NW] + 2 > wface.shape[0]
+            or meta[M_NT] + 2 > tri.shape[0]
+            or qmeta[Q_NODES] + ROOM_FACES * (depth + 1) > qhead.shape[0]
+        ):
+            return R_ROOM
+        if meta[M_NP] - meta[M_SYNC] >= sync_every:
+            return R_SYNC
+        if meta[M_NP] > par[P_MAX_POINTS]:
+            return R_POINTS
+        if meta[M_STEPS] > 16 * meta[M_NF] + 100_000:
+            return R_STEPS
+        if meta[M_NT] + 2 > max_tris:
+            return R_PAUSE
+        f = -1
+        key = 0.0
+        while meta[M_NH] > 0:
+            key, f = _heap_pop(hkey, hface, meta)
+            if falive[f]:
+                if face[f, F_A] < meta[M_SYNC] and face[f, F_B] < meta[M_SYNC]:
+                    break
+                wkey[meta[M_NW]] = key
+                wface[meta[M_NW]] = f
+                meta[M_NW] += 1
+            f = -1
+        if f < 0:
+            return R_SYNC if meta[M_NW] > 0 else R_DONE
+        meta[M_STEPS] += 1
+        ok, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2 = _try_pair(
+            f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack
+        )
+        if ok:
+            continue
+        tries = face[f, F_TRIES] + 1
+        face[f, F_TRIES] = tries
+        if tries <= max_defer:
+            # Postponed behind every ordinary face: the front around it moves on first.
+            heap_push(hkey, hface, meta, key + par[P_DEFER], f)
+        elif tries == max_defer + 1:
+            # Given up until every other face has been tried: the pairs made meanwhile may
+            # open it (the key stays above any postponed face's).
+            heap_push(hkey, hface, meta, key + 8.0 * par[P_DEFER], f)
+        else:
+            # Left to the triangle front: off the heap, still on the front.
+            face[f, F_TRIES] = LEFT
+            meta[M_FAIL] = f
