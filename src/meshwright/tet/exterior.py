@@ -27,7 +27,7 @@ from numba import njit
 
 from meshwright.core.errors import GeometryError, fmt_point
 
-__all__ = ["carry_labels", "classify", "components", "depths"]
+__all__ = ["carry_labels", "classify", "components", "depths", "solid_part"]
 
 
 @njit(cache=True)
@@ -304,3 +304,60 @@ def carry_labels(tets, nbr, barrier, nv0, src, barrier0, solid0, region0, vmax0,
             if solid[u] != solid[t] or region[u] != region[t] or vmax[u] != vmax[t]:
                 return False, solid, region, vmax, fresh[:nn].copy()
     return True, solid, region, vmax, fresh[:nn].copy()
+
+
+@njit(cache=True)
+def solid_part(tets, nbr, barrier, solid, nv):
+    """The solid tets as a mesh of their own, in one pass (NumPy's masks, gathers and
+    cumulative sums over every tet were a tenth of the level-5 sphere's last stage).
+
+    Parameters
+    ----------
+    tets, nbr : (nt, 4) int32
+    barrier : (nt, 4) bool
+    solid : (nt,) bool
+    nv : int
+        Vertices of ``tets``.
+
+    Returns
+    -------
+    used : (nv,) bool
+        The vertices of solid tets.
+    newid : (nv,) int32
+        Their new numbers (in the old order), -1 for the others.
+    cells : (m, 4) int32
+        The solid tets in their order, renumbered.
+    neighbors : (m, 4) int32
+        Across face k among the solid tets, -1 where the tet across is not solid.
+    locked : (m, 4) bool
+        ``barrier`` of the solid tets.
+    """
+    nt = tets.shape[0]
+    newt = np.full(nt, -1, dtype=np.int32)
+    used = np.zeros(nv, dtype=np.bool_)
+    m = 0
+    for t in range(nt):
+        if solid[t]:
+            newt[t] = m
+            m += 1
+            for k in range(4):
+                used[tets[t, k]] = True
+    newid = np.full(nv, -1, dtype=np.int32)
+    c = 0
+    for v in range(nv):
+        if used[v]:
+            newid[v] = c
+            c += 1
+    cells = np.empty((m, 4), dtype=np.int32)
+    neighbors = np.empty((m, 4), dtype=np.int32)
+    locked = np.empty((m, 4), dtype=np.bool_)
+    for t in range(nt):
+        i = newt[t]
+        if i < 0:
+            continue
+        for k in range(4):
+            cells[i, k] = newid[tets[t, k]]
+            u = nbr[t, k]
+            neighbors[i, k] = newt[u] if u >= 0 else -1
+            locked[i, k] = barrier[t, k]
+    return used, newid, cells, neighbors, locked

@@ -34,7 +34,7 @@ from meshwright.core.validate_input import (
     check_positive,
     check_seed,
 )
-from meshwright.tet.exterior import carry_labels, classify
+from meshwright.tet.exterior import carry_labels, classify, solid_part
 from meshwright.tet.recovery import (
     SplitOrigins,
     _longest,
@@ -704,25 +704,17 @@ def _to_mesh(job: _Job, tz, faces, parent, where, state) -> Mesh:
     tri = tets[own[:, None], TET_FACES[slot]]
     interface = (s_t & s_u)[keep]
     tri[interface] = faces[keep][interface]
-    used = np.zeros(tz.points.shape[0], dtype=bool)
-    kept_tets = tets[solid]
-    used[kept_tets.ravel()] = True
-    newid = np.cumsum(used) - 1
+    used, newid, cells, nb, locked = solid_part(tets, nbr, barrier, solid, tz.points.shape[0])
     mesh = Mesh(
         tz.points[used],
-        {"tetra": newid[kept_tets].astype(np.int32), "triangle": newid[tri].astype(np.int32)},
+        {"tetra": cells, "triangle": newid[tri]},
         cell_data={"marker": {"tetra": region[solid].astype(np.int32), "triangle": job.markers[parent[keep]].astype(np.int32)}},
     )
     if job.slivers == "remove":
         # the sliver stage validates its result before returning (validating its input too,
         # as remove_slivers does, cost 16 % of the level-4 sphere); it gets the solid tets'
         # neighbours and subfaces from the tetrahedralization instead of sorting faces again
-        newt = np.cumsum(solid, dtype=np.int64) - 1
-        nb = nbr[solid]
-        inside = nb >= 0
-        inside[inside] = solid[nb[inside]]
-        nb = np.where(inside, newt[np.maximum(nb, 0)], -1).astype(np.int32)
-        mesh = _remove_slivers(mesh, job.min_dihedral, job.radius_edge, _exempt_edge(job), nb, barrier[solid])
+        mesh = _remove_slivers(mesh, job.min_dihedral, job.radius_edge, _exempt_edge(job), nb, locked)
     else:
         mesh.validate()
     if job.smooth:
