@@ -406,6 +406,32 @@ def crease_caps(pts, tets, barrier, solid, face_of, parent, threshold):
     return np.array(caps, dtype=np.int64), np.array(apex, dtype=np.float64).reshape(-1, 3)
 
 
+@njit(cache=True)
+def _queue_flags(nbr, barrier, solid, vbound, cap):
+    """The queue kernel's per-slot arrays for ``cap`` slots: ``bar`` (4 cap,) uint8 subface
+    flags, ``sol`` (cap,) uint8 and ``vb`` (cap,) float64 (inf past the public tets).
+
+    A subface on the hull has a ghost on its other side: the ghost's half-face is flagged
+    too, so the face stays protected when a new tet takes the finite side's place.
+    """
+    nt = solid.shape[0]
+    bar = np.zeros(4 * cap, dtype=np.uint8)
+    sol = np.zeros(cap, dtype=np.uint8)
+    vb = np.full(cap, np.inf)
+    for t in range(nt):
+        sol[t] = solid[t]
+        vb[t] = vbound[t]
+        for k in range(4):
+            if barrier[t, k]:
+                bar[4 * t + k] = 1
+                g = nbr[4 * t + k]
+                if g >= nt:
+                    for j in range(4):
+                        if nbr[4 * g + j] == t:
+                            bar[4 * g + j] = 1
+    return bar, sol, vb
+
+
 def refine_in_queue(tz, barrier, solid, vbound, bad, radius_edge, rmax, exempt, max_points, rng_state):
     """Refine the solid of ``tz`` one point at a time (:mod:`meshwright.tet._refine_kernel`).
 
@@ -445,27 +471,11 @@ def refine_in_queue(tz, barrier, solid, vbound, bad, radius_edge, rmax, exempt, 
     from meshwright.tet.tetrahedralization import grow
 
     tets = tz.tetrahedra
-    nt = tets.shape[0]
     rows0 = tz._vb + tz.points.shape[0]
     r2 = circumspheres(tz.points, tets[bad])[1] if bad.size else np.ones(1)
     rref2 = float(np.max(r2[np.isfinite(r2)], initial=1.0))
     s = tz._edit_begin()
-    cap = s.tet.shape[0] // 4
-    bar = np.zeros(4 * cap, dtype=np.uint8)
-    bar[: 4 * nt] = barrier.ravel()
-    # a subface on the hull has a ghost on its other side: flag the ghost's half-face too,
-    # so the face stays protected when a new tet takes the finite side's place
-    half = np.flatnonzero(bar[: 4 * nt])
-    ghost = s.nbr[half].astype(np.int64)
-    outer = ghost >= nt
-    half, ghost = half[outer], ghost[outer]
-    for j in range(4):
-        back = s.nbr[4 * ghost + j] == half // 4
-        bar[4 * ghost[back] + j] = 1
-    sol = np.zeros(cap, dtype=np.uint8)
-    sol[:nt] = solid
-    vb = np.full(cap, np.inf)
-    vb[:nt] = vbound
+    bar, sol, vb = _queue_flags(s.nbr, barrier, solid, vbound, s.tet.shape[0] // 4)
     head, nxt, qval, hdr = new_queue(K.N_BUCKETS, max(1024, 4 * bad.size), 5)
     re2 = radius_edge * radius_edge
     rmax2 = rmax * rmax
