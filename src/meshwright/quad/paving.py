@@ -493,7 +493,7 @@ class _Paver:
         for i in outer:
             holes = [loops[h] for h, o in owner.items() if o == i]
             region = [loops[i]] + holes
-            if not self._may_close(region):
+            if holes and not self._may_close(region):
                 left += region
                 continue
             rest = [g for g in loops if not any(g is r for r in region)]
