@@ -185,12 +185,56 @@ def _flat_boundary_corner(xy, bnd, a, b, c, d):
     return False
 
 
+@njit(inline="always")
+def _sj_of(xy, quad, sjt, q):
+    """Scaled Jacobian of quad q, computed once per swap stage (``sjt``: NaN = not yet)."""
+    if np.isnan(sjt[q]):
+        sjt[q] = quad_sj(xy, quad[q, 0], quad[q, 1], quad[q, 2], quad[q, 3])
+    return sjt[q]
+
+
+@njit(inline="always")
+def _sj_above(xy, a, b, c, d, bound):
+    """Whether :func:`~meshwright.quad._pairing_kernel.quad_sj` of quad (a, b, c, d) (at
+    most 1) exceeds ``bound``: the same corner sines, bit for bit, stopping at the first
+    one that does not."""
+    if bound >= 1.0:
+        return False
+    v = (a, b, c, d)
+    for k in range(4):
+        p = v[(k + 3) % 4]
+        q = v[k]
+        r = v[(k + 1) % 4]
+        ux = xy[r, 0] - xy[q, 0]
+        uy = xy[r, 1] - xy[q, 1]
+        wx = xy[p, 0] - xy[q, 0]
+        wy = xy[p, 1] - xy[q, 1]
+        lu = np.sqrt(ux * ux + uy * uy)
+        lw = np.sqrt(wx * wx + wy * wy)
+        s = (ux * wy - uy * wx) / (lu * lw) if lu * lw > 0.0 else 0.0
+        if not s > bound:
+            return False
+    return True
+
+
 @njit(cache=True)
 def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
     """Two quads sharing a side form a hexagon; the side moves to the hexagon diagonal that
-    gives the best pair when its worst scaled Jacobian gains more than ``gain``."""
+    gives the best pair when its worst scaled Jacobian gains more than ``gain``.
+
+    Cost (decisions as testing every side of every examined quad in full): no node moves
+    in this stage and a swapped pair is locked, so a quad's scaled Jacobian is computed
+    once (``sjt``, the minimum over the same four corner sines whichever corner its
+    listing starts at); a candidate pair's scaled Jacobian is computed only when both
+    its quads pass :func:`_sj_above` the best so far, and its exact convexity and
+    flat-corner tests only after that (a conjunction, in another order); and a
+    side refused from one quad is not tested again from the quad across it, which would
+    see the same hexagon and refuse it (``refused``: the partner it was refused with).
+    """
     done = 0
     h = np.empty(6, dtype=np.int64)
+    sjt = np.full(quad.shape[0], np.nan)
+    refused = np.full(4 * quad.shape[0], -1, dtype=np.int32)
     for q1 in range(quad.shape[0]):
         if alive[q1] == 0 or lock[q1] != 0 or dirty[q1] == 0:
             continue
@@ -204,7 +248,7 @@ def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
                 p = idx[s]
                 if p != q1 and alive[p] != 0 and _position(quad, p, v) >= 0:
                     q2 = p
-            if q2 < 0 or lock[q2] != 0:
+            if q2 < 0 or lock[q2] != 0 or refused[4 * q1 + k] == q2:
                 continue
             j = _position(quad, q2, u)
             if quad[q2, (j + 3) % 4] != v:
@@ -216,21 +260,24 @@ def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
             h[3] = v
             h[4] = quad[q1, (k + 2) % 4]
             h[5] = quad[q1, (k + 3) % 4]
-            old = min(quad_sj(xy, h[0], h[1], h[2], h[3]), quad_sj(xy, h[3], h[4], h[5], h[0]))
+            old = min(_sj_of(xy, quad, sjt, q2), _sj_of(xy, quad, sjt, q1))
             best = old + gain
             pick = -1
             for r in range(1, 3):
                 p0, p1, p2, p3 = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
                 s0, s1, s2, s3 = h[(r + 3) % 6], h[(r + 4) % 6], h[(r + 5) % 6], h[r]
+                if not (_sj_above(xy, p0, p1, p2, p3, best) and _sj_above(xy, s0, s1, s2, s3, best)):
+                    continue
+                val = min(quad_sj(xy, p0, p1, p2, p3), quad_sj(xy, s0, s1, s2, s3))
                 if not (quad_ok(xy, p0, p1, p2, p3) and quad_ok(xy, s0, s1, s2, s3)):
                     continue
                 if _flat_boundary_corner(xy, bnd, p0, p1, p2, p3) or _flat_boundary_corner(xy, bnd, s0, s1, s2, s3):
                     continue
-                val = min(quad_sj(xy, p0, p1, p2, p3), quad_sj(xy, s0, s1, s2, s3))
-                if val > best:
-                    best = val
-                    pick = r
+                best = val
+                pick = r
             if pick < 0:
+                if q2 > q1:
+                    refused[4 * q2 + (j + 3) % 4] = q1
                 continue
             r = pick
             quad[q1, 0], quad[q1, 1], quad[q1, 2], quad[q1, 3] = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
