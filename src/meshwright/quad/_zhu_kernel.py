@@ -37,11 +37,13 @@ there) and two arrays of this kernel::
     col    (pcap,) int8   colour of each node, -1 until it joins the front
     tpair  (tcap,) int8   1 where triangle t is the first of a pair with t + 1
 
-A face with no admissible pair is postponed (``P_MAX_DEFER`` times; its last try adds a
-round that asks validity only, in the same search box: the triangle front's wider last
-search let a colour-restricted face take far nodes, slivers across a graded field), then
-given up until every other face has been tried, then left (``F_TRIES = LEFT``, off the
-heap, still on the front) for the caller to close (:mod:`meshwright.quad.zhu`).
+A face with no admissible pair is postponed (``P_MAX_DEFER`` times; its last try searches
+four times as far and adds a round that asks validity only, as the triangle front's does,
+but takes no apex farther than :data:`FAR` rho from the base, nor the far ends of the faces
+the box meets: a colour-restricted face took far nodes there, slivers across a graded
+field), then given up until every other face has been tried, then left (``F_TRIES =
+LEFT``, off the heap, still on the front) for the caller to close
+(:mod:`meshwright.quad.zhu`).
 """
 
 from __future__ import annotations
@@ -96,18 +98,20 @@ from meshwright.tri._front_kernel import (
     heap_push,
 )
 
-__all__ = ["LEFT", "R_PAUSE", "zhu_advance"]
+__all__ = ["FAR", "LEFT", "R_PAUSE", "zhu_advance"]
 
 LEFT = -1  # F_TRIES of a face the pair front left to the triangle front
+FAR = 2.5  # no apex farther than FAR rho (metric) from a base end
 R_PAUSE = 6  # the triangle count reached the caller's max_tris (R_* codes of the front kernel otherwise)
 
 
 @njit(inline="always")
-def _gather(a, b, fid, p, fs, par, col, want, items, nodes, cand, ckey, stack, fstack):
+def _gather(a, b, fid, p, wide, fs, par, col, want, items, nodes, cand, ckey, stack, fstack):
     """Candidate apexes of a triangle on face a -> b (the triangle front's search, step 5 of
     18.2), the ideal point written at ``pts[p]``.  ``fid`` is the face's id, -1 for a
-    virtual face; with ``want >= 0`` only nodes of that colour, or uncoloured, are
-    candidates (every node still counts for validity and clearance).
+    virtual face; ``wide``: a last try's box, four times as far; with ``want >= 0`` only
+    nodes of that colour, or uncoloured, are candidates (every node still counts for
+    validity and clearance).
 
     Returns ``(ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand,
     ckey)``: query items and nodes, candidates (``n_close`` close ones first), whether the
@@ -139,7 +143,7 @@ def _gather(a, b, fid, p, fs, par, col, want, items, nodes, cand, ckey, stack, f
     pts[p, 0] = px
     pts[p, 1] = py
     det = m11 * m22 - m12 * m12
-    rad = par[P_SEARCH] * rho
+    rad = par[P_SEARCH] * (4.0 * max(rho, 1.0) if wide else rho)
     wx = rad * np.sqrt(m22 / det)
     wy = rad * np.sqrt(m11 / det)
     x0 = min(px - wx, ax, bx)
@@ -230,7 +234,14 @@ def _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, 
         return c, clear
     if i == n_close:
         return (np.int64(p) if p_ok else np.int64(-1)), clear
-    return np.int64(cand[i - n_close - 1]), clear
+    c = np.int64(cand[i - n_close - 1])
+    # The last try's wider box may hold far nodes: a pair reaching one would span a graded
+    # field (slivers across it); such a face is left to the triangle front instead.
+    qx, qy = _to_metric(l11, l21, l22, pts[c, 0] - pts[a, 0], pts[c, 1] - pts[a, 1])
+    reach = FAR * rho
+    if max(qx * qx + qy * qy, (qx - u0) ** 2 + (qy - u1) ** 2) > reach * reach:
+        return np.int64(-1), clear
+    return c, clear
 
 
 @njit(inline="always")
@@ -268,7 +279,7 @@ def _second(u, w, o, p, last, fs, par, col, want, items, nodes, cand, ckey, stac
     pts, face, qbox = fs.pts, fs.face, fs.qbox
     nin = fs.meta[M_NIN]
     ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
-        u, w, np.int64(-1), p, fs, par, col, want, items, nodes, cand, ckey, stack, fstack
+        u, w, np.int64(-1), p, last, fs, par, col, want, items, nodes, cand, ckey, stack, fstack
     )
     rounds = 2 if last else 1
     per = nc + n_close + 1
@@ -300,7 +311,7 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
     p = meta[M_NP]
     uniform = par[P_UNIFORM] != 0.0
     ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
-        a, b, np.int64(f), p, fs, par, col, np.int64(-1), items, nodes, cand, ckey, stack, fstack
+        a, b, np.int64(f), p, last, fs, par, col, np.int64(-1), items, nodes, cand, ckey, stack, fstack
     )
     px = pts[p, 0]
     py = pts[p, 1]
