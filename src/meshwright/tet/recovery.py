@@ -698,10 +698,12 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
     lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis, kept)
     splits = 0
     hint = np.zeros(0, dtype=np.int64) if hint is None else hint
+    vt = None
     for _ in range(8 * rounds):
-        tets = tz.tetrahedra
-        nbr = tz.neighbors
-        vt = vertex_tets(tets, tz.points.shape[0])
+        if vt is None:  # the tets changed (flip_to_match flips subfaces only)
+            tets = tz.tetrahedra
+            nbr = tz.neighbors
+            vt = vertex_tets(tets, tz.points.shape[0])
         where = find_faces(tets, nbr, vt, faces, hint)
         hint = where
         missing = where < 0
@@ -731,6 +733,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
             raise_cap(max_points, "boundary recovery")
         faces, parent, _, same = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
         hint = np.where(same >= 0, where[np.maximum(same, 0)], -1)
+        vt = None
         lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis, kept)
     f = int(np.flatnonzero(missing)[0])
     raise MeshingError(

@@ -174,7 +174,9 @@ def _fixed_vertices(mesh: Mesh, neighbors: np.ndarray | None = None) -> np.ndarr
     if neighbors is None:
         fixed[mesh.boundary_facets().ravel()] = True
     else:
-        fixed[mesh.tetra[:, TET_FACES][neighbors < 0].ravel()] = True
+        # the boundary slots first: gathering every tet's four faces was a (m, 4, 3) temporary
+        t, k = np.nonzero(neighbors < 0)
+        fixed[mesh.tetra[t[:, None], TET_FACES[k]].ravel()] = True
     for cell_type in ("triangle", "line", "vertex"):
         fixed[mesh.cells_of(cell_type).ravel()] = True
     return fixed
