@@ -6,7 +6,7 @@ Usage::
     python benchmarks/quad2d.py --quick    # coarser sizes, a smoke run
     python benchmarks/quad2d.py --no-gmsh  # meshwright only
     python benchmarks/quad2d.py --no-jit   # skip the cold / cached JIT compile measurement
-    python benchmarks/quad2d.py --methods pairing   # some meshwright methods only (Gmsh still runs)
+    python benchmarks/quad2d.py --methods pairing zhu   # some meshwright methods only (Gmsh still runs)
 
 Cases (every method meshes the same domain in one process, after a JIT warm-up):
 

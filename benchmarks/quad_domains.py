@@ -2,7 +2,7 @@
 
 Usage::
 
-    python benchmarks/quad_domains.py                     # pairing and quadtree
+    python benchmarks/quad_domains.py                     # pairing, zhu and quadtree
     python benchmarks/quad_domains.py --methods paving    # any QUAD_METHODS entries
     python benchmarks/quad_domains.py --only circle ring.poly
 
@@ -68,7 +68,7 @@ def domains():
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--methods", nargs="+", default=["pairing", "quadtree"])
+    ap.add_argument("--methods", nargs="+", default=["pairing", "zhu", "quadtree"])
     ap.add_argument("--only", nargs="+", help="case labels to run (default: all)")
     args = ap.parse_args(argv)
     from meshwright.core.errors import InputError
