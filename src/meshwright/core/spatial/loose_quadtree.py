@@ -126,9 +126,6 @@ def qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, alive, out, stack
         cx = fstack[top, 0]
         cy = fstack[top, 1]
         h = fstack[top, 2]
-        # The loose cell c +- 2h holds every box of this subtree (root: everything).
-        if node != 0 and (cx + 2.0 * h < x0 or cx - 2.0 * h > x1 or cy + 2.0 * h < y0 or cy - 2.0 * h > y1):
-            continue
         prev = -1
         it = qhead[node]
         while it >= 0:
@@ -145,13 +142,20 @@ def qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, alive, out, stack
                     k += 1
                 prev = it
             it = nxt
+        # A child's loose cell c +- 2 hc holds every box of its subtree: one that misses
+        # the query box is never pushed (the root, loose without bound, is always read).
         hc = 0.5 * h
+        reach = 2.0 * hc
         for q in range(4):
             child = qchild[4 * node + q]
             if child >= 0:
+                ccx = cx + hc if (q & 1) else cx - hc
+                ccy = cy + hc if (q & 2) else cy - hc
+                if ccx + reach < x0 or ccx - reach > x1 or ccy + reach < y0 or ccy - reach > y1:
+                    continue
                 stack[top] = child
-                fstack[top, 0] = cx + hc if (q & 1) else cx - hc
-                fstack[top, 1] = cy + hc if (q & 2) else cy - hc
+                fstack[top, 0] = ccx
+                fstack[top, 1] = ccy
                 fstack[top, 2] = hc
                 top += 1
     return k
