@@ -188,6 +188,7 @@ def methods(radius_edge: float) -> dict:
 STAGES = [
     ("meshwright.tet.mesher", "_unflatten", "unflatten (subface flags, classification, flat-tet flips)"),
     ("meshwright.tet.mesher", "classify", "  of which classify"),
+    ("meshwright.tet.mesher", "carry_labels", "  of which carried labels (new tets flooded)"),
     ("meshwright.tet.mesher", "circumspheres", "circumspheres"),
     ("meshwright.tet.mesher", "bad_solid", "bad tets, one pass (queue rounds)"),
     ("meshwright.tet.mesher", "_bad", "bad tets"),
