@@ -46,6 +46,7 @@ CASES = {
     "a = (6 * J + I).ravel(); T = np.r_[np.c_[a, a + 1, a + 7], np.c_[a, a + 7, a + 6]].astype(np.int32); "
     "mw.smooth(np.c_[X.ravel(), Y.ravel()], T, passes=3)",
     "quad pairing": "mw.quadrangulate(mw.geometry.circle(), size=0.15, method='pairing')",
+    "quad zhu": "mw.quadrangulate(mw.geometry.circle(), size=0.15, method='zhu')",
     "quad paving": "mw.quadrangulate(mw.geometry.circle(), size=0.15, method='paving')",
     "quad quadtree": "mw.quadrangulate(mw.geometry.circle(), size=0.15, method='quadtree')",
 }
