@@ -47,10 +47,12 @@ def test_tracked_names_each_surviving_tet():
     assert len(set(src[old].tolist())) == old.sum()
 
 
-def test_tracked_needs_track():
-    tz = delaunay3d(np.random.default_rng(4).random((20, 3)))
+def test_tracked_needs_track_and_the_ghost():
+    pts = np.random.default_rng(4).random((20, 3))
     with pytest.raises(mw.MeshwrightError, match="track"):
-        tz.tracked()
+        delaunay3d(pts).tracked()
+    with pytest.raises(mw.MeshwrightError, match="ghost"):
+        delaunay3d(pts, superstructure="box").track()
 
 
 def _checked_run(monkeypatch, surface, **kw):

@@ -280,7 +280,10 @@ class Tetrahedralization:
         return compact_tagged(s.tet, s.nbr, s.sph, self._tag, s.meta)
 
     def track(self) -> None:
-        """Start following the current tets through later insertions (see :meth:`tracked`)."""
+        """Start following the current tets through later insertions (see :meth:`tracked`);
+        ``superstructure="ghost"`` only (the box's public tets are a filtered copy)."""
+        if self._vb:
+            raise MeshingError("Tetrahedralization.track() needs superstructure='ghost'")
         self._tag = np.arange(int(self._s.meta[M_NTET]), dtype=np.int32)
 
     def tracked(self) -> np.ndarray:
