@@ -193,7 +193,8 @@ def _sj_of(xy, quad, sjt, q):
     return sjt[q]
 
 
-@njit(inline="always")
+# A call, not inlined IR (two call sites; see quad_sj's note in _pairing_kernel).
+@njit
 def _sj_above(xy, a, b, c, d, bound):
     """Whether :func:`~meshwright.quad._pairing_kernel.quad_sj` of quad (a, b, c, d) (at
     most 1) exceeds ``bound``: the same corner sines, bit for bit, stopping at the first
@@ -233,8 +234,13 @@ def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
     """
     done = 0
     h = np.empty(6, dtype=np.int64)
-    sjt = np.full(quad.shape[0], np.nan)
-    refused = np.full(4 * quad.shape[0], -1, dtype=np.int32)
+    # Filled by loops: np.full would be one more overload to compile on the first call.
+    sjt = np.empty(quad.shape[0])
+    refused = np.empty(4 * quad.shape[0], dtype=np.int32)
+    for q in range(quad.shape[0]):
+        sjt[q] = np.nan
+        for k in range(4):
+            refused[4 * q + k] = -1
     for q1 in range(quad.shape[0]):
         if alive[q1] == 0 or lock[q1] != 0 or dirty[q1] == 0:
             continue

@@ -34,19 +34,6 @@ __all__ = ["cell_tables", "smooth_cells", "smooth_sliding"]
 
 
 @njit(inline="always")
-def _nxt(k, nv):
-    """Corner after ``k`` in a cell of ``nv`` corners (no integer division: a modulo by the
-    run-time ``nv`` was a hardware divide per corner)."""
-    return k + 1 if k + 1 < nv else 0
-
-
-@njit(inline="always")
-def _prv(k, nv):
-    """Corner before ``k`` in a cell of ``nv`` corners."""
-    return k - 1 if k > 0 else nv - 1
-
-
-@njit(inline="always")
 def _corner_sine(points, a, b, d):
     """Sine of the corner at b between b->d and b->a (-1 for a degenerate corner)."""
     ux = points[d, 0] - points[b, 0]
@@ -70,14 +57,6 @@ def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
 
 
 @njit(inline="always")
-def _wake(nbr_ptr, nbr_idx, awake, v):
-    """Mark ``v`` and its edge neighbours in ``awake``."""
-    awake[v] = 1
-    for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
-        awake[nbr_idx[t]] = 1
-
-
-@njit(inline="always")
 def _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
     """If ``v`` moved from (x0, y0) by more than ``settle`` times its distance to its
     first neighbour, wake it and its neighbours for the rest of this sweep (``cur``) and
@@ -85,18 +64,14 @@ def _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
     w = nbr_idx[nbr_ptr[v]]
     ref = (points[w, 0] - x0) ** 2 + (points[w, 1] - y0) ** 2
     shift = (points[v, 0] - x0) ** 2 + (points[v, 1] - y0) ** 2
-    if shift > settle * settle * ref:
-        _wake(nbr_ptr, nbr_idx, cur, v)
-        _wake(nbr_ptr, nbr_idx, nxt, v)
-        return True
-    return False
-
-
-@njit(cache=True)
-def _wake_all(nbr_ptr, nbr_idx, awake, nodes):
-    """Mark ``nodes`` and their edge neighbours in ``awake``."""
-    for s in range(nodes.shape[0]):
-        _wake(nbr_ptr, nbr_idx, awake, nodes[s])
+    if shift <= settle * settle * ref:
+        return False
+    cur[v] = 1
+    nxt[v] = 1
+    for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
+        cur[nbr_idx[t]] = 1
+        nxt[nbr_idx[t]] = 1
+    return True
 
 
 @njit(cache=True)
@@ -108,7 +83,11 @@ def _corner_table(points, cells):
     for c in range(m):
         nv = 4 if cells[c, 3] >= 0 else 3
         for k in range(nv):
-            cs[c, k] = _corner_sine(points, cells[c, _prv(k, nv)], cells[c, k], cells[c, _nxt(k, nv)])
+            # Neighbouring corners by comparison, not by a modulo (a hardware divide by the
+            # run-time nv, per corner, in the hot loops below).
+            a = cells[c, k - 1 if k > 0 else nv - 1]
+            d = cells[c, k + 1 if k + 1 < nv else 0]
+            cs[c, k] = _corner_sine(points, a, cells[c, k], d)
     return cs
 
 
@@ -178,7 +157,9 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, v, bound, worst, slot, old, ex
         k = worst & 3
         nv = 4 if cells[c, 3] >= 0 else 3
         if nv == 3 or cells[c, (k + 2) & 3] != v:
-            sn = _corner_sine(points, cells[c, _prv(k, nv)], cells[c, k], cells[c, _nxt(k, nv)])
+            a = cells[c, k - 1 if k > 0 else nv - 1]
+            d = cells[c, k + 1 if k + 1 < nv else 0]
+            sn, _, _ = _corner_cross(points, a, cells[c, k], d)
             if sn < bound:
                 return False
     i = 0
@@ -190,20 +171,19 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, v, bound, worst, slot, old, ex
         while cells[c, kv] != v:
             kv += 1
         for k in range(nv):
-            a = cells[c, _prv(k, nv)]
-            b = cells[c, k]
-            d = cells[c, _nxt(k, nv)]
-            if nv == 4 and k == ((kv + 2) & 3):
-                if exact:
-                    _, cross, scale = _corner_cross(points, a, b, d)
-                    if not _convex(points, a, b, d, cross, scale):
-                        ok = False
-                        break
+            # The corner opposite v does not change: only its exact convexity is read.
+            moved = nv == 3 or k != ((kv + 2) & 3)
+            if not (moved or exact):
                 continue
+            a = cells[c, k - 1 if k > 0 else nv - 1]
+            b = cells[c, k]
+            d = cells[c, k + 1 if k + 1 < nv else 0]
             sn, cross, scale = _corner_cross(points, a, b, d)
-            if sn < bound or (exact and not _convex(points, a, b, d, cross, scale)):
+            if (moved and sn < bound) or (exact and not _convex(points, a, b, d, cross, scale)):
                 ok = False
                 break
+            if not moved:
+                continue
             slot[i] = 4 * c + k
             old[i] = cs[c, k]
             cs[c, k] = sn
@@ -297,7 +277,7 @@ def _tables(cells, n):
             nv = 4 if cells[c, 3] >= 0 else 3
             for k in range(nv):
                 if cells[c, k] == v:
-                    for w in (cells[c, _nxt(k, nv)], cells[c, _prv(k, nv)]):
+                    for w in (cells[c, k + 1 if k + 1 < nv else 0], cells[c, k - 1 if k > 0 else nv - 1]):
                         if stamp[w] != v:
                             stamp[w] = v
                             nbr_idx[top] = w
@@ -507,6 +487,11 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     start = np.concatenate([[0], np.cumsum(deg)[:-1]])
     slide = np.flatnonzero((deg == 2) & ~np.asarray(fixed, dtype=bool))
     ends = other[order][np.stack([start[slide], start[slide] + 1], axis=1)]
+    # Sliding vertices count as moved in every sweep: they and their edge neighbours are
+    # woken after each (indices gathered once, in NumPy: no kernel to compile for it).
+    lens = nbr_ptr[slide + 1] - nbr_ptr[slide]
+    first = np.repeat(nbr_ptr[slide] - (np.cumsum(lens) - lens), lens)
+    woken = np.concatenate([slide, nbr_idx[first + np.arange(int(lens.sum()))]])
     cur = np.ones(n, np.int8)
     nxt = np.zeros(n, np.int8)
     cs = _corner_table(pts, cells)
@@ -516,8 +501,7 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
         _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, slot, old)
         cur, nxt = nxt, cur
         nxt[:] = 0
-        # Sliding vertices count as moved: their interior neighbours stay awake.
-        _wake_all(nbr_ptr, nbr_idx, cur, slide)
+        cur[woken] = 1
         if not len(slide):
             continue
         chord = pts[ends[:, 1]] - pts[ends[:, 0]]
