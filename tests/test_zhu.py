@@ -129,6 +129,36 @@ def test_two_colour_alternates_on_even_loops_and_refuses_an_odd_one():
     assert two_colour(np.array([[0, 1], [1, 2], [2, 3], [3, 0], [0, 2]], dtype=np.int32), 4) is None
 
 
+def test_two_colour_matches_brute_force_on_small_graphs():
+    """Random small face sets: a colouring is returned exactly when one of the 2^k
+    colourings of the used nodes (enumerated here) is proper, and then it is proper, gives
+    each connected piece's smallest node 0 and leaves unused nodes at -1."""
+    rng = np.random.default_rng(12)
+    for _ in range(200):
+        n = int(rng.integers(2, 10))
+        faces = rng.integers(0, n, size=(int(rng.integers(1, 12)), 2)).astype(np.int32)
+        faces = faces[faces[:, 0] != faces[:, 1]]
+        used = sorted(set(faces.ravel().tolist()))
+        proper = any(
+            all(((bits >> used.index(a)) & 1) != ((bits >> used.index(b)) & 1) for a, b in faces.tolist())
+            for bits in range(2 ** len(used))
+        )
+        col = two_colour(faces, n)
+        assert (col is not None) == proper
+        if col is None:
+            continue
+        assert (col[faces[:, 0]] != col[faces[:, 1]]).all()
+        assert all(col[v] == -1 for v in range(n) if v not in used)
+        piece = list(range(n))
+        def root(v):
+            while piece[v] != v:
+                v = piece[v]
+            return v
+        for a, b in faces.tolist():
+            piece[max(root(a), root(b))] = min(root(a), root(b))
+        assert all(col[v] == 0 for v in used if root(v) == v)
+
+
 def test_every_sub_front_stays_even_after_each_quad_and_both_figure_cases_occur():
     """Paused after every pair: the live front is closed loops, each piece even and
     two-colourable (every loop even); over the run a pair made a new node D without

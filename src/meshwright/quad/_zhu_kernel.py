@@ -103,11 +103,46 @@ from meshwright.tri._front_kernel import (
     heap_push,
 )
 
-__all__ = ["FAR", "LEFT", "R_PAUSE", "zhu_advance"]
+__all__ = ["FAR", "LEFT", "R_PAUSE", "colour_nodes", "zhu_advance"]
 
 LEFT = -1  # F_TRIES of a face the pair front left to the triangle front
 FAR = 2.5  # no apex farther than FAR rho (metric) from a base end
 R_PAUSE = 6  # the triangle count reached the caller's max_tris (R_* codes of the front kernel otherwise)
+
+
+@njit(cache=True)
+def colour_nodes(start, dst, col):
+    """Breadth-first two-colouring of a graph in compressed rows, in place.
+
+    Parameters
+    ----------
+    start : (n + 1,) int64
+        Node ``v``'s neighbours are ``dst[start[v]:start[v + 1]]``.
+    dst : (m,) int64
+    col : (n,) int8
+        -1 on entry; on return every node with a neighbour has 0 or 1: the smallest node of
+        each connected piece 0, every other node the other colour than the node that reached
+        it first.  Whether the colouring is proper is the caller's check.
+
+    Each node enters the queue once, so the loop is bounded by ``n + m`` steps.
+    """
+    n = start.shape[0] - 1
+    queue = np.empty(n, dtype=np.int64)
+    for root in range(n):
+        if col[root] >= 0 or start[root + 1] == start[root]:
+            continue
+        col[root] = 0
+        queue[0] = root
+        head, tail = 0, 1
+        while head < tail:
+            v = queue[head]
+            head += 1
+            for k in range(start[v], start[v + 1]):
+                w = dst[k]
+                if col[w] < 0:
+                    col[w] = 1 - col[v]
+                    queue[tail] = w
+                    tail += 1
 
 
 @njit(inline="always")

@@ -106,21 +106,7 @@ def two_colour(faces: np.ndarray, n: int):
     order = np.argsort(e[:, 0], kind="stable")
     dst = e[order, 1]
     start = np.searchsorted(e[order, 0], np.arange(n + 1))
-    # Breadth first, one level at a time; a node takes the other colour than the node
-    # that reached it, and every face is checked at the end.
-    for root in np.unique(faces).tolist():
-        if col[root] >= 0:
-            continue
-        col[root] = 0
-        level = np.array([root], dtype=np.int64)
-        while len(level):
-            deg = start[level + 1] - start[level]
-            first = np.cumsum(deg) - deg
-            idx = np.repeat(start[level] - first, deg) + np.arange(int(deg.sum()))
-            nb = dst[idx]
-            fresh = col[nb] < 0
-            col[nb[fresh]] = 1 - np.repeat(col[level], deg)[fresh]
-            level = np.unique(nb[fresh])
+    zk.colour_nodes(start, dst, col)
     if (col[faces[:, 0]] == col[faces[:, 1]]).any():
         return None
     return col
