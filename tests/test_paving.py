@@ -535,3 +535,53 @@ def test_edges_once_against_a_set_of_directed_edges(fronts):
     edges = [(f[i], f[(i + 1) % len(f)]) for f in fronts for i in range(len(f))]
     want = all(a != b for a, b in edges) and len(set(edges)) == len(edges)
     assert consistent([np.array(f, dtype=np.int64) for f in fronts]) == want
+
+
+def _plain_grid_value(pts, tris, delta, x, y):
+    """Linear interpolation of ``delta`` at (x, y) in the triangle that holds it, found
+    by exact ``Fraction`` orientations over every triangle; None outside them all."""
+    fx, fy = Fraction(float(x)), Fraction(float(y))
+    for t in tris.tolist():
+        a, b, c = (tuple(Fraction(float(v)) for v in pts[i]) for i in t)
+        area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        w = [
+            ((q[0] - fx) * (r[1] - fy) - (q[1] - fy) * (r[0] - fx)) / area
+            for q, r in ((b, c), (c, a), (a, b))
+        ]
+        if min(w) >= 0:
+            return float(sum(wi * Fraction(float(delta[i])) for wi, i in zip(w, t)))
+    return None
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_walk_spacing_matches_exact_interpolation(seed):
+    """The void fill's walking interpolation of a background grid (a jittered grid with
+    a hole, so that walks leave it and fall back to the bucket scan) against exact
+    rational barycentric interpolation in the triangle found by testing every one."""
+    from meshwright.quad._paving_kernel import walk_spacing
+
+    rng = np.random.default_rng(seed)
+    k = 8
+    gx, gy = np.meshgrid(np.arange(k + 1, dtype=np.float64), np.arange(k + 1, dtype=np.float64))
+    pts = np.column_stack([gx.ravel(), gy.ravel()])
+    inner = (pts[:, 0] > 0) & (pts[:, 0] < k) & (pts[:, 1] > 0) & (pts[:, 1] < k)
+    pts[inner] += rng.uniform(-0.25, 0.25, size=(int(inner.sum()), 2))
+    tris = []
+    for j in range(k):
+        for i in range(k):
+            if 3 <= i <= 4 and 2 <= j <= 5:
+                continue  # the hole
+            v = j * (k + 1) + i
+            tris += [(v, v + 1, v + k + 2), (v, v + k + 2, v + k + 1)]
+    tris = np.array(tris, dtype=np.int64)
+    delta = rng.uniform(0.1, 2.0, size=len(pts))
+    grid = BackgroundGrid(pts, tris, delta)
+    # A front-like sequence: short steps, and jumps across the hole.
+    walk = np.cumsum(rng.uniform(-0.4, 0.4, size=(150, 2)), axis=0) % k
+    jumps = rng.uniform(0.0, k, size=(50, 2))
+    xy = np.concatenate([walk, jumps, walk[::-1]])
+    want = [_plain_grid_value(pts, tris, delta, x, y) for x, y in xy.tolist()]
+    keep = np.array([w is not None for w in want])
+    assert keep.sum() > 250
+    got = walk_spacing(*grid.kernel_args(), np.zeros(1, dtype=np.int64), np.ascontiguousarray(xy[keep]))
+    assert np.allclose(got, np.array([w for w in want if w is not None]), rtol=1e-12, atol=0.0)

@@ -437,7 +437,14 @@ def fill_voids(xy, voids, field, seed):
     # edges, which no pairing takes.  The spacing of the void's own boundary nodes
     # (chapter 18.3's background), where smaller, lets the front grow from it instead.
     bg = BackgroundGrid.from_boundary(ct.points, ct.segments()[0], ct.triangles(False))
-    pts, tris = advancing_front(ct, as_size_field(lambda p: np.minimum(field(p), bg(p))), finish=False)
+    # Located by walking from the last query's triangle: the grid's bucket scan searched
+    # buckets crowded by this triangulation's long triangles (same values).
+    grid, hint = bg.kernel_args(), np.zeros(1, dtype=np.int64)
+
+    def capped(p):
+        return np.minimum(field(p), pk.walk_spacing(*grid, hint, np.ascontiguousarray(p, dtype=np.float64)))
+
+    pts, tris = advancing_front(ct, as_size_field(capped), finish=False)
     # Back to global ids: the triangulation's own vertices, then the front's new nodes.
     n_ct = ct.n_points
     glob = np.empty(n_ct, dtype=np.int64)

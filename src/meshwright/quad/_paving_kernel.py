@@ -26,10 +26,11 @@ from numba import njit
 
 from meshwright.core.flat import lower_bound
 from meshwright.core.predicates import orient2d
+from meshwright.sizing.background import interpolate_walk
 
 __all__ = [
     "adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "polish_rounds", "row_crossings",
-    "row_nodes",
+    "row_nodes", "walk_spacing",
 ]
 
 
@@ -458,6 +459,20 @@ def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
                     c = cell_idx[t]
                     worst[c] = _quad_min_sine(p, q, c)
     return p
+
+
+@njit(cache=True)
+def walk_spacing(pts, tris, nbr, start, items, x0, y0, cell, nx, ny, values, hint, xy):
+    """A 2-D background grid's spacing (column 0 of ``values``) at ``xy`` (k, 2), each
+    query walking from the triangle the previous one ended in (``hint`` (1,) int64,
+    updated; :func:`meshwright.sizing.background.interpolate_walk` with the grid's
+    ``kernel_args()``).  The void fill's front asks its new nodes in creation order, a
+    step apart, where the grid's own bucket scan searched buckets crowded by the void
+    triangulation's long triangles.  Returns (k,) float64."""
+    out = np.empty(xy.shape[0])
+    for k in range(xy.shape[0]):
+        out[k] = interpolate_walk(pts, tris, nbr, start, items, x0, y0, cell, nx, ny, values, 0, hint, xy[k, 0], xy[k, 1])
+    return out
 
 
 @njit(cache=True)
