@@ -585,3 +585,73 @@ def test_walk_spacing_matches_exact_interpolation(seed):
     assert keep.sum() > 250
     got = walk_spacing(*grid.kernel_args(), np.zeros(1, dtype=np.int64), np.ascontiguousarray(xy[keep]))
     assert np.allclose(got, np.array([w for w in want if w is not None]), rtol=1e-12, atol=0.0)
+
+
+def _closed_segments_meet(p, q, r, s) -> bool:
+    """Exact: closed segments p q and r s share a point."""
+    def side(a, b, c):
+        v = _cross(a, b, c)
+        return (v > 0) - (v < 0)
+
+    def on(a, b, c):
+        return min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
+
+    o1, o2, o3, o4 = side(p, q, r), side(p, q, s), side(r, s, p), side(r, s, q)
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        return True
+    return any(o == 0 and on(a, b, c) for o, a, b, c in ((o1, p, q, r), (o2, p, q, s), (o3, r, s, p), (o4, r, s, q)))
+
+
+@pytest.mark.parametrize("seed", range(9))
+def test_check_row_against_exact_segment_and_containment_tests(seed):
+    """Step 7's kernel on rows of random depths (crossings, folded quads) grown from a
+    random star-shaped paving boundary around a small hole's: the paving nodes it
+    refuses are those of the written rule, every test exact with ``Fraction``s over
+    every pair of edges and every node."""
+    from meshwright.quad import _paving_kernel as pk
+
+    rng = np.random.default_rng(seed)
+    n = 24
+    phi = np.sort(rng.uniform(0.0, 2.0 * np.pi, n))
+    phi = 2.0 * np.pi * (np.arange(n) + rng.uniform(-0.2, 0.2, n)) / n if seed % 3 == 0 else phi
+    outer = np.column_stack([np.cos(phi), np.sin(phi)]) * rng.uniform(0.99 - 0.04 * (seed % 3), 1.01 + 0.04 * (seed % 3), size=(n, 1))
+    c = rng.uniform(-0.4, 0.4, 2)
+    psi = -np.arange(6) * (np.pi / 3.0)  # clockwise: a hole's paving boundary
+    hole = c + rng.uniform(0.1, 0.3) * np.column_stack([np.cos(psi), np.sin(psi)])
+    pts0 = np.vstack([outer, hole])
+    f = np.arange(n, dtype=np.int64)
+    g = np.arange(n, n + 6, dtype=np.int64)
+    nxt, prv = np.roll(outer, -1, axis=0) - outer, np.roll(outer, 1, axis=0) - outer
+    th0 = np.arctan2(nxt[:, 1], nxt[:, 0])
+    ang = np.mod(np.arctan2(prv[:, 1], prv[:, 0]) - th0, 2.0 * np.pi)
+    m = node_classes(np.degrees(ang))
+    depth = rng.uniform(0.02, (0.08, 0.2, 0.6)[seed % 3], n)  # clean rows to folded ones
+    n_old = len(pts0)
+    ok, xy, quads, _, owner = pk.row_nodes(outer, f, ang, m, depth, th0, n_old)
+    if not ok:
+        return
+    pts = np.vstack([pts0, xy])
+    sa = np.concatenate([f, g])
+    sb = np.concatenate([np.roll(f, -1), np.roll(g, -1)])
+    bad = pk.check_row(pts, f, quads, owner, np.int64(n_old), sa, sb, np.concatenate([f, g]))
+
+    new_edges = [(int(q[k]), int(q[(k + 1) % 4])) for q in quads for k in range(4)
+                 if q[k] >= n_old or q[(k + 1) % 4] >= n_old]
+    edges = list(zip(sa.tolist(), sb.tolist())) + new_edges
+    hit = set()
+    for a, b in new_edges:
+        if any(len({a, b, u, w}) == 4 and _closed_segments_meet(pts[a], pts[b], pts[u], pts[w]) for u, w in edges):
+            hit |= {a, b}
+    for q in quads.tolist():
+        folded = any(_cross(pts[q[k - 1]], pts[q[k]], pts[q[(k + 1) % 4]]) <= 0 for k in range(4))
+        holds = any(v not in q and all(_cross(pts[q[k]], pts[q[(k + 1) % 4]], pts[v]) >= 0 for k in range(4))
+                    for v in range(n_old))
+        if folded or holds:
+            hit |= set(q)
+    want = np.zeros(n, dtype=bool)
+    for v in hit:
+        if v >= n_old:
+            want[owner[v - n_old]] = True
+        elif v < n:
+            want[v] = True
+    assert np.array_equal(bad, want)
