@@ -540,9 +540,15 @@ class _Paver:
         if not sel:
             return
         q = np.concatenate(sel)
-        # The few recent nodes, numbered locally in ascending order (no pass over all nodes).
-        used, local = np.unique(q, return_inverse=True)
-        local = local.reshape(q.shape)
+        # The few recent nodes, numbered locally in ascending order (the sweeps' order):
+        # marked in a byte table and read back, not sorted (np.unique's sort was ~10x
+        # slower per row; the table is one byte per node).
+        mark = np.zeros(self.n, dtype=bool)
+        mark[q.ravel()] = True
+        used = np.flatnonzero(mark)
+        lut = np.empty(self.n, dtype=np.int64)
+        lut[used] = np.arange(len(used))
+        local = lut[q]
         ro = self.round_of[used]
         free = (used >= self.n_fixed) & (ro >= rnd - 2) & (ro <= rnd - 1) & ~on_front[used]
         if not free.any():
