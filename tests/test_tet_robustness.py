@@ -160,3 +160,45 @@ def test_slivers_left_after_removal_are_announced():
         mesh = mw.tetrahedralize(mw.geometry.sphere(level=2), 0.3)
     assert (_sliver_ratios(mesh.points, mesh.cells["tetra"]) >= 0.01).all()
     assert not [w for w in caught if issubclass(w.category, mw.SliverWarning)]
+
+
+def test_shell_points_split_at_powers_of_two_around_input_vertices():
+    from meshwright.tet.recovery import shell_points
+
+    rng = np.random.default_rng(5)
+    pts = rng.normal(size=(40, 3))
+    e = np.array([[i, 20 + i] for i in range(20)] + [[25, 3], [30, 31], [2, 7]], dtype=np.int32)
+    out = shell_points(pts, e, 20)  # vertices 0-19 are input vertices
+    for (a, b), p in zip(e, out):
+        if (a < 20) == (b < 20):  # both or neither an input vertex: the midpoint
+            np.testing.assert_array_equal(p, 0.5 * (pts[a] + pts[b]))
+            continue
+        apex, other = (a, b) if a < 20 else (b, a)
+        r = float(np.linalg.norm(p - pts[apex]))
+        length = float(np.linalg.norm(pts[other] - pts[apex]))
+        assert abs(np.log2(r) - round(np.log2(r))) < 1e-12
+        assert 0.5 / np.sqrt(2) - 1e-12 <= r / length <= 1 / np.sqrt(2) + 1e-12
+        assert np.linalg.norm(np.cross(p - pts[apex], pts[other] - pts[apex])) < 1e-12 * length**2
+
+
+def test_shell_points_match_radii_on_edges_at_a_small_angle():
+    # Two edges from vertex 0 at 6 degrees, of unequal lengths: after the first split the
+    # pieces at vertex 0 are split at the same radii on both, so neither edge's split point
+    # lies in the diametral ball of the other's piece (what cascaded with midpoints)
+    from meshwright.tet.recovery import shell_points
+
+    t = np.radians(6.0)
+    pts = np.array([[0, 0, 0], [0.3, 0, 0], [0.25 * np.cos(t), 0.25 * np.sin(t), 0]])
+    radii = {1: [], 2: []}
+    for end in (1, 2):
+        q = pts.copy()
+        far = end
+        for _ in range(12):
+            p = shell_points(q, np.array([[0, far]], dtype=np.int32), 3)[0]
+            q = np.vstack([q, p])
+            far = q.shape[0] - 1
+            radii[end].append(float(np.linalg.norm(p)))
+    np.testing.assert_allclose(radii[1][1:], radii[2][1:], rtol=1e-12)
+    # the first split of an edge between two input vertices is its midpoint
+    np.testing.assert_allclose([radii[1][0], radii[2][0]], [0.15, 0.125], rtol=1e-12)
+    np.testing.assert_allclose(radii[1][1:], 2.0 ** -np.arange(4, 15), rtol=1e-12)

@@ -310,7 +310,7 @@ def _run_delaunay(job: _Job) -> Mesh:
     floor = FLOOR * np.linalg.norm(fp - fp[:, [1, 2, 0]], axis=2).min(axis=1)
     axis = dominant_axes(job.points, job.faces)
     origins = SplitOrigins(job.points.shape[0])
-    faces, parent, where = recover(tz, job.faces, np.arange(job.faces.shape[0], dtype=np.int32), guard, job.max_points, job.faces, axis, origins)
+    faces, parent, where = recover(tz, job.faces, np.arange(job.faces.shape[0], dtype=np.int32), guard, job.max_points, job.faces, axis, origins, n_apex=job.points.shape[0])
     refine = job.radius_edge is not None or job.field is not None or np.isfinite(job.max_volume) or (job.regions[:, 4] > 0).any()
     bar = None
     if job.progress and refine:
@@ -439,7 +439,7 @@ def _run_delaunay(job: _Job) -> Mesh:
         if added == 0:
             break
         caps_only = False
-        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins, kept=kept, hint=where)
+        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins, kept=kept, hint=where, n_apex=job.points.shape[0])
         changed = True
     if bar is not None:
         bar.close()

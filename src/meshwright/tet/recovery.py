@@ -44,7 +44,13 @@ edge's midpoint and its halves at their other marked edges::
   v_i+1 ----- v_i+2        v_i+1 - m - v_i+2
 
 so the subfaces stay conforming (a marked edge is split in both its subfaces) and their
-angles stay bounded below by half the input's (Rivara).  An edge shorter than ``guard`` is
+angles stay bounded below by half the input's (Rivara).  An edge with one end an input vertex
+is split not at its midpoint but on a concentric shell around that vertex, at the power of
+two nearest half its length (:func:`shell_points`, Ruppert's and Shewchuk's remedy for small
+input angles): two input edges at a small angle then get split points at equal radii and
+stop making each other's pieces at the vertex missing.  Rivara's angle bound is for
+midpoints; a shell point leaves pieces of 0.29-0.71 of the edge, and no bound is proved
+here for that case.  An edge shorter than ``guard`` is
 never split: recovery that would need one raises :class:`MeshingError` naming the face.
 
 Arrays
@@ -62,8 +68,9 @@ from numba import njit
 
 from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.core.predicates import incircle, orient2d
+from meshwright.tet._bisect import _longest, bisect_marked, shell_points
 
-__all__ = ["RECOVERY_ROUNDS", "SplitOrigins", "bisect_marked", "dominant_axes", "find_edges", "find_faces", "flip_to_match", "insert_new", "lawson", "lawson_pass", "raise_cap", "recover", "unique_edges", "vertex_tets"]
+__all__ = ["RECOVERY_ROUNDS", "SplitOrigins", "bisect_marked", "dominant_axes", "find_edges", "find_faces", "flip_to_match", "insert_new", "lawson", "lawson_pass", "raise_cap", "recover", "shell_points", "unique_edges", "vertex_tets"]
 
 RECOVERY_ROUNDS = 64  # bisection rounds; each at least halves the longest missing edge
 LAWSON_PASSES = 64  # bound on the work of one lawson() call (flips terminate anyway)
@@ -542,130 +549,7 @@ def _unique_edges(faces, n):
     return edges[:ne].copy(), face_edges
 
 
-@njit(cache=True)
-def _longest(pts, faces, face_edges, f):
-    """Corner opposite the longest edge of face f (ties to the larger edge id)."""
-    best = -1.0
-    kb = 0
-    for k in range(3):
-        a = faces[f, (k + 1) % 3]
-        b = faces[f, (k + 2) % 3]
-        d = 0.0
-        for j in range(3):
-            x = pts[a, j] - pts[b, j]
-            d += x * x
-        if d > best or (d == best and face_edges[f, k] > face_edges[f, kb]):
-            best = d
-            kb = k
-    return kb
-
-
-@njit(cache=True)
-def _close_marks(pts, faces, face_edges, mark):
-    """Rivara's closure: every face with a marked edge gets its longest edge marked."""
-    changed = True
-    while changed:
-        changed = False
-        for f in range(faces.shape[0]):
-            if mark[face_edges[f, 0]] or mark[face_edges[f, 1]] or mark[face_edges[f, 2]]:
-                e = face_edges[f, _longest(pts, faces, face_edges, f)]
-                if not mark[e]:
-                    mark[e] = True
-                    changed = True
-
-
-@njit(cache=True)
-def _bisect(pts, faces, parent, face_edges, mark, mid):
-    """Split every face with marked edges (longest first); (faces', parent', kept) new arrays,
-    ``kept`` (m',) int64 the face each unsplit row is a copy of, -1 for the halves."""
-    m = faces.shape[0]
-    out = np.empty((4 * m, 3), dtype=np.int32)
-    par = np.empty(4 * m, dtype=np.int32)
-    kept = np.full(4 * m, -1, dtype=np.int64)
-    n = 0
-    for f in range(m):
-        k = _longest(pts, faces, face_edges, f)
-        if not mark[face_edges[f, k]]:
-            out[n, 0] = faces[f, 0]
-            out[n, 1] = faces[f, 1]
-            out[n, 2] = faces[f, 2]
-            par[n] = parent[f]
-            kept[n] = f
-            n += 1
-            continue
-        vi = faces[f, k]
-        v1 = faces[f, (k + 1) % 3]
-        v2 = faces[f, (k + 2) % 3]
-        mm = mid[face_edges[f, k]]
-        e2 = face_edges[f, (k + 2) % 3]  # edge v_i v_i+1 (opposite v_i+2)
-        e1 = face_edges[f, (k + 1) % 3]  # edge v_i+2 v_i (opposite v_i+1)
-        if mark[e2]:  # half (v_i, v_i+1, m) split at m2 on v_i v_i+1
-            m2 = mid[e2]
-            out[n, 0], out[n, 1], out[n, 2] = mm, vi, m2
-            out[n + 1, 0], out[n + 1, 1], out[n + 1, 2] = mm, m2, v1
-            par[n] = parent[f]
-            par[n + 1] = parent[f]
-            n += 2
-        else:
-            out[n, 0], out[n, 1], out[n, 2] = vi, v1, mm
-            par[n] = parent[f]
-            n += 1
-        if mark[e1]:  # half (v_i, m, v_i+2) split at m3 on v_i+2 v_i
-            m3 = mid[e1]
-            out[n, 0], out[n, 1], out[n, 2] = mm, v2, m3
-            out[n + 1, 0], out[n + 1, 1], out[n + 1, 2] = mm, m3, vi
-            par[n] = parent[f]
-            par[n + 1] = parent[f]
-            n += 2
-        else:
-            out[n, 0], out[n, 1], out[n, 2] = vi, mm, v2
-            par[n] = parent[f]
-            n += 1
-    return out[:n].copy(), par[:n].copy(), kept[:n].copy()
-
-
-def bisect_marked(pts, faces, parent, edges, face_edges, mark, new_vertex, origins=None):
-    """Close ``mark`` (Rivara), create the midpoints and bisect the subfaces.
-
-    Parameters
-    ----------
-    pts : (n, 3) float64
-        Coordinates of every vertex the faces use.
-    faces : (m, 3) int32
-    parent : (m,) int32
-    edges : (e, 2) int32
-    face_edges : (m, 3) int64
-    mark : (e,) bool
-        Edges to split (closed in place).
-    new_vertex : callable
-        ``new_vertex(points (k, 3)) -> (k,) int32`` inserts the midpoints, returns their ids.
-    origins : SplitOrigins, optional
-        Records the edge each midpoint splits.
-
-    Returns
-    -------
-    faces, parent : the bisected subfaces; ``pts`` rows are not updated (read them again).
-    count : int
-        Midpoints inserted.
-    kept : (m',) int64
-        The input face each unsplit output face is, -1 for the halves.
-    """
-    _close_marks(pts, faces, face_edges, mark)
-    sel = np.flatnonzero(mark)
-    if sel.size == 0:
-        return faces, parent, 0, np.arange(faces.shape[0], dtype=np.int64)
-    e = edges[sel]
-    midpoints = 0.5 * (pts[e[:, 0]] + pts[e[:, 1]])
-    ids = new_vertex(midpoints)
-    if origins is not None:
-        origins.record(ids, e)
-    mid = np.full(edges.shape[0], -1, dtype=np.int32)
-    mid[sel] = ids
-    faces2, parent2, kept = _bisect(pts, faces, parent, face_edges, mark, mid)
-    return faces2, parent2, int(sel.size), kept
-
-
-def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, origins, rounds: int = RECOVERY_ROUNDS, kept=None, hint=None):
+def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points: int, in_faces: np.ndarray, axis: np.ndarray, origins, rounds: int = RECOVERY_ROUNDS, kept=None, hint=None, n_apex: int = 0):
     """Split missing subfaces until every one is a face of the tetrahedralization ``tz``.
 
     Parameters
@@ -689,6 +573,9 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
         Quadruples whose subface pair :func:`lawson` leaves as it is.
     hint : (m,) int64, optional
         Where each face was last found (:func:`find_faces`).
+    n_apex : int
+        Vertices below this id (the input's) are the centres of the concentric shells that
+        edges at them are split on (:func:`shell_points`).
 
     Returns
     -------
@@ -731,7 +618,7 @@ def recover(tz, faces: np.ndarray, parent: np.ndarray, guard: float, max_points:
             )
         if tz.points.shape[0] + int(mark.sum()) > max_points:
             raise_cap(max_points, "boundary recovery")
-        faces, parent, _, same = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins)
+        faces, parent, _, same = bisect_marked(pts, faces, parent, edges, face_edges, mark, lambda p: insert_new(tz, p), origins, n_apex)
         hint = np.where(same >= 0, where[np.maximum(same, 0)], -1)
         vt = None
         lawson(tz.points, faces, parent, in_faces, origins.view(tz.points.shape[0]), axis, kept)
