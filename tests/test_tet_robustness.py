@@ -6,7 +6,10 @@ cascade and refinement starved ("did not finish in 400 rounds"), and extruded st
 whose wall midpoints coincided with earlier vertices or whose recovery cascaded to the guard;
 ``extruded_crease170`` is fuzz case 46 (seed 7), two walls meeting at a 170 degree crease,
 whose recovery cascade failed before refinement moved into the queue kernel (and whose
-sliver stage then took 14 s of vertex moves for tets exempt from the radius-edge bound).
+sliver stage then took 14 s of vertex moves for tets exempt from the radius-edge bound);
+``extruded_notch_shells`` is fuzz case 40 (seed 22), a thin notch whose two bottom edges'
+midpoint splits made each other missing until the guard (concentric shells fixed it).
+``tet_sharp_notch.npz`` (seed 21 case 18, a 6.46-degree notch) is refused with the edge and angle.
 Oracles are the test's own: volumes by numpy triple products against the divergence theorem
 on the input faces, areas per marker, exact rational in-circle tests for the Lawson flips.
 """
@@ -202,3 +205,22 @@ def test_shell_points_match_radii_on_edges_at_a_small_angle():
     # the first split of an edge between two input vertices is its midpoint
     np.testing.assert_allclose([radii[1][0], radii[2][0]], [0.15, 0.125], rtol=1e-12)
     np.testing.assert_allclose(radii[1][1:], 2.0 ** -np.arange(4, 15), rtol=1e-12)
+
+
+def test_sharp_dihedral_notch_is_refused_naming_the_edge_and_angle():
+    # Fuzz seed 21 case 18: an extruded star with a notch whose two walls meet at 6.46
+    # degrees along a vertical edge; recovery cascades there to the guard.  The error names
+    # that input edge and the angle (the test's own: the bottom edges' directions at the notch)
+    d = np.load(Path(__file__).parent / "data" / "tet_sharp_notch.npz")
+    surf, kw = Surface(d["points"], d["triangles"]), ast.literal_eval(str(d["kw"]))
+    apex = np.array([0.0061692134356062054, 0.55185985030770301, 0.0])
+    i = int(np.argmin(np.linalg.norm(surf.points - apex, axis=1)))
+    bottom = surf.triangles[(surf.points[surf.triangles][:, :, 2] == 0).all(axis=1)]
+    ends = {int(v) for t in bottom for k, v in enumerate(t) if t[(k + 1) % 3] == i or t[(k - 1) % 3] == i}
+    rim = [v for v in ends if sum(((t == i).any() and (t == v).any()) for t in bottom) == 1]
+    u, w = (surf.points[v] - surf.points[i] for v in rim)
+    angle = np.degrees(np.arccos(u @ w / np.linalg.norm(u) / np.linalg.norm(w)))
+    assert 6.4 < angle < 6.5
+    with pytest.raises(mw.MeshingError, match=rf"meet at {angle:.2f} degrees") as info:
+        mw.tetrahedralize(surf, **kw)
+    assert "(0.0061692134356062054, 0.55185985030770301, 0)" in str(info.value)
