@@ -232,6 +232,10 @@ class _Paver:
         # paving nodes, which stay where they are until they leave the front.
         self.h = np.full(len(xy), np.nan)
         self.quads: list[np.ndarray] = []
+        # Bounds on each block's node ids (kept covering them through merges), so that a
+        # merge reads only the blocks that may hold its two nodes.
+        self.quad_lo: list[int] = []
+        self.quad_hi: list[int] = []
         self.quad_round: list[int] = []
         self.tucks = self.wedges = self.seams = self.closures = self.rows = 0
         self.pending = (0, 0)
@@ -279,7 +283,10 @@ class _Paver:
         return h
 
     def add_quads(self, q: np.ndarray, rnd: int) -> None:
-        self.quads.append(np.asarray(q, dtype=np.int64).reshape(-1, 4))
+        blk = np.asarray(q, dtype=np.int64).reshape(-1, 4)
+        self.quads.append(blk)
+        self.quad_lo.append(int(blk.min()) if len(blk) else -1)
+        self.quad_hi.append(int(blk.max()) if len(blk) else -1)
         self.quad_round.append(rnd)
 
     # -- step 1, 3, 6: one row --------------------------------------------------------
@@ -384,7 +391,8 @@ class _Paver:
     def _merge(self, a: int, b: int, at=None) -> bool:
         """Merge node b into a, at ``at`` (default their midpoint), if every quad around
         them stays strictly convex (exact); the paving boundaries are the caller's."""
-        allq = np.concatenate(self.quads) if self.quads else np.zeros((0, 4), dtype=np.int64)
+        blocks = [k for k, (lo, hi) in enumerate(zip(self.quad_lo, self.quad_hi)) if lo <= a <= hi or lo <= b <= hi]
+        allq = np.concatenate([self.quads[k] for k in blocks]) if blocks else np.zeros((0, 4), dtype=np.int64)
         touch = np.flatnonzero(((allq == a) | (allq == b)).any(axis=1))
         q = allq[touch].copy()
         q[q == b] = a
@@ -395,8 +403,11 @@ class _Paver:
         if not ok:
             self.pts[a] = old
             return False
-        for blk in self.quads:
+        for k in blocks:
+            blk = self.quads[k]
             blk[blk == b] = a
+            self.quad_lo[k] = min(self.quad_lo[k], a)
+            self.quad_hi[k] = max(self.quad_hi[k], a)
         return True
 
     # -- step 7: paving boundaries that meet -----------------------------------------------
