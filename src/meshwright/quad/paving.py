@@ -290,21 +290,33 @@ class _Paver:
         self.quad_round.append(rnd)
 
     # -- step 1, 3, 6: one row --------------------------------------------------------
-    def build_row(self, f: np.ndarray, scale: np.ndarray, calm_only: np.ndarray):
+    def build_row(self, f: np.ndarray, scale: np.ndarray, calm_only: np.ndarray, memo: dict | None = None):
         """Candidate row on paving boundary ``f`` with the row depth times ``scale`` and no
         tuck or wedge where ``calm_only``: (new node coordinates, quads with new nodes
         numbered from ``self.n``, new paving boundary, depth, the paving node each new
         node grew from); None if it degenerates.  Three kernels around the one call of
         the size field at the provisional new edges
         (:func:`~meshwright.quad._paving_row.row_prepare`, ``adjust_row``,
-        ``row_nodes``, ``row_finish``)."""
+        ``row_nodes``, ``row_finish``).  ``memo`` (a dict kept over the repairs of one
+        row) holds the last attempt's edge midpoints and their sizes: a repair moves the
+        midpoints beside the failing nodes only (each depends on its edge's two nodes),
+        and only the moved ones ask the size field again."""
         p = self.pts[f]
         ang, deg, m, depth, th0, mid, plen = pr.row_prepare(
             p, self.size_at(f), scale, END_ANGLE, CORNER_ANGLE, REVERSAL_ANGLE
         )
+        if memo is not None and "mid" in memo:
+            h_mid = memo["h"].copy()
+            moved = (mid != memo["mid"]).any(axis=1)
+            if moved.any():
+                h_mid[moved] = self.field(mid[moved])
+        else:
+            h_mid = self.field(mid)
+        if memo is not None:
+            memo["mid"], memo["h"] = mid, h_mid
         # Step 6: tucks and wedges from the running surplus of predicted edge lengths.
         tucks, wedges = pk.adjust_row(
-            m, plen / self.field(mid), calm_only, f >= self.n_fixed, deg, ADJUST_GAP, TUCK_AT, TUCK_MAX_ANGLE,
+            m, plen / h_mid, calm_only, f >= self.n_fixed, deg, ADJUST_GAP, TUCK_AT, TUCK_MAX_ANGLE,
             WEDGE_MIN_ANGLE,
         )
         self.pending = (tucks, wedges)
@@ -336,8 +348,9 @@ class _Paver:
         n = len(f)
         scale = np.ones(n)
         calm_only = np.zeros(n, dtype=bool)
+        memo: dict = {}
         for _ in range(REPAIRS + 1):
-            row = self.build_row(f, scale, calm_only)
+            row = self.build_row(f, scale, calm_only, memo)
             if row is None:
                 return None
             new_xy, quads, front, _, owner = row
