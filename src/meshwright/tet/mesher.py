@@ -439,7 +439,7 @@ def _run_delaunay(job: _Job) -> Mesh:
         if added == 0:
             break
         caps_only = False
-        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins, kept=kept, hint=where, n_apex=job.points.shape[0])
+        faces, parent, where = recover(tz, faces, parent, guard, job.max_points, job.faces, axis, origins, kept=kept, hint=where)
         changed = True
     if bar is not None:
         bar.close()
