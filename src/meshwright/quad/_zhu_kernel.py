@@ -57,7 +57,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.borrowed import borrowed
-from meshwright.core.spatial.loose_quadtree import Q_DEPTH, Q_NODES, STACK_PER_LEVEL, qt_query
+from meshwright.core.spatial.loose_quadtree import Q_DEPTH, Q_NODES, STACK_PER_LEVEL
 from meshwright.quad._pairing_kernel import corner_flat
 from meshwright.tri._front_kernel import (
     F_A,
@@ -70,19 +70,14 @@ from meshwright.tri._front_kernel import (
     M_NP,
     M_NT,
     M_NW,
-    M_STAMP,
     M_STEPS,
     M_SYNC,
     P_CLEAR_E,
-    P_CLEAR_F,
-    P_CLEAR_N,
-    P_CLOSE,
     P_DEFER,
     P_LONG,
     P_MAX_DEFER,
     P_MAX_POINTS,
     P_QMIN,
-    P_SEARCH,
     P_SYNC_EVERY,
     P_UNIFORM,
     R_DONE,
@@ -91,13 +86,12 @@ from meshwright.tri._front_kernel import (
     R_STEPS,
     R_SYNC,
     ROOM_FACES,
-    V_STAMP,
     _find_face,
+    _gather,
     _heap_pop,
     _make_triangle,
     _orient,
     _quality,
-    _seg_dist2,
     _to_metric,
     _valid,
     heap_push,
@@ -143,124 +137,6 @@ def colour_nodes(start, dst, col):
                     col[w] = 1 - col[v]
                     queue[tail] = w
                     tail += 1
-
-
-@njit(inline="always")
-def _gather(a, b, fid, p, o, wide, fs, par, col, want, items, nodes, cand, ckey, stack, fstack):
-    """Candidate apexes of a triangle on face a -> b (the triangle front's search, step 5 of
-    18.2), the ideal point written at ``pts[p]``: the equilateral apex (``o == -1``), a
-    square's corner above b (-2), or the parallelogram's fourth corner across a b from node
-    ``o``.  ``fid`` is the face's id, -1 for a virtual face; ``wide``: a last try's box,
-    four times as far; with ``want >= 0`` only
-    nodes of that colour, or uncoloured, are candidates (every node still counts for
-    validity and clearance).
-
-    Returns ``(ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand,
-    ckey)``: query items and nodes, candidates (``n_close`` close ones first), whether the
-    ideal point keeps its clearances, the metric and the base in it; the scratch arrays
-    come back because they may have been replaced by larger ones.
-    """
-    pts, met, vint, face, falive, qbox, qgeo = fs.pts, fs.met, fs.vint, fs.face, fs.falive, fs.qbox, fs.qgeo
-    qchild, qhead, qnext, meta = fs.qchild, fs.qhead, fs.qnext, fs.meta
-    m11 = 0.5 * (met[a, 0] + met[b, 0])
-    m12 = 0.5 * (met[a, 1] + met[b, 1])
-    m22 = 0.5 * (met[a, 2] + met[b, 2])
-    l11 = np.sqrt(m11)
-    l21 = m12 / l11
-    l22 = np.sqrt(max(m22 - l21 * l21, 1e-12 * m22))
-    ax = pts[a, 0]
-    ay = pts[a, 1]
-    bx = pts[b, 0]
-    by = pts[b, 1]
-    u0, u1 = _to_metric(l11, l21, l22, bx - ax, by - ay)
-    ln = np.hypot(u0, u1)
-    rho = min(max(1.0, 0.55 * ln), 2.0 * ln)
-    if o >= 0:
-        # The quad's fourth corner: a parallelogram with the first triangle.
-        px = ax + bx - pts[o, 0]
-        py = ay + by - pts[o, 1]
-    else:
-        # o == -1: the triangle front's equilateral apex; -2: a square's corner above b.
-        hgt = rho if o == -2 else np.sqrt(max(rho * rho - 0.25 * ln * ln, 0.0))
-        w0 = -u1 / ln * hgt
-        w1 = u0 / ln * hgt
-        oy = w1 / l22
-        ox = (w0 - l21 * oy) / l11
-        px = (bx if o == -2 else 0.5 * (ax + bx)) + ox
-        py = (by if o == -2 else 0.5 * (ay + by)) + oy
-    pts[p, 0] = px
-    pts[p, 1] = py
-    det = m11 * m22 - m12 * m12
-    rad = par[P_SEARCH] * (4.0 * max(rho, 1.0) if wide else rho)
-    wx = rad * np.sqrt(m22 / det)
-    wy = rad * np.sqrt(m11 / det)
-    x0 = min(px - wx, ax, bx)
-    x1 = max(px + wx, ax, bx)
-    y0 = min(py - wy, ay, by)
-    y1 = max(py + wy, ay, by)
-    ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
-    if ni > items.shape[0]:
-        items = np.empty(2 * ni, dtype=np.int32)
-        ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
-    meta[M_STAMP] += 1
-    stamp = meta[M_STAMP]
-    vint[a, V_STAMP] = stamp
-    vint[b, V_STAMP] = stamp
-    nn = 0
-    p_ok = True
-    clear_f = par[P_CLEAR_F] * rho
-    for i in range(ni):
-        g = items[i]
-        r = np.int64(face[g, F_A])
-        s = np.int64(face[g, F_B])
-        for v in (r, s):
-            if vint[v, V_STAMP] != stamp:
-                vint[v, V_STAMP] = stamp
-                if nn >= nodes.shape[0]:
-                    bigger = np.empty(2 * nodes.shape[0], dtype=np.int32)
-                    for j in range(nn):
-                        bigger[j] = nodes[j]
-                    nodes = bigger
-                nodes[nn] = v
-                nn += 1
-        if g != fid and r != s and p_ok and not (r == b and s == a):
-            rx, ry = _to_metric(l11, l21, l22, pts[r, 0] - px, pts[r, 1] - py)
-            sx, sy = _to_metric(l11, l21, l22, pts[s, 0] - px, pts[s, 1] - py)
-            if _seg_dist2(rx, ry, sx, sy) < clear_f * clear_f:
-                p_ok = False
-    if cand.shape[0] < nn:
-        cand = np.empty(2 * nn, dtype=np.int32)
-        ckey = np.empty(2 * nn)
-    nc = 0
-    close = par[P_CLOSE] * rho
-    clear_n = par[P_CLEAR_N] * rho
-    for i in range(nn):
-        v = nodes[i]
-        dx, dy = _to_metric(l11, l21, l22, pts[v, 0] - px, pts[v, 1] - py)
-        d2 = dx * dx + dy * dy
-        if d2 < clear_n * clear_n:
-            p_ok = False
-        if want >= 0 and col[v] >= 0 and col[v] != want:
-            continue
-        inbox = x0 <= pts[v, 0] <= x1 and y0 <= pts[v, 1] <= y1
-        if inbox and _orient(pts, a, b, v) > 0.0:
-            if d2 < close * close:
-                key = np.sqrt(d2) / close
-            else:
-                qx, qy = _to_metric(l11, l21, l22, pts[v, 0] - ax, pts[v, 1] - ay)
-                key = 2.0 - _quality(0.0, 0.0, u0, u1, qx, qy)
-            j = nc
-            while j > 0 and ckey[j - 1] > key:
-                cand[j] = cand[j - 1]
-                ckey[j] = ckey[j - 1]
-                j -= 1
-            cand[j] = v
-            ckey[j] = key
-            nc += 1
-    n_close = 0
-    while n_close < nc and ckey[n_close] < 1.0:
-        n_close += 1
-    return ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey
 
 
 @njit(inline="always")
@@ -327,7 +203,7 @@ def _second(u, w, o, io, p, last, fs, par, col, want, items, nodes, cand, ckey, 
     pts, face, qbox = fs.pts, fs.face, fs.qbox
     nin = fs.meta[M_NIN]
     ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
-        u, w, np.int64(-1), p, io, last, fs, par, col, want, items, nodes, cand, ckey, stack, fstack
+        u, w, np.int64(-1), p, io, last, False, fs, par, col, want, items, nodes, cand, ckey, stack, fstack
     )
     rounds = 2 if last else 1
     per = nc + n_close + 1
@@ -364,7 +240,7 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
     # elements at corners of 175 degrees on the airfoils, min SJ 0.05).
     shape = np.int64(-2) if uniform else np.int64(-1)
     ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
-        a, b, np.int64(f), p, shape, last, fs, par, col, np.int64(-1), items, nodes, cand, ckey, stack, fstack
+        a, b, np.int64(f), p, shape, last, False, fs, par, col, np.int64(-1), items, nodes, cand, ckey, stack, fstack
     )
     px = pts[p, 0]
     py = pts[p, 1]

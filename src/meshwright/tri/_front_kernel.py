@@ -440,16 +440,28 @@ def _backoff(f, level, fs, tbuf, vbuf):
 
 
 @njit(inline="always")
-def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
-    """Advance face f by one triangle if any valid apex exists.
+def _gather(a, b, fid, p, o, wide, grow, fs, par, col, want, items, nodes, cand, ckey, stack, fstack):
+    """Candidate apexes of a triangle on face a -> b (step 5 of 18.2), shared by this
+    front (:func:`_try_face`) and Zhu's pair front (:mod:`meshwright.quad._zhu_kernel`).
 
-    Returns ``(ok, items, nodes, cand, ckey)``: the scratch arrays come back because they
-    may have been replaced by larger ones.
+    The ideal point is written at ``pts[p]``: the equilateral apex of unit metric size
+    (``o == -1``, Peraire et al. 1987; its sides kept within [0.55, 2] face lengths so the
+    element neither collapses nor jumps in size), a square's corner above b (-2), or the
+    parallelogram's fourth corner across a b from node ``o``.  ``fid`` is the face's id, -1
+    for a virtual face.  ``wide``: a face's last try, whose box reaches four times as far;
+    ``grow`` (the triangle front's last try): the box then grows to the far ends of the
+    faces it meets.  With ``want >= 0`` only nodes of colour ``want`` in ``col`` (int8),
+    or uncoloured (-1), are candidates; every node still counts for validity and
+    clearance.  The triangle front passes ``want = -1`` and an empty ``col``.
+
+    Returns ``(ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand,
+    ckey)``: query items and nodes, candidates (``n_close`` close ones first, nearest
+    first; the others best triangle first), whether the ideal point keeps its clearances,
+    the metric's Cholesky factor and the base in it; the scratch arrays come back because
+    they may have been replaced by larger ones.
     """
     pts, met, vint, face, falive, qbox, qgeo = fs.pts, fs.met, fs.vint, fs.face, fs.falive, fs.qbox, fs.qgeo
     qchild, qhead, qnext, meta = fs.qchild, fs.qhead, fs.qnext, fs.meta
-    a = np.int64(face[f, F_A])
-    b = np.int64(face[f, F_B])
     m11 = 0.5 * (met[a, 0] + met[b, 0])
     m12 = 0.5 * (met[a, 1] + met[b, 1])
     m22 = 0.5 * (met[a, 2] + met[b, 2])
@@ -462,40 +474,40 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
     by = pts[b, 1]
     u0, u1 = _to_metric(l11, l21, l22, bx - ax, by - ay)
     ln = np.hypot(u0, u1)
-    # Ideal apex (Peraire et al. 1987): equilateral of unit metric size, its sides kept
-    # within [0.55, 2] face lengths so the element neither collapses nor jumps in size.
     rho = min(max(1.0, 0.55 * ln), 2.0 * ln)
-    hgt = np.sqrt(max(rho * rho - 0.25 * ln * ln, 0.0))
-    w0 = -u1 / ln * hgt
-    w1 = u0 / ln * hgt
-    oy = w1 / l22
-    ox = (w0 - l21 * oy) / l11
-    p = meta[M_NP]
-    px = 0.5 * (ax + bx) + ox
-    py = 0.5 * (ay + by) + oy
+    if o >= 0:
+        # The quad's fourth corner: a parallelogram with the first triangle.
+        px = ax + bx - pts[o, 0]
+        py = ay + by - pts[o, 1]
+    else:
+        # o == -1: the triangle front's equilateral apex; -2: a square's corner above b.
+        hgt = rho if o == -2 else np.sqrt(max(rho * rho - 0.25 * ln * ln, 0.0))
+        w0 = -u1 / ln * hgt
+        w1 = u0 / ln * hgt
+        oy = w1 / l22
+        ox = (w0 - l21 * oy) / l11
+        px = (bx if o == -2 else 0.5 * (ax + bx)) + ox
+        py = (by if o == -2 else 0.5 * (ay + by)) + oy
     pts[p, 0] = px
     pts[p, 1] = py
     # Search box: the metric disc of radius SEARCH rho about the apex, and the face.
     det = m11 * m22 - m12 * m12
-    # A face on its last try before backing off searches four times as far, and at least
-    # four element sizes (a short face in a narrow gap needs its far neighbours).
-    last = face[f, F_TRIES] >= par[P_MAX_DEFER]
-    rad = par[P_SEARCH] * (4.0 * max(rho, 1.0) if last else rho)
+    rad = par[P_SEARCH] * (4.0 * max(rho, 1.0) if wide else rho)
     wx = rad * np.sqrt(m22 / det)
     wy = rad * np.sqrt(m11 / det)
     x0 = min(px - wx, ax, bx)
     x1 = max(px + wx, ax, bx)
     y0 = min(py - wy, ay, by)
     y1 = max(py + wy, ay, by)
-    for rnd in range(2 if last else 1):
+    for rnd in range(2 if grow else 1):
         ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
         if ni > items.shape[0]:
             items = np.empty(2 * ni, dtype=np.int32)
             ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
-        if last and rnd == 0:
-            # On the last try the box grows to the far ends of every face it met, so that
-            # they become candidates: a gap narrower than the spacing, or a front loop of
-            # three faces, closes with nodes however far they lie.
+        if grow and rnd == 0:
+            # A gap narrower than the spacing, or a front loop of three faces, closes with
+            # nodes however far they lie (the pair front does not grow: a colour-restricted
+            # face took far nodes there).
             for i in range(ni):
                 g = items[i]
                 for v in (face[g, F_A], face[g, F_B]):
@@ -519,13 +531,14 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
                 vint[v, V_STAMP] = stamp
                 if nn >= nodes.shape[0]:
                     bigger = np.empty(2 * nodes.shape[0], dtype=np.int32)
-                    bigger[:nn] = nodes[:nn]
+                    for j in range(nn):
+                        bigger[j] = nodes[j]
                     nodes = bigger
                 nodes[nn] = v
                 nn += 1
         # The face's own twin (the other side of an interior segment) lies on the face:
         # its distance is the ideal point's height, not a clearance to keep.
-        if g != f and r != s and p_ok and not (r == b and s == a):
+        if g != fid and r != s and p_ok and not (r == b and s == a):
             rx, ry = _to_metric(l11, l21, l22, pts[r, 0] - px, pts[r, 1] - py)
             sx, sy = _to_metric(l11, l21, l22, pts[s, 0] - px, pts[s, 1] - py)
             if _seg_dist2(rx, ry, sx, sy) < clear_f * clear_f:
@@ -542,6 +555,8 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
         d2 = dx * dx + dy * dy
         if d2 < clear_n * clear_n:
             p_ok = False
+        if want >= 0 and col[v] >= 0 and col[v] != want:
+            continue
         # A candidate outside the search box would make a triangle reaching faces the
         # query did not return.
         inbox = x0 <= pts[v, 0] <= x1 and y0 <= pts[v, 1] <= y1
@@ -564,6 +579,29 @@ def _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack):
     n_close = 0
     while n_close < nc and ckey[n_close] < 1.0:
         n_close += 1
+    return ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey
+
+
+@njit(inline="always")
+def _try_face(f, fs, par, nocol, items, nodes, cand, ckey, stack, fstack):
+    """Advance face f by one triangle if any valid apex exists (``nocol``: an empty int8
+    array, :func:`_gather`'s colours, which this front does not use).
+
+    Returns ``(ok, items, nodes, cand, ckey)``: the scratch arrays come back because they
+    may have been replaced by larger ones.
+    """
+    pts, face, qbox = fs.pts, fs.face, fs.qbox
+    a = np.int64(face[f, F_A])
+    b = np.int64(face[f, F_B])
+    p = fs.meta[M_NP]
+    # A face on its last try before backing off searches four times as far, and at least
+    # four element sizes (a short face in a narrow gap needs its far neighbours).
+    last = face[f, F_TRIES] >= par[P_MAX_DEFER]
+    ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
+        a, b, f, p, -1, last, last, fs, par, nocol, -1, items, nodes, cand, ckey, stack, fstack
+    )
+    ax = pts[a, 0]
+    ay = pts[a, 1]
     qmin = par[P_QMIN]
     longest = par[P_LONG] * rho
     # The first round keeps nodes clear of the new sides; the second, on a face's last try
@@ -612,6 +650,7 @@ def advance(fs, par):
     nodes = np.empty(256, dtype=np.int32)
     cand = np.empty(256, dtype=np.int32)
     ckey = np.empty(256)
+    nocol = np.empty(0, dtype=np.int8)
     depth = qmeta[Q_DEPTH]
     stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
     fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
@@ -649,7 +688,7 @@ def advance(fs, par):
         if f < 0:
             return R_SYNC if meta[M_NW] > 0 else R_DONE
         meta[M_STEPS] += 1
-        ok, items, nodes, cand, ckey = _try_face(f, fs, par, items, nodes, cand, ckey, stack, fstack)
+        ok, items, nodes, cand, ckey = _try_face(f, fs, par, nocol, items, nodes, cand, ckey, stack, fstack)
         if ok:
             continue
         tries = face[f, F_TRIES] + 1
