@@ -225,7 +225,7 @@ def test_augmenting_path_repairs_a_stranding_pairing():
 
     nbr[:] = build_neighbors(tris)
     mate = np.array([-1, 2, 1, -1], dtype=np.int32)  # the middle pair strands both ends
-    gained = pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, 0.0, 100)
+    gained = pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, 0.0, 100, pk.augment_scratch(4))
     assert gained == 1
     assert mate.tolist() == [1, 0, 3, 2]
 
@@ -378,7 +378,7 @@ def test_augmenting_paths_reach_a_maximum_pairing(seed, npts):
     ]
     assert all(t in adj[s] for t in range(nt) for s in adj[t])  # an allowed pair is allowed both ways
     mate = np.full(nt, -1, dtype=np.int32)
-    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, -1.0, 10**6)
+    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, -1.0, 10**6, pk.augment_scratch(nt))
     for t in range(nt):
         if mate[t] >= 0:
             assert mate[mate[t]] == t and int(mate[t]) in adj[t]
@@ -432,11 +432,44 @@ def test_augmenting_paths_reach_a_maximum_pairing_through_blossoms(seed, qmin):
     ]
     assert all(t in adj[s] for t in range(nt) for s in adj[t])  # an allowed pair is allowed both ways
     mate = np.full(nt, -1, dtype=np.int32)
-    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, qmin, 10**6)
+    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, qmin, 10**6, pk.augment_scratch(nt))
     for t in range(nt):
         if mate[t] >= 0:
             assert mate[mate[t]] == t and int(mate[t]) in adj[t]
     assert int((mate >= 0).sum()) // 2 == _tutte_rank_matching(nt, adj, seed)
+
+
+
+@pytest.mark.parametrize("seed", [81, 104, 147, 208])
+def test_one_augment_scratch_serves_many_rounds(seed):
+    """Rounds at falling bounds sharing one scratch set (left with blossom stamps and
+    reset entries by the earlier rounds) pair exactly as rounds with fresh sets, and the
+    last round (any pair, unbounded search) reaches the maximum (Tutte-rank oracle)."""
+    from meshwright.core.mesh import build_neighbors
+
+    rng = np.random.default_rng(seed)
+    xy = rng.random((int(rng.integers(25, 60)), 2))
+    tris = mw.delaunay(xy).triangles.astype(np.int32)
+    nbr = build_neighbors(tris).astype(np.int32)
+    nt = len(tris)
+    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
+    shared = pk.augment_scratch(nt)
+    mate_shared = np.full(nt, -1, dtype=np.int32)
+    mate_fresh = mate_shared.copy()
+    for q, visit in ((0.5, 8), (0.3, 16), (0.0, 64), (-1.0, 10**6)):
+        pk.augment(raw, nbr.ravel(), mate_shared, q, visit, shared)
+        pk.augment(raw, nbr.ravel(), mate_fresh, q, visit, pk.augment_scratch(nt))
+        assert mate_shared.tolist() == mate_fresh.tolist()
+    flat_t, flat_n = tris.ravel(), nbr.ravel()
+    adj = [
+        {int(nbr[t, k]) for k in range(3) if nbr[t, k] >= 0 and pk.pair_score(xy, flat_t, flat_n, t, k, -1.0) >= 0}
+        for t in range(nt)
+    ]
+    assert int((mate_shared >= 0).sum()) // 2 == _tutte_rank_matching(nt, adj, seed)
+    # used, pred, base, blossom, head, tail, link are back at rest (marks keep old stamps).
+    rest = pk.augment_scratch(nt)
+    for k in (0, 1, 2, 3, 8, 9, 10):
+        assert shared[k].tolist() == rest[k].tolist()
 
 # ------------------------------------------------------------------ enhancement
 

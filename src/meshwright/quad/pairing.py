@@ -527,12 +527,13 @@ def _pair_rounds(
         nbr = _neighbours(tris, bkey, n)
     chains = 0
     raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
+    scratch = pk.augment_scratch(len(tris))
     for i, q in enumerate(bounds):
         pk.greedy_pairs(raw, nbr.ravel(), mate, float(q))
         # Early rounds only mend locally: a triangle with no partner at a high bound would
         # search its whole component in vain; the last round searches far.
         visit = int(max_visit) if i == len(bounds) - 1 else min(int(max_visit), int(early_visit))
-        chains += int(pk.augment(raw, nbr.ravel(), mate, float(q), visit))
+        chains += int(pk.augment(raw, nbr.ravel(), mate, float(q), visit, scratch))
     rng = np.random.default_rng(seed)
     best, stale = int((mate < 0).sum()), 0
     for _ in range(walks):
@@ -542,7 +543,7 @@ def _pair_rounds(
         if not len(flipped):
             break
         pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
-        chains += int(pk.augment(raw, nbr.ravel(), mate, float(bounds[-1]), int(max_visit)))
+        chains += int(pk.augment(raw, nbr.ravel(), mate, float(bounds[-1]), int(max_visit), scratch))
         left = int((mate < 0).sum())
         best, stale = (left, 0) if left < best else (best, stale + 1)
     return _PairState(xy, tris, nbr, mate, chains, raw)
@@ -566,7 +567,7 @@ def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairSt
         parts = np.concatenate([cut, nt + np.arange(len(tris) - nt, dtype=np.int64)])
         pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), parts)
         pk.greedy_pairs(raw, nbr.ravel(), mate, float(qmin))
-        chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit)))
+        chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit), pk.augment_scratch(len(tris))))
     return _PairState(xy, tris, nbr, mate, chains, raw)
 
 
