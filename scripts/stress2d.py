@@ -30,10 +30,11 @@ reproducer that ``tests/test_regressions.py`` replays: ``"status": "open"`` unti
 
 Usage::
 
-    python scripts/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--kinds junction] [--timeout 60] [--jobs 2]
+    python scripts/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--kinds junction] [--timeout 60] [--jobs 2] [--start 1500]
 
 ``--jobs N`` runs N worker processes (each compiles the kernels once, then takes one mesh
-at a time); the domains drawn depend on ``--seed`` only, not on N.
+at a time); the domains drawn depend on ``--seed`` only, not on N.  ``--start K`` resumes a run that
+stopped: the first K domains are drawn (so the later draws are the same) but not meshed.
 """
 
 from __future__ import annotations
@@ -338,7 +339,7 @@ def _jobs(rng, args, mw):
     """``(domain index, case, method)`` for every valid drawn domain and method."""
     for i in range(args.count):
         case = generate(rng, args.methods)
-        if case["kind"] not in args.kinds:
+        if i < args.start or case["kind"] not in args.kinds:
             continue
         try:
             build(case, args.methods[0])[0].validate()
@@ -405,10 +406,14 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (one core each)")
     ap.add_argument("--kinds", nargs="*", choices=KINDS, default=list(KINDS),
                     help="run only the domains of these kinds (the same draws as a full run)")
+    ap.add_argument("--start", type=int, default=0,
+                    help="draw but skip the domains before this index (resume a run: the same draws)")
     ap.add_argument("--no-record", action="store_true", help="report failures without writing reproducers")
     args = ap.parse_args(argv)
     if args.jobs < 1:
         ap.error(f"--jobs must be at least 1, got {args.jobs}")
+    if not 0 <= args.start <= args.count:
+        ap.error(f"--start must be in [0, --count], got {args.start}")
     rng = np.random.default_rng(args.seed)
     workers = [_Worker(args.methods) for _ in range(args.jobs)]
     tally = {"runs": 0, "fails": 0, "domains": set()}
