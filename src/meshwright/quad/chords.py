@@ -30,7 +30,7 @@ from meshwright.geometry.domain import Domain
 __all__ = ["chord_split"]
 
 
-def chord_split(fill, domain: Domain, max_points: int):
+def chord_split(fill, domain: Domain, max_points: int, line_params=None):
     """Finish a mixed fill with quads only, refining along chords from the left-over triangles.
 
     Every side of a left-over triangle starts a chord: it crosses the quad beyond that side
@@ -46,6 +46,11 @@ def chord_split(fill, domain: Domain, max_points: int):
     fill : QuadFill
     domain : Domain
     max_points : int
+    line_params : (k, 2) float64, optional
+        Curve parameters of each line's two ends (``Discretization.segment_params`` when
+        the lines are the discretisation's segments, in order): a split line's midpoint
+        is then the arc-length midpoint of its parameters, without projecting its ends
+        back onto the curve (a golden-section search per curve; not exact at a cusp).
 
     Returns
     -------
@@ -55,7 +60,8 @@ def chord_split(fill, domain: Domain, max_points: int):
     Raises
     ------
     InputError
-        ``fill`` not a QuadFill, ``domain`` not a Domain, ``max_points`` not a positive int.
+        ``fill`` not a QuadFill, ``domain`` not a Domain, ``max_points`` not a positive int,
+        ``line_params`` not finite with one row per line.
     MeshingError
         The refinement would exceed ``max_points``.
     """
@@ -67,6 +73,13 @@ def chord_split(fill, domain: Domain, max_points: int):
     if not isinstance(domain, Domain):
         raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
     max_points = check_count(max_points, "max_points", 1)
+    if line_params is not None:
+        line_params = np.asarray(line_params, dtype=np.float64)
+        if line_params.shape != (len(fill.lines), 2) or not np.isfinite(line_params).all():
+            raise InputError(
+                f"line_params must be finite with shape ({len(fill.lines)}, 2), one row per line; "
+                f"got shape {line_params.shape}"
+            )
     xy = fill.points
     n = len(xy)
     quads = fill.quads.astype(np.int64)
@@ -108,10 +121,13 @@ def chord_split(fill, domain: Domain, max_points: int):
     lmid = np.searchsorted(uniq, lkey[lsplit])
     on_curve = fill.line_curves[lsplit] >= 0
     if on_curve.any():
-        ends_l = lines[lsplit][on_curve]
-        mid[lmid[on_curve]] = curve_midpoints(
-            domain, fill.line_curves[lsplit][on_curve], xy[ends_l[:, 0]], xy[ends_l[:, 1]]
-        )
+        curves = fill.line_curves[lsplit][on_curve]
+        if line_params is None:
+            ends_l = lines[lsplit][on_curve]
+            mid[lmid[on_curve]] = curve_midpoints(domain, curves, xy[ends_l[:, 0]], xy[ends_l[:, 1]])
+        else:
+            ta, tb = line_params[lsplit][on_curve].T
+            mid[lmid[on_curve]] = domain.split(curves, ta, tb)[1]
     node = np.full(len(key), -1, dtype=np.int64)
     node[split] = n + np.searchsorted(uniq, key[split])
     hq = node[: 4 * m].reshape(m, 4)

@@ -730,7 +730,9 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     fill = QuadFill(xy, quads, tris, lines, disc.segment_markers.astype(np.int32), disc.segment_curve.astype(np.int32))
     split = bool(all_quad and len(tris))
     if split:
-        fill = chord_split(fill, domain, cap)
+        # The lines are the discretisation's segments in order: their curve parameters
+        # give the split lines' midpoints without projecting their ends.
+        fill = chord_split(fill, domain, cap, disc.segment_params)
     fixed = np.zeros(len(fill.points), dtype=bool)
     fixed[fill.lines.ravel()] = True
     moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH, SETTLE)
