@@ -525,9 +525,7 @@ def polish(xy, quads, fixed, floor: float, rounds: int):
     """
     p = np.array(xy, dtype=np.float64)
     q = np.ascontiguousarray(quads, dtype=np.int64)
-    order = np.argsort(q.ravel(), kind="stable")
-    cell_idx = np.ascontiguousarray(order // 4)
-    cell_ptr = np.searchsorted(q.ravel()[order], np.arange(len(p) + 1)).astype(np.int64)
+    cell_ptr, cell_idx = pk.vertex_cells(q, len(p))
     ang = np.arange(16) * (np.pi / 8.0)
     dirs = np.ascontiguousarray(np.column_stack([np.cos(ang), np.sin(ang)]))
     steps = np.array([0.25, 0.125, 0.0625])

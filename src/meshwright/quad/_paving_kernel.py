@@ -30,7 +30,7 @@ from meshwright.sizing.background import interpolate_walk
 
 __all__ = [
     "adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "polish_rounds", "row_crossings",
-    "row_nodes", "walk_spacing",
+    "row_nodes", "vertex_cells", "walk_spacing",
 ]
 
 
@@ -439,6 +439,29 @@ def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
             p[v, 1] = by
             moved += 1
     return moved
+
+
+@njit(cache=True)
+def vertex_cells(q, n):
+    """The vertex-to-quad table of ``q`` (m, 4) int64 over ``n`` vertices in CSR form, by
+    a counting sort: ``cell_ptr`` (n + 1,) int64 and ``cell_idx`` (4 m,) int64, each
+    vertex's quads ascending (the order of a stable argsort of ``q.ravel()``, without
+    its sort)."""
+    m = q.shape[0]
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    for c in range(m):
+        for k in range(4):
+            ptr[q[c, k] + 1] += 1
+    for v in range(n):
+        ptr[v + 1] += ptr[v]
+    nxt = ptr[:n].copy()
+    idx = np.empty(4 * m, dtype=np.int64)
+    for c in range(m):
+        for k in range(4):
+            v = q[c, k]
+            idx[nxt[v]] = c
+            nxt[v] += 1
+    return ptr, idx
 
 
 @njit(cache=True)
