@@ -24,9 +24,11 @@ Procedure (the numbered steps of 18.2)
    triangle of unit side, the sides kept within [0.55, 2] face lengths; (b) the front nodes
    within ``CLOSE rho`` of P, left of AB, are tried first, nearest first, if their triangle
    has quality ``GOOD`` and sides below ``LONG rho``; then P itself if it keeps ``CLEAR_NODE
-   rho`` from every node and ``CLEAR_FACE rho`` from every face; then the other nodes of the
-   search box, best triangle first; (c) a candidate is taken only if the triangle crosses no
-   front face and contains no front node (exact tests, see
+   rho`` from every node and ``CLEAR_FACE rho`` from every face, those behind AB seen from P
+   excepted (exact orientations; the way to them passes A or B, rho away: a sharp corner
+   at A or B puts its neighbour there); then the other nodes of the search box, best
+   triangle first; (c) a candidate is taken only if the triangle crosses no front face and
+   contains no front node (exact tests, see
    :mod:`meshwright.tri._front_kernel`), and, as a quality rule, its new sides keep
    ``CLEAR_EDGE rho`` from every other node.
 6.-8. The triangle is added; each of its two new sides either closes the front face lying on
@@ -72,6 +74,7 @@ from meshwright.core.spatial.loose_quadtree import Q_NODES, qt_new
 from meshwright.core.validate_input import check_flag
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
+from meshwright.tri._front_swap import swap_edges
 from meshwright.tri._kernel2d import M_NTRI
 from meshwright.tri.smoothing import smooth
 
@@ -390,12 +393,12 @@ def advancing_front(
     npts = int(fs.meta[fk.M_NP])
     if finish:
         nbr, locked = _adjacency(tris, npts, ct.segments()[0])
-        fk.swap_edges(fs.pts, fs.met, tris, nbr, locked, SWAP_PASSES, SWAP_GAIN)
+        swap_edges(fs.pts, fs.met, tris, nbr, locked, SWAP_PASSES, SWAP_GAIN)
     if finish and _is_isotropic(field):
         fixed = np.zeros(npts, dtype=bool)
         fixed[: len(pts0)] = True
         fs.pts[:npts] = smooth(fs.pts[:npts], tris, ct.segments()[0], passes=SMOOTH_PASSES, fixed=fixed)
-        fk.swap_edges(fs.pts, fs.met, tris, nbr, locked, SWAP_PASSES, SWAP_GAIN)
+        swap_edges(fs.pts, fs.met, tris, nbr, locked, SWAP_PASSES, SWAP_GAIN)
     n0 = len(pts0)
     keep = np.zeros(npts, dtype=bool)
     keep[:n0] = True
