@@ -309,11 +309,6 @@ def greedy_pairs(raw, nbr, mate, qmin):
     return made
 
 
-@njit(inline="always")
-def _allowed(raw, nbr, v, k, qmin):
-    return nbr[3 * v + k] >= 0 and score_of(raw[3 * v + k], qmin) >= 0.0
-
-
 @njit(cache=True)
 def _lca(a, b, mate, pred, base, mark, stamp):
     """Base of the blossom closing at a and b (walk up both alternating trees)."""
@@ -371,7 +366,10 @@ def _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis,
             tail[cur] = tail[b]
             head[b] = -1
         blossom[b] = 0
-    order = np.sort(cand[:nc])
+    # Sorted in place: a blossom-heavy search contracts thousands of times, and np.sort
+    # would allocate a new array for each.
+    order = cand[:nc]
+    order.sort()
     for r in range(nc):
         queue[qtail] = vis[order[r]]
         qtail += 1
@@ -379,9 +377,12 @@ def _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis,
 
 
 @njit(cache=True)
-def _search(raw, nbr, mate, qmin, root, used, pred, base, blossom, mark, stamp, vis, queue, max_visit,
-            bstack, head, tail, link, vpos, cand):
+def _search(adj, mate, root, used, pred, base, blossom, mark, stamp, vis, queue, max_visit, bstack, head, tail, link,
+            vpos, cand):
     """Edmonds' alternating-tree search from ``root``; returns the free triangle reached or -1.
+
+    ``adj`` is flat like ``nbr``: the neighbour across each side the round allows, -1
+    across the others (:func:`augment`).
 
     ``vis[:count]`` lists every triangle whose ``used``/``pred``/``base``/member-list
     entries changed; the count is returned second so the caller can reset them.
@@ -401,9 +402,9 @@ def _search(raw, nbr, mate, qmin, root, used, pred, base, blossom, mark, stamp, 
         v = queue[head_q]
         head_q += 1
         for k in range(3):
-            if not _allowed(raw, nbr, v, k, qmin):
+            to = adj[3 * v + k]
+            if to < 0:
                 continue
-            to = nbr[3 * v + k]
             if base[v] == base[to] or mate[v] == to:
                 continue
             if to == root or (mate[to] >= 0 and pred[mate[to]] >= 0):
@@ -445,7 +446,7 @@ def augment_scratch(nt: int):
         ``blossom`` (nt,) int8, ``mark`` (nt,) int64, ``vis`` and ``queue`` (2 nt + 2,)
         int32, ``bstack`` (nt + 1,) int32, ``head`` and ``tail`` (nt,) int32 (identity),
         ``link`` (nt,) int32 (-1), ``vpos`` (nt,) int32, ``cand`` (nt + 1,) int32,
-        ``stamp`` (1,) int64.
+        ``stamp`` (1,) int64, ``adj`` (3 nt,) int32 (filled by each call).
     """
     nt = int(nt)
     ident = np.arange(nt, dtype=np.int32)
@@ -454,6 +455,7 @@ def augment_scratch(nt: int):
         np.zeros(nt, dtype=np.int64), np.empty(2 * nt + 2, dtype=np.int32), np.empty(2 * nt + 2, dtype=np.int32),
         np.empty(nt + 1, dtype=np.int32), ident.copy(), ident.copy(), np.full(nt, -1, dtype=np.int32),
         np.zeros(nt, dtype=np.int32), np.empty(nt + 1, dtype=np.int32), np.zeros(1, dtype=np.int64),
+        np.empty(3 * nt, dtype=np.int32),
     )
 
 
@@ -467,9 +469,16 @@ def augment(raw, nbr, mate, qmin, max_visit, scratch):
     on u), so the pass costs O(left-overs x max_visit) plus the blossoms' members.
     ``raw`` is :func:`side_scores`' table; ``scratch`` is :func:`augment_scratch` of
     ``len(mate)``, left in its rest state.  Returns the number of pairs gained.
+
+    The sides the round allows (a neighbour, and a score of at least ``qmin``,
+    :func:`score_of`) are listed once per call in ``adj``, so a visit reads one entry per
+    side instead of the neighbour, its raw score and the score's tests (a third of the
+    searches' time on the airfoils).
     """
     nt = mate.shape[0]
-    used, pred, base, blossom, mark, vis, queue, bstack, head, tail, link, vpos, cand, stamps = scratch
+    used, pred, base, blossom, mark, vis, queue, bstack, head, tail, link, vpos, cand, stamps, adj = scratch
+    for i in range(3 * nt):
+        adj[i] = nbr[i] if nbr[i] >= 0 and score_of(raw[i], qmin) >= 0.0 else -1
     # Blossom stamps go on from the last call: marks it left must not match new ones.
     stamp = stamps[0]
     gained = 0
@@ -477,8 +486,8 @@ def augment(raw, nbr, mate, qmin, max_visit, scratch):
         if mate[u] >= 0:
             continue
         found, nv, stamp = _search(
-            raw, nbr, mate, qmin, u, used, pred, base, blossom, mark, stamp, vis, queue, max_visit,
-            bstack, head, tail, link, vpos, cand,
+            adj, mate, u, used, pred, base, blossom, mark, stamp, vis, queue, max_visit, bstack, head, tail, link, vpos,
+            cand,
         )
         if found >= 0:
             v = found

@@ -92,6 +92,23 @@ def _corner_table(points, cells):
 
 
 @njit(cache=True)
+def _convex_table(points, cells):
+    """Exact convexity of every corner, (m, 4) int8: ``cv[c, k]`` is 1 when corner k of
+    cell c is strictly convex (exact ``orient2d``, through :func:`_convex`'s filter), else
+    0 (unused slot of a triangle: 1)."""
+    m = cells.shape[0]
+    cv = np.ones((m, 4), np.int8)
+    for c in range(m):
+        nv = 4 if cells[c, 3] >= 0 else 3
+        for k in range(nv):
+            a = cells[c, k - 1 if k > 0 else nv - 1]
+            d = cells[c, k + 1 if k + 1 < nv else 0]
+            _, cross, scale = _corner_cross(points, a, cells[c, k], d)
+            cv[c, k] = 1 if _convex(points, a, cells[c, k], d, cross, scale) else 0
+    return cv
+
+
+@njit(cache=True)
 def _star_min(cs, cells, cell_ptr, cell_idx, v):
     """Smallest corner sine over the cells around ``v``, read from the table ``cs``, and
     the corner holding it (``4 * cell + corner``; -1 when no sine is below 1)."""
@@ -137,7 +154,7 @@ def _convex(points, a, b, d, cross, scale):
 
 
 @njit(cache=True)
-def _guard(points, cells, cell_ptr, cell_idx, cs, v, bound, worst, slot, old, exact):
+def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old, exact):
     """Test ``v``'s new position and bring the corner table ``cs`` up to date if it passes.
 
     Passes if every corner sine that moving ``v`` changes is at least ``bound`` (the
@@ -147,6 +164,12 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, v, bound, worst, slot, old, ex
     ``orient2d``, certified from the same cross products where the filter allows.  One
     walk of the star: the new sines are written into ``cs`` as they are computed, the old
     ones kept in ``slot`` / ``old`` and put back at the first failure.
+
+    With ``exact``, ``cv`` (m, 4) int8 holds every corner's exact convexity
+    (:func:`_convex_table`): the corner opposite ``v`` in a quad keeps its two edges, so
+    its entry is read instead of computed (a quarter of the star's corners), and a passing
+    move sets the entries of the corners it changed, all convex then.  Without ``exact``
+    ``cv`` is not read.
 
     A refused move almost always fails at the star's worst corner (``worst``, from
     :func:`_star_min`), so that corner, if the move changes it, is tested first: the
@@ -172,18 +195,18 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, v, bound, worst, slot, old, ex
             kv += 1
         for k in range(nv):
             # The corner opposite v does not change: only its exact convexity is read.
-            moved = nv == 3 or k != ((kv + 2) & 3)
-            if not (moved or exact):
+            if nv == 4 and k == ((kv + 2) & 3):
+                if exact and cv[c, k] == 0:
+                    ok = False
+                    break
                 continue
             a = cells[c, k - 1 if k > 0 else nv - 1]
             b = cells[c, k]
             d = cells[c, k + 1 if k + 1 < nv else 0]
             sn, cross, scale = _corner_cross(points, a, b, d)
-            if (moved and sn < bound) or (exact and not _convex(points, a, b, d, cross, scale)):
+            if sn < bound or (exact and not _convex(points, a, b, d, cross, scale)):
                 ok = False
                 break
-            if not moved:
-                continue
             slot[i] = 4 * c + k
             old[i] = cs[c, k]
             cs[c, k] = sn
@@ -193,6 +216,9 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, v, bound, worst, slot, old, ex
     if not ok:
         for j in range(i):
             cs[slot[j] >> 2, slot[j] & 3] = old[j]
+    elif exact:
+        for j in range(i):
+            cv[slot[j] >> 2, slot[j] & 3] = 1
     return ok
 
 
@@ -215,6 +241,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
     cur = np.ones(n, np.int8)
     nxt = np.zeros(n, np.int8)
     cs = _corner_table(points, cells)
+    cs_none = np.ones((0, 4), np.int8)  # the convexity table: not kept without exact tests
     most = 0
     for v in range(n):
         most = max(most, cell_ptr[v + 1] - cell_ptr[v])
@@ -234,7 +261,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
             for step in (1.0, 0.5):
                 points[v, 0] = x0 + step * (tx - x0)
                 points[v, 1] = y0 + step * (ty - y0)
-                if _guard(points, cells, cell_ptr, cell_idx, cs, v, before, worst, slot, old, False):
+                if _guard(points, cells, cell_ptr, cell_idx, cs, cs_none, v, before, worst, slot, old, False):
                     kept += 1
                     if settle > 0.0 and _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
                         woke = True
@@ -311,7 +338,7 @@ def cell_tables(points, quads, triangles):
 
 
 @njit(cache=True)
-def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, worst, cs, slot, old):
+def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, worst, cs, cv, slot, old):
     """Move v to (tx, ty) if every cell of its star is valid there (exact) and the star's
     smallest corner sine (``before`` at corner ``worst``, :func:`_star_min` where v is
     now) does not fall; a
@@ -321,7 +348,7 @@ def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, worst, cs, s
     y0 = points[v, 1]
     points[v, 0] = tx
     points[v, 1] = ty
-    if _guard(points, cells, cell_ptr, cell_idx, cs, v, before, worst, slot, old, True):
+    if _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, before, worst, slot, old, True):
         return True
     points[v, 0] = x0
     points[v, 1] = y0
@@ -329,11 +356,12 @@ def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, worst, cs, s
 
 
 @njit(cache=True)
-def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, slot, old):
+def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old):
     """One Gauss-Seidel guarded Laplacian sweep over the free vertices, exact validity
     kept; with ``settle > 0`` only those awake in ``cur`` (:func:`_sweeps`; this sweep's
-    moves wake their neighbours in ``cur`` and ``nxt``, :func:`_note_move`).  ``cs``: the corner table, kept
-    up to date; ``slot``, ``old``: scratch for a star's sines (:func:`_guard`)."""
+    moves wake their neighbours in ``cur`` and ``nxt``, :func:`_note_move`).  ``cs``, ``cv``: the corner
+    sines and exact convexity, kept up to date; ``slot``, ``old``: scratch for a star's
+    sines (:func:`_guard`)."""
     kept = 0
     for v in range(points.shape[0]):
         if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
@@ -347,7 +375,8 @@ def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, c
         before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
         for step in (1.0, 0.5):
             if _try_move(
-                points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0), before, worst, cs, slot, old
+                points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0), before, worst, cs, cv,
+                slot, old,
             ):
                 kept += 1
                 if settle > 0.0:
@@ -375,15 +404,15 @@ def _tangent_steps(points, nbr_ptr, nbr_idx, nodes, chord):
 
 
 @njit(cache=True)
-def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half, cs, slot, old):
+def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half, cs, cv, slot, old):
     """Move each sliding vertex to its projected full step, else its projected half step
-    (``cs``, ``slot``, ``old``: as :func:`_interior_sweep`)."""
+    (``cs``, ``cv``, ``slot``, ``old``: as :func:`_interior_sweep`)."""
     kept = 0
     for s in range(nodes.shape[0]):
         v = nodes[s]
         before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
-        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1], before, worst, cs, slot, old) or _try_move(
-            points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1], before, worst, cs, slot, old
+        if _try_move(points, cells, cell_ptr, cell_idx, v, full[s, 0], full[s, 1], before, worst, cs, cv, slot, old) or (
+            _try_move(points, cells, cell_ptr, cell_idx, v, half[s, 0], half[s, 1], before, worst, cs, cv, slot, old)
         ):
             kept += 1
     return kept
@@ -495,10 +524,11 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     cur = np.ones(n, np.int8)
     nxt = np.zeros(n, np.int8)
     cs = _corner_table(pts, cells)
+    cv = _convex_table(pts, cells)
     slot = np.empty(4 * int(np.diff(cell_ptr).max(initial=0)) + 1, np.int64)
     old = np.empty(len(slot))
     for _ in range(passes):
-        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, slot, old)
+        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old)
         cur, nxt = nxt, cur
         nxt[:] = 0
         cur[woken] = 1
@@ -517,5 +547,5 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
         both = project(np.concatenate([nodes, nodes]), np.vstack([at + step, at + 0.5 * step]), np.vstack([at, at]))
         full = np.ascontiguousarray(both[: len(nodes)], dtype=np.float64)
         half = np.ascontiguousarray(both[len(nodes) :], dtype=np.float64)
-        _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half, cs, slot, old)
+        _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half, cs, cv, slot, old)
     return pts
