@@ -28,6 +28,12 @@ uniform metric the first apex is a square's corner above B and the second the
 parallelogram's fourth corner, so a boundary row comes out as squares (disk h=0.01: mean
 scaled Jacobian 0.963 against 0.909 with equilateral apexes, no chord refinement).
 
+Pockets: a pair that would leave a sub-front of four faces whose closing quadrilateral
+is not strictly convex at an input node, or has a corner wider than 150 degrees between
+input nodes, is not made (:func:`_bad_pocket`; the face tries its next candidate): no
+pair could close that pocket, and the triangle front and the matching would close it with
+that very quadrilateral, which no smoothing opens at nodes that do not move.
+
 Both triangles are tested before either is made: the second one on the *virtual* face of
 the first (A -> C or C -> B), against the front as it is.  That is exact: the second
 triangle lies in the closed half-plane left of its base, the first triangle (and with it
@@ -62,6 +68,7 @@ from meshwright.quad._pairing_kernel import corner_flat
 from meshwright.tri._front_kernel import (
     F_A,
     F_B,
+    F_NEXT,
     F_TRIES,
     M_FAIL,
     M_NF,
@@ -86,6 +93,7 @@ from meshwright.tri._front_kernel import (
     R_STEPS,
     R_SYNC,
     ROOM_FACES,
+    V_FACE,
     _find_face,
     _gather,
     _heap_pop,
@@ -193,6 +201,82 @@ def _flat_input(pts, nin, q0, q1, q2, q3):
 
 
 @njit(inline="always")
+def _next_after(x, q, gone, f, fs):
+    """The node after x on the front as it would be once quad ``q`` (four nodes,
+    counter-clockwise, on face f = q[0] -> q[1]) is made; -1 when x would start no face or
+    more than one (a pinch point, where the loop through x is not one path).
+
+    The quad's side q[k] -> q[k+1] (k = 1, 2, 3) fills the live front face of the same
+    direction (bit k of ``gone``) or else adds its reverse q[k+1] -> q[k] to the front, as
+    :func:`~meshwright.tri._front_kernel._make_triangle` does for each of the two triangles.
+    """
+    face, falive = fs.face, fs.falive
+    nxt = np.int64(-1)
+    count = 0
+    g = fs.vint[x, V_FACE] if x < fs.meta[M_NP] else -1  # a new node starts no face yet
+    while g >= 0:
+        if falive[g] != 0 and g != f:
+            y = np.int64(face[g, F_B])
+            filled = False
+            for k in range(1, 4):
+                if (gone >> k) & 1 and q[k] == x and q[(k + 1) % 4] == y:
+                    filled = True
+            if not filled:
+                nxt = y
+                count += 1
+        g = face[g, F_NEXT]
+    for k in range(1, 4):
+        if not (gone >> k) & 1 and q[(k + 1) % 4] == x:
+            nxt = q[k]
+            count += 1
+    return nxt if count == 1 else np.int64(-1)
+
+
+@njit(inline="always")
+def _bad_pocket(pts, f, q, fs):
+    """Whether making quad ``q`` (four nodes, counter-clockwise, on face f = q[0] -> q[1])
+    would leave a sub-front of four faces with a corner at an input node that is not
+    strictly convex (exact ``orient2d``), or wider than 150 degrees between two input
+    nodes (:func:`_flat_input`, the rule the pairs themselves obey).
+
+    No admissible pair closes such a pocket (its one closing quadrilateral), so the
+    triangle front would fill it and the matching pair its two triangles into that
+    quadrilateral; input nodes never leave their curves and a corner of the domain never
+    moves, so no smoothing opens it, and a non-convex one is cut back into two triangles
+    whose chords leave slivers (letter_a.poly at its acute notch: min scaled Jacobian
+    0.094).  A pocket bad only at generated nodes is allowed: smoothing moves those.
+    Pinch points are not followed (such a loop is not judged).
+    """
+    face, falive, vint = fs.face, fs.falive, fs.vint
+    nin = fs.meta[M_NIN]
+    gone = 0
+    for k in range(1, 4):
+        if q[k] < fs.meta[M_NP] and _find_face(q[k], q[(k + 1) % 4], vint, face, falive) >= 0:
+            gone |= 1 << k
+    # A loop the pair changes passes through a corner of the quad: it holds a face the
+    # pair adds, or a corner whose other face the pair fills (a pinch point resolved).
+    for k in range(4):
+        x0 = q[k]
+        x1 = _next_after(x0, q, gone, f, fs)
+        if x1 < 0:
+            continue
+        x2 = _next_after(x1, q, gone, f, fs)
+        if x2 < 0 or x2 == x0:
+            continue
+        x3 = _next_after(x2, q, gone, f, fs)
+        if x3 < 0 or x3 == x0 or x3 == x1 or _next_after(x3, q, gone, f, fs) != x0:
+            continue
+        loop = (x0, x1, x2, x3)
+        if _flat_input(pts, nin, x0, x1, x2, x3):
+            return True
+        for m in range(4):
+            v = loop[m]
+            if v < nin and _orient(pts, loop[(m + 3) % 4], v, loop[(m + 1) % 4]) <= 0.0:
+                return True
+    return False
+
+
+@njit(inline="always")
 def _second(u, w, o, io, p, last, fs, par, col, want, items, nodes, cand, ckey, stack, fstack):
     """Apex of the second triangle on the virtual face u -> w (step 6): a node of colour
     ``want`` (or uncoloured), or the new point ``p`` (ideal point as :func:`_gather`'s
@@ -281,6 +365,8 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
             if c == p:
                 pts[p, 0] = px
                 pts[p, 1] = py
+            if _bad_pocket(pts, f, (a, b, c, d) if side == 0 else (a, b, d, c), fs):
+                continue
             _make_triangle(f, a, b, c, fs, uniform)
             col[c] = cu
             g = _find_face(u, w, fs.vint, face, fs.falive)

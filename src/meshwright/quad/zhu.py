@@ -17,7 +17,9 @@ The chapter's steps, and where they are
    and its apex D may leave no odd sub-front (6): kept by a two-colouring of the front
    nodes, two table reads per candidate (:mod:`meshwright.quad._zhu_kernel`).  Both
    triangles are tested before either is made; a first triangle without an admissible
-   second is passed over for the next candidate.
+   second is passed over for the next candidate, and so is a pair that would close off a
+   pocket of four faces whose one quadrilateral is reflex, or wider than 150 degrees, at
+   input nodes (no pair could close it, and nothing would open it afterwards).
 7. The new nodes' spacing comes from the size field in batches (the front's syncs); the
    second triangle of a pair uses its new corner C with A's metric until then.
 8.-9. ABCD is recorded as a pair and the front updated (both triangles' faces).
