@@ -34,17 +34,6 @@ __all__ = ["cell_tables", "smooth_cells", "smooth_sliding"]
 
 
 @njit(inline="always")
-def _corner_sine(points, a, b, d):
-    """Sine of the corner at b between b->d and b->a (-1 for a degenerate corner)."""
-    ux = points[d, 0] - points[b, 0]
-    uy = points[d, 1] - points[b, 1]
-    wx = points[a, 0] - points[b, 0]
-    wy = points[a, 1] - points[b, 1]
-    den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
-    return (ux * wy - uy * wx) / den if den > 0.0 else -1.0
-
-
-@njit(inline="always")
 def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
     """Mean of vertex ``v``'s neighbours (the spring analogy's equilibrium)."""
     tx = 0.0
@@ -75,11 +64,15 @@ def _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
 
 
 @njit(cache=True)
-def _corner_table(points, cells):
+def _corner_table(points, cells, exact):
     """Sine of every corner, (m, 4) float64: ``cs[c, k]`` of corner k of cell c (unused
-    slot of a triangle: 1)."""
+    slot of a triangle: 1); with ``exact`` also every corner's exact convexity, (m, 4)
+    int8: ``cv[c, k]`` 1 when strictly convex (exact ``orient2d``, through
+    :func:`_convex`'s filter on the same cross product), else 0 (unused slot: 1); without
+    it ``cv`` is (0, 4).  Returns (cs, cv)."""
     m = cells.shape[0]
     cs = np.ones((m, 4))
+    cv = np.ones((m if exact else 0, 4), np.int8)
     for c in range(m):
         nv = 4 if cells[c, 3] >= 0 else 3
         for k in range(nv):
@@ -87,25 +80,10 @@ def _corner_table(points, cells):
             # run-time nv, per corner, in the hot loops below).
             a = cells[c, k - 1 if k > 0 else nv - 1]
             d = cells[c, k + 1 if k + 1 < nv else 0]
-            cs[c, k] = _corner_sine(points, a, cells[c, k], d)
-    return cs
-
-
-@njit(cache=True)
-def _convex_table(points, cells):
-    """Exact convexity of every corner, (m, 4) int8: ``cv[c, k]`` is 1 when corner k of
-    cell c is strictly convex (exact ``orient2d``, through :func:`_convex`'s filter), else
-    0 (unused slot of a triangle: 1)."""
-    m = cells.shape[0]
-    cv = np.ones((m, 4), np.int8)
-    for c in range(m):
-        nv = 4 if cells[c, 3] >= 0 else 3
-        for k in range(nv):
-            a = cells[c, k - 1 if k > 0 else nv - 1]
-            d = cells[c, k + 1 if k + 1 < nv else 0]
-            _, cross, scale = _corner_cross(points, a, cells[c, k], d)
-            cv[c, k] = 1 if _convex(points, a, cells[c, k], d, cross, scale) else 0
-    return cv
+            cs[c, k], cross, scale = _corner_cross(points, a, cells[c, k], d)
+            if exact:
+                cv[c, k] = 1 if _convex(points, a, cells[c, k], d, cross, scale) else 0
+    return cs, cv
 
 
 @njit(cache=True)
@@ -131,7 +109,8 @@ def _corner_cross(points, a, b, d):
     The cross product is computed with exactly the operations of ``orient2d(d, a, b)``'s
     filter, so ``cross >= CCW_ERRBOUND_A * scale`` (Shewchuk 1997) certifies that the
     exact ``orient2d(a, b, d)`` (the same determinant, cyclically permuted) is positive.
-    The sine is :func:`_corner_sine`'s, bit for bit.
+    The sine is ``cross / sqrt(|u|^2 |w|^2)`` (-1 for a degenerate corner); the corner
+    table and every guard test compute it here, so they agree bit for bit.
     """
     ux = points[d, 0] - points[b, 0]
     uy = points[d, 1] - points[b, 1]
@@ -166,7 +145,7 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old
     ones kept in ``slot`` / ``old`` and put back at the first failure.
 
     With ``exact``, ``cv`` (m, 4) int8 holds every corner's exact convexity
-    (:func:`_convex_table`): the corner opposite ``v`` in a quad keeps its two edges, so
+    (:func:`_corner_table`): the corner opposite ``v`` in a quad keeps its two edges, so
     its entry is read instead of computed (a quarter of the star's corners), and a passing
     move sets the entries of the corners it changed, all convex then.  Without ``exact``
     ``cv`` is not read.
@@ -240,8 +219,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
     kept = 0
     cur = np.ones(n, np.int8)
     nxt = np.zeros(n, np.int8)
-    cs = _corner_table(points, cells)
-    cs_none = np.ones((0, 4), np.int8)  # the convexity table: not kept without exact tests
+    cs, cv = _corner_table(points, cells, False)
     most = 0
     for v in range(n):
         most = max(most, cell_ptr[v + 1] - cell_ptr[v])
@@ -261,7 +239,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
             for step in (1.0, 0.5):
                 points[v, 0] = x0 + step * (tx - x0)
                 points[v, 1] = y0 + step * (ty - y0)
-                if _guard(points, cells, cell_ptr, cell_idx, cs, cs_none, v, before, worst, slot, old, False):
+                if _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, before, worst, slot, old, False):
                     kept += 1
                     if settle > 0.0 and _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
                         woke = True
@@ -523,8 +501,7 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     woken = np.concatenate([slide, nbr_idx[first + np.arange(int(lens.sum()))]])
     cur = np.ones(n, np.int8)
     nxt = np.zeros(n, np.int8)
-    cs = _corner_table(pts, cells)
-    cv = _convex_table(pts, cells)
+    cs, cv = _corner_table(pts, cells, True)
     slot = np.empty(4 * int(np.diff(cell_ptr).max(initial=0)) + 1, np.int64)
     old = np.empty(len(slot))
     for _ in range(passes):
