@@ -248,6 +248,10 @@ def _bad_pocket(pts, f, q, fs):
     Pinch points are not followed (such a loop is not judged).
     """
     face, falive, vint = fs.face, fs.falive, fs.vint
+    if q[2] >= fs.meta[M_NP] and q[3] >= fs.meta[M_NP]:
+        # Two new corners (the common case): the front gains the path q0 q3 q2 q1 in
+        # place of one face, so its loop grows and no other loop changes.
+        return False
     nin = fs.meta[M_NIN]
     gone = 0
     for k in range(1, 4):
