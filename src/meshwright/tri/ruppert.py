@@ -311,9 +311,7 @@ def chains(ct) -> np.ndarray:
     out[:, 1:] = seg
     curves = ct.curves
     rows = ct.constraints.seg_in[:n]
-    # Curve data that does not cover every input segment (replaced by refine(curves=...)
-    # with fewer rows) tells nothing safe: pieces stay their own chains.
-    if not isinstance(curves, SegmentCurves) or n == 0 or (rows < 0).all() or rows.max() >= len(curves.segment_curve):
+    if not isinstance(curves, SegmentCurves) or n == 0 or (rows < 0).all():
         return out
     ok = np.flatnonzero(rows >= 0)
     cid = curves.segment_curve[rows[ok]]
