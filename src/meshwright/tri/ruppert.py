@@ -29,11 +29,7 @@ Algorithm (:func:`refine_loop`, one Numba loop over flat arrays)
    subsegments are split instead (the triangle is requeued).  Otherwise insert it: the
    cavity never crosses a constrained edge.
 4. Every new triangle is examined as in 1.  Triangles whose shortest edge joins two segments
-   meeting at a small input angle, at equal distance from the apex, are left alone; a
-   vertex of one such segment as far from the apex as an end of a subsegment of the other
-   does not encroach it (shell vertices, whose rounding would otherwise decide).  A
-   segment here is the input segment as drawn, however finely the boundary was cut into
-   pieces (:func:`chains`): on a thin domain the pieces meet only at the apex.
+   meeting at a small input angle, at equal distance from the apex, are left alone.
 
 State: the insertion kernel's ``TriState`` ``s``, the constrained layer's ``CdtState`` ``c``
 (:mod:`meshwright.tri._encroach`) and this method's :class:`RefineState` ``r`` (layout in
@@ -144,7 +140,7 @@ def refine_loop(s, c, r):
     s, c, r = borrowed(s), borrowed(c), borrowed(r)
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
     vtri, treg = c.vtri, c.treg
-    qhead, qnext, qval, qhdr, sq, pend, _, st, prm, fz, held, _ = r
+    qhead, qnext, qval, qhdr, sq, pend, _, st, prm, fz, held = r
     rows, slots = room_of(s, c)
     wcap = work.shape[0] // 5
     while True:
@@ -286,60 +282,6 @@ def _split_at(v, h, s, c):
 
 
 # ---------------------------------------------------------------------------- driver
-def chains(ct) -> np.ndarray:
-    """The chain of each piece of ``ct`` and the chain's end vertices (``RefineState.pcor``).
-
-    A chain is the straight input segment a piece was cut from: the pieces of one
-    polyline edge (its parameters lie between two consecutive integers), of one line, or of
-    one other curve, as ``ct.curves`` (a :class:`~meshwright.tri.cdt.SegmentCurves`) tells;
-    its ends are the vertices that bound an odd number of its pieces.  Without curve data,
-    and for a chain that is not one open path (closed, or ends not found), each piece is
-    its own chain, ending at its own vertices.
-
-    Returns
-    -------
-    (P, 3) int32
-        Chain id, end vertex, end vertex (-1, -1 for a closed chain).
-    """
-    from meshwright.geometry.curves import Polyline
-    from meshwright.tri.cdt import SegmentCurves
-
-    n = ct._np
-    seg = ct.constraints.seg[:n].astype(np.int64)
-    out = np.empty((n, 3), dtype=np.int32)
-    out[:, 0] = np.arange(n)
-    out[:, 1:] = seg
-    curves = ct.curves
-    rows = ct.constraints.seg_in[:n]
-    if not isinstance(curves, SegmentCurves) or n == 0 or (rows < 0).all():
-        return out
-    ok = np.flatnonzero(rows >= 0)
-    cid = curves.segment_curve[rows[ok]]
-    poly = np.array([isinstance(cv, Polyline) for cv in curves.curves], dtype=bool)[cid]
-    edge = np.where(poly, np.floor(curves.segment_params[rows[ok]].mean(axis=1)), 0.0).astype(np.int64)
-    _, chain = np.unique(np.column_stack([cid, edge]), axis=0, return_inverse=True)
-    chain = chain.ravel()
-    # Ends: the vertices of an odd number of the chain's pieces.
-    ends = np.column_stack([np.concatenate([chain, chain]), np.concatenate([seg[ok, 0], seg[ok, 1]])])
-    ev, count = np.unique(ends, axis=0, return_counts=True)
-    ev = ev[count % 2 == 1]
-    per = np.bincount(ev[:, 0], minlength=int(chain.max()) + 1)
-    two = per == 2
-    first = np.full(len(per), -1, dtype=np.int64)
-    last = np.full(len(per), -1, dtype=np.int64)
-    # ev is sorted by chain, then vertex: the two ends of a chain are adjacent rows.
-    sel = two[ev[:, 0]]
-    pairs = ev[sel].reshape(-1, 2, 2)
-    first[pairs[:, 0, 0]] = pairs[:, 0, 1]
-    last[pairs[:, 0, 0]] = pairs[:, 1, 1]
-    closed = per == 0
-    use = two[chain] | closed[chain]
-    out[ok[use], 0] = n + chain[use]
-    out[ok[use], 1] = first[chain[use]]
-    out[ok[use], 2] = last[chain[use]]
-    return out
-
-
 class _Run:
     """The :class:`RefineState` of one refinement run on a ConstrainedTriangulation ``ct``."""
 
@@ -369,7 +311,6 @@ class _Run:
         self.r = RefineState(
             *new_queue(QB, cap, 4), np.empty(2 * (3 * cap), dtype=np.int32),
             np.empty(4 * cap, dtype=np.int32), np.empty(2 * cap), st, prm, fz, np.empty(2 * (3 * cap), dtype=np.int32),
-            chains(ct),
         )
 
     def seed(self) -> None:
