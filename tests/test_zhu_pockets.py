@@ -23,6 +23,7 @@ from meshwright.quad.zhu import PairFront
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
 from meshwright.tri.cdt import SegmentCurves, cdt_build
+from test_zhu import _live_faces, _min_scaled_jacobian
 
 LETTER_A = pathlib.Path(__file__).parent / "data" / "letter_a.poly"
 
@@ -62,24 +63,6 @@ def _four_loops(faces):
             loops.append(loop)
             seen.update(loop)
     return loops
-
-
-def _live_faces(pf):
-    fs = pf.fr.fs
-    nf = int(fs.meta[fk.M_NF])
-    alive = np.flatnonzero(fs.falive[:nf] == 1)
-    return [(int(fs.face[f, 0]), int(fs.face[f, 1])) for f in alive if fs.face[f, 0] != fs.face[f, 1]]
-
-
-def _scaled_jacobian(xy, quads) -> float:
-    worst = 1.0
-    for q in quads:
-        for k in range(4):
-            p, c, n = xy[q[k - 1]], xy[q[k]], xy[q[(k + 1) % 4]]
-            ux, uy = n[0] - c[0], n[1] - c[1]
-            wx, wy = p[0] - c[0], p[1] - c[1]
-            worst = min(worst, (ux * wy - uy * wx) / (math.hypot(ux, uy) * math.hypot(wx, wy)))
-    return worst
 
 
 @pytest.mark.parametrize("size", [1.0, 0.8, 0.5])
@@ -134,6 +117,6 @@ def test_letter_a_all_quad_with_scaled_jacobian_above_0_2(size):
             directed.add(e)
     boundary = {e for e in directed if (e[1], e[0]) not in directed}
     assert boundary == {tuple(e) for e in mesh.cells["line"].tolist()}
-    assert _scaled_jacobian(xy, quads) > 0.2
+    assert _min_scaled_jacobian(xy, quads) > 0.2
     area = sum(_cross(xy[q[0]], xy[q[1]], xy[q[2]]) + _cross(xy[q[0]], xy[q[2]], xy[q[3]]) for q in quads) / 2
     assert float(area) == pytest.approx(abs(read_poly(LETTER_A).area()), rel=1e-2)
