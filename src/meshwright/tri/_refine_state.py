@@ -21,6 +21,14 @@ Layout::
     prm  (P_LEN,)   float64  parameters, curve points, where the loop works (slots ``P_*``)
     fz   (P,)       uint8    1 for the pieces of frozen segments (never split by the loop)
     held (2 k,)     int32    subsegments (a, b) of frozen segments that needed a split
+    pcor (P, 3)     int32    chain of each piece and the chain's two end vertices (-1: none)
+
+A *chain* is one straight input segment however finely the boundary was discretised into
+pieces (a line or one edge of a polyline, up to where other pieces meet it; ``chains`` in
+:mod:`.ruppert`): the small-angle rules below are about the segments meeting at an input
+vertex, which the pieces of a discretised boundary hide (the pieces next to a needle's tip
+meet at the tip, the ones after them meet nowhere).  A piece of a curve is its own chain:
+the rules' premise, straight sides at the input angle, holds there only piece by piece.
 
 Priority (:func:`push_bad`): one bucket per half power of two of the squared shortest edge,
 shortest first (Triangle's order), newest first inside a bucket.
@@ -94,6 +102,7 @@ class RefineState(NamedTuple):
     prm: np.ndarray
     fz: np.ndarray
     held: np.ndarray
+    pcor: np.ndarray
 
 
 # ------------------------------------------------------------------ queues
@@ -158,23 +167,55 @@ def vertex_piece(u, nin, tri, nbr, cons, vtri, vseg):
 
 
 @inner
-def _small_angle_apex(u, w, nin, pts, tri, nbr, cons, vtri, vseg, seg):
-    """Shewchuk's rule: u and w on two segments meeting at a vertex, equally far from it."""
-    pu = vertex_piece(u, nin, tri, nbr, cons, vtri, vseg)
-    if pu < 0:
-        return False
-    pw = vertex_piece(w, nin, tri, nbr, cons, vtri, vseg)
-    if pw < 0 or pu == pw:
-        return False
+def _common_end(pu, pw, pcor):
+    """The end vertex the chains of pieces pu and pw share (two segments meeting there), or -1."""
+    if pu < 0 or pw < 0 or pcor[pu, 0] == pcor[pw, 0]:
+        return -1
     j = -1
-    for x in (seg[pu, 0], seg[pu, 1]):
-        if x == seg[pw, 0] or x == seg[pw, 1]:
+    for x in (pcor[pu, 1], pcor[pu, 2]):
+        if x >= 0 and (x == pcor[pw, 1] or x == pcor[pw, 2]):
             j = x
-    if j < 0:
-        return False
+    return j
+
+
+@njit(inline="always")
+def _equally_far(u, w, j, pts):
+    """Whether u and w are equally far from j, to the 0.1 % of Shewchuk's rule (squared)."""
     du = (pts[u, 0] - pts[j, 0]) ** 2 + (pts[u, 1] - pts[j, 1]) ** 2
     dw = (pts[w, 0] - pts[j, 0]) ** 2 + (pts[w, 1] - pts[j, 1]) ** 2
     return 0.999 * dw < du < 1.001 * dw
+
+
+@inner
+def _small_angle_apex(u, w, nin, pts, tri, nbr, cons, vtri, vseg, pcor):
+    """Shewchuk's rule: u and w on two segments (chains) meeting at a vertex, equally far from it."""
+    pu = vertex_piece(u, nin, tri, nbr, cons, vtri, vseg)
+    if pu < 0:
+        return False
+    j = _common_end(pu, vertex_piece(w, nin, tri, nbr, cons, vtri, vseg), pcor)
+    return j >= 0 and _equally_far(u, w, j, pts)
+
+
+@inner
+def common_shell(x, u, w, p, nin, pts, tri, nbr, cons, vtri, vseg, pcor, vacute):
+    """Whether vertex x, found inside the diametral circle of subsegment u-w of piece p, is
+    on a segment (chain) meeting p's at an acute input vertex j, as far from j as u or w is.
+
+    Concentric shells put the vertices of two segments at a small angle at equal distances
+    from j, where in exact arithmetic none encroaches the other segment's subsegments: x
+    at distance r from j encroaches a subsegment ending at distance r on the other segment
+    only when it is closer to j than ``r cos(angle)``.  For an angle below about 1e-5 rad
+    ``r (1 - cos(angle))`` is under the rounding of the shell points' coordinates once r
+    is small against them, so the rounded test answers at random there, and a split made
+    on its answer puts a new shell vertex that meets the same coin toss one shell closer
+    to j: a cascade down to subsegments that can no longer be split (stress reproducers
+    of thin domains).  So such an x counts as on the shell of u or w, as Shewchuk's rule
+    takes the triangle between them as the best there is.
+    """
+    j = _common_end(vertex_piece(x, nin, tri, nbr, cons, vtri, vseg), p, pcor)
+    if j < 0 or vacute[j] == 0:
+        return False
+    return _equally_far(x, u, j, pts) or _equally_far(x, w, j, pts)
 
 
 @njit(inline="always")
@@ -233,8 +274,8 @@ def examine(v, tn, s, c, r):
     """
     s, c, r = borrowed(s), borrowed(c), borrowed(r)
     pts, tri, nbr, cons, rank = s.pts, s.tri, s.nbr, s.cons, s.rank
-    vtri, treg, vseg, seg, rarea = c.vtri, c.treg, c.vseg, c.seg, c.rarea
-    qhead, qnext, qval, qhdr, sq, pend, pcen, st, prm, fz, held = r
+    vtri, treg, vseg, rarea, vacute = c.vtri, c.treg, c.vseg, c.rarea, c.vacute
+    qhead, qnext, qval, qhdr, sq, pend, pcen, st, prm, fz, held, pcor = r
     conform = st[S_MODE] == MODE_CONFORM
     ntri = s.meta[M_NTRI]
     t = tn if v >= 0 else 0
@@ -267,8 +308,12 @@ def examine(v, tn, s, c, r):
                         x = tri[b3 + k]
                         u = tri[b3 + next3(k)]
                         w = tri[b3 + prev3(k)]
-                        if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[x, 0], pts[x, 1]) and not hold_subsegment(
-                            u, w, b3 + k, cons, fz, held, st
+                        if (
+                            encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[x, 0], pts[x, 1])
+                            and not common_shell(
+                                x, u, w, cons[b3 + k] - 1, st[S_NIN], pts, tri, nbr, cons, vtri, vseg, pcor, vacute
+                            )
+                            and not hold_subsegment(u, w, b3 + k, cons, fz, held, st)
                         ):
                             push_seg(u, w, sq, st)
                 sin2, area, su, sw, lmin = quality(t, pts, tri)
@@ -282,7 +327,7 @@ def examine(v, tn, s, c, r):
                     kx += 1
                 own = cons[b3 + kx] != 0
                 if bad_angle and not bad_area and not own and _small_angle_apex(
-                    su, sw, st[S_NIN], pts, tri, nbr, cons, vtri, vseg, seg
+                    su, sw, st[S_NIN], pts, tri, nbr, cons, vtri, vseg, pcor
                 ):
                     st[S_SKIPPED] += 1
                     bad_angle = False

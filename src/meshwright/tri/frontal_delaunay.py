@@ -123,10 +123,13 @@ _MAX_LEVELS = 40  # quadtree levels of the scaffold (cells of 2**-40 of the box)
 _MAX_ROOT_LEVELS = 10  # a thin box gets up to 2**10 roots along its longer side
 
 
-def _background(ct, field) -> tuple[BackgroundGrid, np.ndarray | None]:
+def _background(ct, field, max_points) -> tuple[BackgroundGrid, np.ndarray | None]:
     """A background grid giving ``field`` (see the module docstring), and for a sampled
     field the scaffold candidates it yields: the sample's vertices off the boundary, in
-    Hilbert order (None for a given or uniform grid)."""
+    Hilbert order (None for a given or uniform grid).  ``max_points`` (or None) caps the
+    sample as it caps the method: refinement's default cap, from the size alone, is short
+    where the boundary needs many more vertices than the size (a needle's sides matched
+    to each other, ``tests/test_refine_chains.py``)."""
     if isinstance(field, BackgroundGrid):
         return field, None
     p = ct.points
@@ -136,7 +139,7 @@ def _background(ct, field) -> tuple[BackgroundGrid, np.ndarray | None]:
     from meshwright.tri.ruppert import refine
 
     sample = copy.deepcopy(ct)
-    refine(sample, min_angle=20.0, size=lambda xy: SAMPLE * field(xy))
+    refine(sample, min_angle=20.0, size=lambda xy: SAMPLE * field(xy), max_points=max_points)
     # The inside triangles cover the domain.
     grid = BackgroundGrid.on_triangulation(sample.points, sample.triangles(True), field(sample.points))
     nv = sample.n_points
@@ -357,7 +360,7 @@ def frontal_delaunay(ct, size, *, max_points: int | None = None, scaffold: bool 
     if T is not None:
         return _stretched(ct, size, T, max_points, scaffold)
     field = as_size_field(size)
-    grid, sampled = _background(ct, field)
+    grid, sampled = _background(ct, field, max_points)
     bg = grid.kernel_args() + (np.zeros(1, dtype=np.int64),)  # last: the walk's hint
     par = np.zeros(fk.P_LEN)
     par[fk.P_ACCEPT] = ACCEPT

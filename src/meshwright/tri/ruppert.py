@@ -29,7 +29,12 @@ Algorithm (:func:`refine_loop`, one Numba loop over flat arrays)
    subsegments are split instead (the triangle is requeued).  Otherwise insert it: the
    cavity never crosses a constrained edge.
 4. Every new triangle is examined as in 1.  Triangles whose shortest edge joins two segments
-   meeting at a small input angle, at equal distance from the apex, are left alone.
+   meeting at a small input angle, at equal distance from the apex, are left alone; a
+   vertex of one such segment as far from the apex as an end of a subsegment of the other
+   does not encroach it (shell vertices, whose rounding would otherwise decide).  A
+   straight segment here is the input segment as drawn, however finely the boundary was
+   cut into pieces (:func:`chains`): on a thin domain the pieces meet only at the apex.
+   A curve's pieces count one by one, as cut.
 
 State: the insertion kernel's ``TriState`` ``s``, the constrained layer's ``CdtState`` ``c``
 (:mod:`meshwright.tri._encroach`) and this method's :class:`RefineState` ``r`` (layout in
@@ -140,7 +145,7 @@ def refine_loop(s, c, r):
     s, c, r = borrowed(s), borrowed(c), borrowed(r)
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
     vtri, treg = c.vtri, c.treg
-    qhead, qnext, qval, qhdr, sq, pend, _, st, prm, fz, held = r
+    qhead, qnext, qval, qhdr, sq, pend, _, st, prm, fz, held, _ = r
     rows, slots = room_of(s, c)
     wcap = work.shape[0] // 5
     while True:
@@ -282,6 +287,88 @@ def _split_at(v, h, s, c):
 
 
 # ---------------------------------------------------------------------------- driver
+def chains(ct) -> np.ndarray:
+    """The chain of each piece of ``ct`` and the chain's end vertices (``RefineState.pcor``).
+
+    A chain is the stretch of one straight input segment (a
+    :class:`~meshwright.geometry.curves.Line`, or one edge of a
+    :class:`~meshwright.geometry.curves.Polyline`: its parameters lie between two consecutive integers, as
+    ``ct.curves``, a :class:`~meshwright.tri.cdt.SegmentCurves`, tells) between two
+    vertices where other pieces meet it: the pieces of that stretch, however finely the
+    boundary was cut, and the two vertices that bound an odd number of them.  A piece of
+    any other curve, a piece without curve data, and the pieces of a stretch that is not
+    one open path stay their own chains, ending at their own vertices.
+
+    Only straight segments: the small-angle rules' premise is two straight segments at
+    the input angle, so that vertices equally far from the apex face each other across
+    the wedge.  On a curve that holds only piece by piece (a closed NACA section's upper
+    and lower surfaces are equally far from its trailing edge along the whole chord), and
+    a curve's data does not say where it has a corner (the trailing edge is where that
+    closed curve starts and ends).
+
+    Returns
+    -------
+    (P, 3) int32
+        Chain id, end vertex, end vertex.
+    """
+    from meshwright.geometry.curves import Line, Polyline
+    from meshwright.tri.cdt import SegmentCurves
+
+    n = ct._np
+    seg = ct.constraints.seg[:n].astype(np.int64)
+    out = np.empty((n, 3), dtype=np.int32)
+    out[:, 0] = np.arange(n)
+    out[:, 1:] = seg
+    curves = ct.curves
+    rows = ct.constraints.seg_in[:n].astype(np.int64)
+    # Curve data that does not cover every input segment (replaced by refine(curves=...)
+    # with fewer rows) tells nothing safe: pieces stay their own chains.
+    if not isinstance(curves, SegmentCurves) or n == 0 or rows.max() < 0 or rows.max() >= len(curves.segment_curve):
+        return out
+    kind = np.array([isinstance(cv, Polyline) + 2 * isinstance(cv, Line) for cv in curves.curves], dtype=np.int64)
+    ok = rows >= 0
+    ok[ok] = kind[curves.segment_curve[rows[ok]]] > 0
+    ok = np.flatnonzero(ok)
+    if not len(ok):
+        return out
+    # The input segments (rows) of these pieces along each straight segment, in the order
+    # of their curve parameters.
+    used = np.unique(rows[ok])
+    cid = curves.segment_curve[used].astype(np.int64)
+    mid = curves.segment_params[used].mean(axis=1)
+    edge = np.where(kind[cid] == 1, np.floor(mid), 0.0).astype(np.int64)
+    order = np.lexsort((mid, edge, cid))
+    used, cid, edge = used[order], cid[order], edge[order]
+    ends = ct.input_segments[used].astype(np.int64)
+    # A new stretch starts with each straight segment, and after a vertex where other
+    # pieces meet it (more than its two) or that two consecutive rows do not share.
+    degree = np.bincount(seg.ravel(), minlength=int(seg.max()) + 1)
+    a, b = ends[:-1], ends[1:]
+    shared = np.where((a[:, 1] == b[:, 0]) | (a[:, 1] == b[:, 1]), a[:, 1], a[:, 0])
+    joined = (shared == b[:, 0]) | (shared == b[:, 1])
+    cut = np.ones(len(used), dtype=bool)
+    cut[1:] = (cid[1:] != cid[:-1]) | (edge[1:] != edge[:-1]) | ~joined | (degree[shared] != 2)
+    stretch = np.cumsum(cut) - 1
+    by_row = np.argsort(used)
+    chain = stretch[by_row[np.searchsorted(used, rows[ok], sorter=by_row)]]
+    # Ends: the vertices of an odd number of the chain's pieces.
+    pairs = np.column_stack([np.concatenate([chain, chain]), np.concatenate([seg[ok, 0], seg[ok, 1]])])
+    ev, count = np.unique(pairs, axis=0, return_counts=True)
+    ev = ev[count % 2 == 1]
+    two = np.bincount(ev[:, 0], minlength=int(chain.max()) + 1) == 2
+    # ev is sorted by chain, then vertex: the two ends of a chain are adjacent rows.
+    ev = ev[two[ev[:, 0]]].reshape(-1, 2, 2)
+    first = np.full(len(two), -1, dtype=np.int64)
+    last = np.full(len(two), -1, dtype=np.int64)
+    first[ev[:, 0, 0]] = ev[:, 0, 1]
+    last[ev[:, 0, 0]] = ev[:, 1, 1]
+    use = two[chain]
+    out[ok[use], 0] = n + chain[use]
+    out[ok[use], 1] = first[chain[use]]
+    out[ok[use], 2] = last[chain[use]]
+    return out
+
+
 class _Run:
     """The :class:`RefineState` of one refinement run on a ConstrainedTriangulation ``ct``."""
 
@@ -311,6 +398,7 @@ class _Run:
         self.r = RefineState(
             *new_queue(QB, cap, 4), np.empty(2 * (3 * cap), dtype=np.int32),
             np.empty(4 * cap, dtype=np.int32), np.empty(2 * cap), st, prm, fz, np.empty(2 * (3 * cap), dtype=np.int32),
+            chains(ct),
         )
 
     def seed(self) -> None:
