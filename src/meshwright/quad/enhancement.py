@@ -264,12 +264,16 @@ class _CurveSlider:
         self.domain = domain
         self.vcurve = vcurve
         self.param = np.array([isinstance(c, Parametric) for c in domain.curves], dtype=bool)
+        # One (n, SLOTS) table per coordinate: the lookups compare columns, no reductions
+        # over axes of length two or three (a quarter of the projection's time).
         self.memo_t = np.full((len(vcurve), self.SLOTS), np.nan)
-        self.memo_xy = np.full((len(vcurve), self.SLOTS, 2), np.nan)
+        self.memo_x = np.full((len(vcurve), self.SLOTS), np.nan)
+        self.memo_y = np.full((len(vcurve), self.SLOTS), np.nan)
         if params is not None:
             known = np.isfinite(params)
             self.memo_t[known, 0] = params[known]
-            self.memo_xy[known, 0] = xy[known]
+            self.memo_x[known, 0] = xy[known, 0]
+            self.memo_y[known, 0] = xy[known, 1]
 
     def __call__(self, nodes, xy, at):
         nodes = np.asarray(nodes, dtype=np.int64)
@@ -284,17 +288,25 @@ class _CurveSlider:
         return out
 
     def _slide(self, curve, v, xy, at):
-        hit = (self.memo_xy[v] == at[:, None, :]).all(axis=2)
-        t = np.where(hit.any(axis=1), self.memo_t[v, np.argmax(hit, axis=1)], np.nan)
+        ax, ay = at[:, 0], at[:, 1]
+        hit_x, hit_y = self.memo_x[v] == ax[:, None], self.memo_y[v] == ay[:, None]
+        known = self.memo_t[v]
+        # The first slot holding the node's exact position gives its parameter.
+        t = np.full(len(v), np.nan)
+        for s in range(self.SLOTS - 1, -1, -1):
+            t = np.where(hit_x[:, s] & hit_y[:, s], known[:, s], t)
         miss = np.isnan(t)
         if miss.any():
             t[miss] = curve.project(at[miss])
         lo, hi = curve.t0, curve.t1
         h = 1e-7 * (hi - lo)
         ta, tb = np.maximum(t - h, lo), np.minimum(t + h, hi)
+        k = len(t)
         ends = curve.evaluate(np.concatenate([ta, tb]))
-        dc = (ends[len(t):] - ends[: len(t)]) / (tb - ta)[:, None]
-        step = ((xy - at) * dc).sum(axis=1) / np.maximum((dc * dc).sum(axis=1), 1e-300)
+        dt = tb - ta
+        dcx = (ends[k:, 0] - ends[:k, 0]) / dt
+        dcy = (ends[k:, 1] - ends[:k, 1]) / dt
+        step = ((xy[:, 0] - ax) * dcx + (xy[:, 1] - ay) * dcy) / np.maximum(dcx * dcx + dcy * dcy, 1e-300)
         t_new = t + step
         inside = (t_new >= lo) & (t_new <= hi)
         t_new = np.where(inside, t_new, t)
@@ -302,13 +314,15 @@ class _CurveSlider:
         out[~inside] = at[~inside]
         # Remember where each node is and its trials, in the order the caller gives them.
         order = np.argsort(v, kind="stable")
-        first = np.ones(len(v), dtype=bool)
+        first = np.ones(k, dtype=bool)
         first[1:] = v[order][1:] != v[order][:-1]
-        start = np.maximum.accumulate(np.where(first, np.arange(len(v)), 0))
-        rank = np.empty(len(v), dtype=np.int64)
-        rank[order] = np.arange(len(v)) - start
-        self.memo_t[v, 0], self.memo_xy[v, 0] = t, at
+        start = np.maximum.accumulate(np.where(first, np.arange(k), 0))
+        rank = np.empty(k, dtype=np.int64)
+        rank[order] = np.arange(k) - start
+        self.memo_t[v, 0], self.memo_x[v, 0], self.memo_y[v, 0] = t, ax, ay
         keep = rank + 1 < self.SLOTS
-        self.memo_t[v[keep], rank[keep] + 1] = t_new[keep]
-        self.memo_xy[v[keep], rank[keep] + 1] = out[keep]
+        vk, sk = v[keep], rank[keep] + 1
+        self.memo_t[vk, sk] = t_new[keep]
+        self.memo_x[vk, sk] = out[keep, 0]
+        self.memo_y[vk, sk] = out[keep, 1]
         return out
