@@ -89,15 +89,14 @@ def _position(quad, q, v):
 
 
 @njit(cache=True)
-def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, dirty):
+def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, wake):
     """Interior nodes in exactly two quads (doublets): the two quads become one, unless it
-    would be non-convex or leave a boundary node in one quad at a flat corner."""
+    would be non-convex or leave a boundary node in one quad at a flat corner.  Only nodes
+    flagged in ``wake`` (n,) int8 (a dirty quad in their star) are examined."""
     done = 0
     n = xy.shape[0]
     for v in range(n):
-        if bnd[v] != 0 or tri_node[v] != 0 or _star_any(off, idx, lock, v):
-            continue
-        if not _star_any(off, idx, dirty, v):
+        if wake[v] == 0 or bnd[v] != 0 or tri_node[v] != 0 or _star_any(off, idx, lock, v):
             continue
         q1 = -1
         q2 = -1
@@ -331,7 +330,15 @@ def enhance_pass(xy, quad, alive, bnd, off, idx, tri_node, accept, gain, dirty):
     sides swapped).
     """
     lock = np.zeros(quad.shape[0], dtype=np.int8)
-    n1 = _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, dirty)
+    # Nodes with a dirty quad in their star, flagged from the quads' rows before any
+    # operation (the star is the live quads of the table): a pass after the first then
+    # reads each node's star only near the changes, not all of them.
+    wake = np.zeros(xy.shape[0], dtype=np.int8)
+    for q in range(quad.shape[0]):
+        if dirty[q] != 0 and alive[q] != 0:
+            for k in range(4):
+                wake[quad[q, k]] = 1
+    n1 = _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, wake)
     n2 = _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept, dirty)
     n3 = _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty)
     touched = np.zeros(xy.shape[0], dtype=np.int8)
