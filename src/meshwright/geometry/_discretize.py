@@ -9,7 +9,10 @@ splits an interval into at most :data:`_MAX_SPLIT` pieces, so the table grades w
 (a 1e-6 feature next to a graded field costs a few hundred points, not the millions a
 uniform split at the interval's smaller size would).  ``h`` is
 the spacing wanted along the curve (:meth:`meshwright.sizing.SizeField.along`), which a
-stretched background grid makes depend on the curve's direction.
+stretched background grid makes depend on the curve's direction.  An isotropic field's
+spacing depends on the point only, so a refining round asks it at the table's new points
+alone: the points kept from the last round (every interval's start, exactly) keep their
+sizes (:func:`_point_sizes`).
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import numpy as np
 
 from meshwright.core.errors import GeometryError, SizeError
 from meshwright.geometry._kernels import INSIDE, classify_points
+from meshwright.sizing.field import SizeField
 
 __all__ = ["place_params", "unique_rows", "interior_seed"]
 
@@ -88,6 +92,32 @@ def _interval_sizes(curves, size, tables, pts) -> list[tuple[np.ndarray, np.ndar
     return out
 
 
+def _point_sizes(size, pts, known) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:func:`_interval_sizes` for an isotropic field, asking it only where ``known`` has no size.
+
+    Parameters
+    ----------
+    size : SizeField
+        Isotropic (:meth:`SizeField.along` not overridden): the spacing at a point is
+        ``size(xy)`` whatever the direction, and a corner's two sides get the same one.
+    pts : list of (k_i, 2) float64
+        Every curve's table points.
+    known : list of (k_i,) float64
+        Sizes at the table points already asked (NaN where not); filled in place.
+
+    Returns
+    -------
+    list of (h0, h1)
+        As :func:`_interval_sizes`: ``h[:-1]`` and ``h[1:]`` of each curve's point sizes.
+    """
+    ask = [np.flatnonzero(np.isnan(h)) for h in known]
+    if any(len(a) for a in ask):
+        hq = size(np.concatenate([p[a] for p, a in zip(pts, ask)]))
+        for h, a, part in zip(known, ask, np.split(hq, np.cumsum([len(a) for a in ask])[:-1])):
+            h[a] = part
+    return [(h[:-1], h[1:]) for h in known]
+
+
 def _resolve_size(curves, size, tables):
     """Refine the parameter tables until every interval is at most half the local size.
 
@@ -97,9 +127,12 @@ def _resolve_size(curves, size, tables):
     Returns the refined tables, their points and the interval end sizes ``(h0, h1)`` of
     :func:`_interval_sizes` (lists, one entry per curve).
     """
+    # Sizes at the table points, kept across rounds for an isotropic field (NaN: not asked).
+    iso = isinstance(size, SizeField) and type(size).along is SizeField.along
+    known = [np.full(len(t), np.nan) for t in tables]
     for _ in range(_MAX_TABLE_ROUNDS):
         pts = [c.evaluate(t) for c, t in zip(curves, tables)]
-        hv = _interval_sizes(curves, size, tables, pts)
+        hv = _point_sizes(size, pts, known) if iso else _interval_sizes(curves, size, tables, pts)
         refined = False
         for k, (t, p, (h0, h1)) in enumerate(zip(tables, pts, hv)):
             need = np.ceil(_chords(p) / (0.5 * np.minimum(h0, h1)))
@@ -110,8 +143,14 @@ def _resolve_size(curves, size, tables):
             # Split interval j into nsub[j] equal parameter steps (t may decrease: arcs).
             left = np.repeat(t[:-1], nsub)
             step = np.repeat((t[1:] - t[:-1]) / nsub, nsub)
-            k_in = np.arange(nsub.sum()) - np.repeat(np.cumsum(nsub) - nsub, nsub)
+            first = np.cumsum(nsub) - nsub
+            k_in = np.arange(nsub.sum()) - np.repeat(first, nsub)
             tables[k] = np.concatenate([left + k_in * step, t[-1:]])
+            # Each interval's first piece starts at its old start (k_in = 0: t + 0 * step).
+            kept = np.full(len(tables[k]), np.nan)
+            kept[first] = known[k][:-1]
+            kept[-1] = known[k][-1]
+            known[k] = kept
         if not refined:
             return tables, pts, hv
     # Each round splits at least eightfold where the size is not met: a field still unmet
