@@ -12,7 +12,8 @@ the spacing wanted along the curve (:meth:`meshwright.sizing.SizeField.along`), 
 stretched background grid makes depend on the curve's direction.  An isotropic field's
 spacing depends on the point only, so a refining round asks it at the table's new points
 alone: the points kept from the last round (every interval's start, exactly) keep their
-sizes (:func:`_point_sizes`).
+sizes (:func:`_point_sizes`).  Every round evaluates the curves at the new parameters only
+(:func:`_fill_points`).
 """
 
 from __future__ import annotations
@@ -118,6 +119,15 @@ def _point_sizes(size, pts, known) -> list[tuple[np.ndarray, np.ndarray]]:
     return [(h[:-1], h[1:]) for h in known]
 
 
+def _fill_points(curve, t, p) -> np.ndarray:
+    """Table points ``p`` (k, 2) with the rows still NaN evaluated at their parameters ``t``
+    (the rows kept from the last round are the same parameters, so the same points)."""
+    new = np.flatnonzero(np.isnan(p[:, 0]))
+    if len(new):
+        p[new] = curve.evaluate(t[new])
+    return p
+
+
 def _resolve_size(curves, size, tables):
     """Refine the parameter tables until every interval is at most half the local size.
 
@@ -127,11 +137,14 @@ def _resolve_size(curves, size, tables):
     Returns the refined tables, their points and the interval end sizes ``(h0, h1)`` of
     :func:`_interval_sizes` (lists, one entry per curve).
     """
-    # Sizes at the table points, kept across rounds for an isotropic field (NaN: not asked).
+    # Sizes at the table points, kept across rounds for an isotropic field (NaN: not asked),
+    # and the points themselves (None: the whole table is new).
     iso = isinstance(size, SizeField) and type(size).along is SizeField.along
     known = [np.full(len(t), np.nan) for t in tables]
+    carry = [None] * len(curves)
     for _ in range(_MAX_TABLE_ROUNDS):
-        pts = [c.evaluate(t) for c, t in zip(curves, tables)]
+        pts = [c.evaluate(t) if p is None else _fill_points(c, t, p) for c, t, p in zip(curves, tables, carry)]
+        carry = list(pts)
         hv = _point_sizes(size, pts, known) if iso else _interval_sizes(curves, size, tables, pts)
         refined = False
         for k, (t, p, (h0, h1)) in enumerate(zip(tables, pts, hv)):
@@ -151,6 +164,10 @@ def _resolve_size(curves, size, tables):
             kept[first] = known[k][:-1]
             kept[-1] = known[k][-1]
             known[k] = kept
+            moved = np.full((len(tables[k]), 2), np.nan)
+            moved[first] = p[:-1]
+            moved[-1] = p[-1]
+            carry[k] = moved
         if not refined:
             return tables, pts, hv
     # Each round splits at least eightfold where the size is not met: a field still unmet
