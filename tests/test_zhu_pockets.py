@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from meshwright.geometry import read_poly
+from meshwright.quad import _enhance_kernel as ek
 from meshwright.quad import quadrangulate
 from meshwright.quad.pairing import make_loops_even
 from meshwright.quad.zhu import PairFront
@@ -102,7 +103,29 @@ def test_no_pair_leaves_a_pocket_that_is_not_convex_at_an_input_node(size):
         pytest.fail("the pair front did not finish in 2000 pairs")
 
 
-@pytest.mark.parametrize("size", [None, 1.0])
+def test_a_fixed_reflex_corner_split_160_110_is_balanced_by_turning_the_free_node():
+    """Two quads share the side v m at a fixed node v whose domain angle is 270 degrees,
+    split 160 / 110: m turns about v towards the bisector, both corners at v come under
+    150 degrees, every quad stays strictly convex (exact) and the worst scaled Jacobian
+    (recomputed here) rises; the fixed and the other free nodes stay."""
+    m_at = (math.cos(math.radians(160.0)), math.sin(math.radians(160.0)))
+    xy = np.array([(0.0, 0.0), (1.0, 0.0), (0.2, 1.0), m_at, (-1.0, -0.8), (0.0, -1.0)])
+    quads = np.array([[0, 1, 2, 3], [0, 3, 4, 5]], dtype=np.int32)
+    fixed = np.array([1, 1, 0, 0, 0, 1], dtype=np.int8)
+    before = xy.copy()
+    alive = np.ones(2, dtype=np.int8)
+    off, idx = ek.node_quads(quads, alive, len(xy))
+    assert ek.balance_corners(xy, quads, alive, fixed, np.zeros(len(xy), dtype=np.int8), off, idx) == 1
+    assert np.array_equal(np.delete(xy, 3, axis=0), np.delete(before, 3, axis=0))
+    for q in quads.tolist():
+        assert all(_cross(xy[q[k]], xy[q[(k + 1) % 4]], xy[q[k - 1]]) > 0 for k in range(4))
+    angles = [math.degrees(math.atan2(float(_cross(xy[0], xy[n], xy[p])), float(_dot(xy[0], xy[n], xy[p]))))
+              for n, p in ((1, 3), (3, 5))]
+    assert max(angles) < 150.0 and sum(angles) == pytest.approx(270.0)
+    assert _min_scaled_jacobian(xy, quads) > _min_scaled_jacobian(before, quads)
+
+
+@pytest.mark.parametrize("size", [None, 1.0, 0.8, 0.5])
 def test_letter_a_all_quad_with_scaled_jacobian_above_0_2(size):
     mesh = quadrangulate(LETTER_A, size, method="zhu")
     mesh.validate()

@@ -7,7 +7,11 @@ development of automatic quadrilateral mesh generation", Int. J. Numer. Meth. En
 (18.2) with boundary nodes sliding on their curves
 (:func:`meshwright.quad.smoothing.smooth_sliding`): a move is accepted only if the
 smallest corner sine around the node does not fall and every quad strictly convex before
-it stays so (exact ``orient2d``).
+it stays so (exact ``orient2d``).  After it, a node that never moves with a corner wider
+than 150 degrees between its only two quads has the free node across their common side
+turned towards the bisector of its angle, when that raises the worst scaled Jacobian
+around it (:func:`meshwright.quad._enhance_kernel.balance_corners`; a reflex input corner
+the smoothing left split 172 / 110 degrees).
 
 Passes after the first examine only the quads next to the previous pass's changes (the
 kernel's ``dirty`` flags), which decides exactly as a pass over every quad.
@@ -236,7 +240,19 @@ def smooth_quads(xy, quads, tris, lines, line_curve, domain, fixed_pts, passes, 
         fixed[lines.ravel()] = True
 
     project = _CurveSlider(domain, vcurve, xy, params)
-    return smooth_sliding(xy, quads, np.asarray(tris).reshape(-1, 3), lines, fixed, project, passes, ENHANCE_SETTLE)
+    tris = np.asarray(tris).reshape(-1, 3)
+    out = smooth_sliding(xy, quads, tris, lines, fixed, project, passes, ENHANCE_SETTLE)
+    # A node that never moves with a corner wider than 150 degrees between its two quads:
+    # the free node across their common side turns towards the bisector
+    # (:func:`~meshwright.quad._enhance_kernel.balance_corners`).
+    still = (fixed | np.bincount(lines.ravel(), minlength=len(out)).astype(bool)).astype(np.int8)
+    tri_node = np.zeros(len(out), dtype=np.int8)
+    tri_node[tris.ravel()] = 1
+    qd = np.ascontiguousarray(quads, dtype=np.int32)
+    alive = np.ones(len(qd), dtype=np.int8)
+    off, idx = ek.node_quads(qd, alive, len(out))
+    ek.balance_corners(out, qd, alive, still, tri_node, off, idx)
+    return out
 
 
 class _CurveSlider:
