@@ -283,18 +283,32 @@ def interior_seed(seg_a: np.ndarray, seg_b: np.ndarray, what: str) -> np.ndarray
     pick = np.unique(
         np.concatenate([np.argsort(-np.diff(ys))[:8], np.minimum(quart, len(mids) - 1)])
     )
-    best, best_w = None, 0.0
-    for y in mids[pick]:
-        cross = (seg_a[:, 1] > y) != (seg_b[:, 1] > y)
-        a, b = seg_a[cross], seg_b[cross]
-        xs = np.sort(a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1]))
+    lines = mids[pick]
+    # Every line's crossings at once (segment rows, line columns), then each line's two
+    # widest inside intervals as candidates, all confirmed by one crossing test.
+    cross = (seg_a[:, 1, None] > lines) != (seg_b[:, 1, None] > lines)
+    line, col = np.nonzero(cross.T)
+    a, b = seg_a[col], seg_b[col]
+    at = a[:, 0] + (lines[line] - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    ends = np.searchsorted(line, np.arange(len(lines) + 1))
+    tries, cands = [], []
+    for j, y in enumerate(lines):
+        xs = np.sort(at[ends[j] : ends[j + 1]])
         widths = xs[1::2] - xs[0:-1:2]
-        for i in np.argsort(-widths)[:2]:
-            if widths[i] <= best_w:
+        top = np.argsort(-widths)[:2]
+        tries.append(widths[top])
+        cands.extend([0.5 * (xs[2 * i] + xs[2 * i + 1]), y] for i in top)
+    inside = classify_points(np.array(cands, dtype=np.float64).reshape(-1, 2), seg_a, seg_b) == INSIDE
+    # The same choice as trying the candidates one by one: line by line, a line's
+    # candidates widest first while wider than the best confirmed interval.
+    best, best_w, c = None, 0.0, 0
+    for w in tries:
+        for i in range(len(w)):
+            if w[i] <= best_w:
                 break
-            cand = np.array([[0.5 * (xs[2 * i] + xs[2 * i + 1]), y]])
-            if classify_points(cand, seg_a, seg_b)[0] == INSIDE:
-                best, best_w = cand[0], widths[i]
+            if inside[c + i]:
+                best, best_w = np.array(cands[c + i]), w[i]
+        c += len(w)
     if best is None:
         raise GeometryError(f"cannot find a point strictly inside {what}; is it degenerate?")
     return best
