@@ -1,30 +1,29 @@
 r"""Numba kernel of the frontal Delaunay method (see :mod:`meshwright.tri.frontal_delaunay`).
 
 State between calls, the method's :class:`FrontalState` bundle (the kernel returns
-``F_ROOM`` whenever the constrained triangulation or the heap must grow, and is called
-again):
+``F_ROOM`` whenever the constrained triangulation or the per-slot arrays must grow, and is
+called again):
 
     acc    (cap,) int8       1 where the slot's triangle is accepted; every slot an
                              insertion or a removal rewrites is classified again (the
                              new vertex's star, the removal's new triangles), which
                              resets it, and a moved triangle takes its flag along
     ratio  (cap,) float64    R sqrt(3) / h of each slot's triangle, set when it is made
-    hkey   (hcap,) float64   min-heap (:mod:`meshwright.core.heap`) of -ratio (largest
-    htri   (hcap, 4) int32   circumradius / ideal first); payload: slot and vertex triple
-                             of each entry (stale when the slot changed)
+    qhead, qnext, qprev,     the queue of waiting front triangles, largest ratio first
+    qbin, qhdr               (:mod:`meshwright.tri._frontal_queue`: a bucket queue whose
+                             entries are the slots themselves; qbin[t] >= 0 while slot t
+                             is queued, and a slot's entry is deleted wherever the slot
+                             is rewritten: classified again, or freed and moved into)
     stamp  (cap,) int64      visit marks of the disc searches (never reset: a counter)
-    fmeta  (FM_LEN,) int64   heap size, stamp counter, points added, free rows, live
-                             scaffold vertices, scaffold removed / kept, scan cursor
+    fmeta  (FM_LEN,) int64   stamp counter, points added, free rows, live scaffold
+                             vertices, scaffold removed / kept, scan cursor
     par    (P_LEN,) float64  ACCEPT, SPACING, max points, constant size (0: background),
-                             scaffold clearance, scaffold spacing, heap lift of the
+                             scaffold clearance, scaffold spacing, queue lift of the
                              triangles with a scaffold vertex
     vflag  (rows,) int8      1 at a live scaffold vertex
     free   (rows,) int32     stack of dead rows (removed scaffold vertices), reused first
     vbg    (rows,) int32     a background triangle at or near each vertex (-1: not yet),
                              where every size query near the vertex starts its walk
-    queued (cap,) int8       1 where the slot's triangle has a live heap entry (cleared
-                             when it is popped or classified again, and at a slot a
-                             triangle moves into): a queued triangle is not pushed twice
     scr    (SCRATCH,) int32  scratch of :func:`meshwright.tri._scaffold.remove_vertex`
     stack  (STACK,) int32    scratch of the disc searches (a kernel's own allocation could
                              not be borrowed, see below)
@@ -36,7 +35,7 @@ frontal insertion's cavity as long as the front.  A triangle with a scaffold ver
 never accepted; a scaffold vertex within ``par[P_CLEAR]`` h of a proposed point, or a
 vertex of a triangle that has no room for a point, is removed
 (:func:`meshwright.tri._scaffold.remove_vertex`) and the hole's triangles join the front
-like an insertion's.  An empty heap therefore means that no scaffold vertex is left (a
+like an insertion's.  An empty queue therefore means that no scaffold vertex is left (a
 safety scan removes any that are; one whose removal is refused stays as an ordinary
 vertex and is counted).
 
@@ -61,7 +60,6 @@ from numba import njit
 from meshwright.core.borrowed import borrowed
 from meshwright.core.flat import GHOST
 from meshwright.core.geom2d import circumcentre_offset, corners, segment_dist2
-from meshwright.core.heap import heap_pop, heap_push
 from meshwright.sizing.background import interpolate_walk
 from meshwright.tri import _encroach as enc
 from meshwright.tri._kernel2d import (
@@ -75,13 +73,13 @@ from meshwright.tri._kernel2d import (
     _walk,
     insert_arrays,
 )
+from meshwright.tri._frontal_queue import Q_N, fq_bucket, fq_pop, fq_push, fq_remove
 from meshwright.tri._scaffold import KMAX, move_row, move_slot, remove_vertex
 
 F_DONE, F_ROOM, F_BROKEN, F_POINTS = range(4)
-FM_HN, FM_STAMP, FM_ADDED, FM_NFREE, FM_NSCAF, FM_REMOVED, FM_KEPT, FM_CURSOR, FM_LEN = range(9)
+FM_STAMP, FM_ADDED, FM_NFREE, FM_NSCAF, FM_REMOVED, FM_KEPT, FM_CURSOR, FM_LEN = range(8)
 P_ACCEPT, P_SPACING, P_MAX_POINTS, P_CONST, P_CLEAR, P_SCAF, P_LIFT, P_LEN = range(8)
 STACK = 4096  # triangles a disc search keeps pending (more: the disc is crowded)
-HEAP_ROOM = 4 * KMAX + 64  # free heap entries needed before a step (a removal pushes up to 4 KMAX)
 _SQRT3 = np.sqrt(3.0)
 _NEAR_NONE = -1
 _NEAR_CROWDED = -2
@@ -92,8 +90,11 @@ class FrontalState(NamedTuple):
 
     acc: np.ndarray
     ratio: np.ndarray
-    hkey: np.ndarray
-    htri: np.ndarray
+    qhead: np.ndarray
+    qnext: np.ndarray
+    qprev: np.ndarray
+    qbin: np.ndarray
+    qhdr: np.ndarray
     stamp: np.ndarray
     fmeta: np.ndarray
     par: np.ndarray
@@ -101,7 +102,6 @@ class FrontalState(NamedTuple):
     free: np.ndarray
     scr: np.ndarray
     vbg: np.ndarray
-    queued: np.ndarray
     stack: np.ndarray
 
 
@@ -155,21 +155,24 @@ def _front_edge(t, pts, tri, nbr, treg, acc):
 
 
 @njit(inline="always")
-def _push(hkey, htri, fmeta, key, t, tri, queued):
-    if queued[t] != 0:
-        return
-    queued[t] = 1
-    i = heap_push(hkey, htri, fmeta[FM_HN], key)
-    fmeta[FM_HN] += 1
-    htri[i, 0] = t
-    for k in range(3):
-        htri[i, k + 1] = tri[3 * t + k]
+def _push(t, ratio, q):
+    """Queue slot t by its ratio unless it is queued already; ``q`` is
+    ``(qhead, qnext, qprev, qbin, qhdr)``."""
+    qhead, qnext, qprev, qbin, qhdr = q
+    if qbin[t] < 0:
+        fq_push(t, fq_bucket(ratio[t]), qhead, qnext, qprev, qbin, qhdr)
+
+
+@njit(inline="always")
+def _unqueue(t, q):
+    qhead, qnext, qprev, qbin, qhdr = q
+    fq_remove(t, qhead, qnext, qprev, qbin, qhdr)
 
 
 @njit(inline="always")
 def _size(par, bg, t0, x, y):
     """The size at (x, y), its background walk started at background triangle t0 (when
-    t0 >= 0; else where the last walk ended).  A walk from the last query, wherever the heap
+    t0 >= 0; else where the last walk ended).  A walk from the last query, wherever the queue
     took it, crossed the graded background or left it across a hole into a bucket scan:
     7x the kernel's time on the graded NACA 0012; from a vertex of the triangle at hand it
     is a step or two."""
@@ -193,10 +196,10 @@ def _hint_of(t, tri, vbg):
 
 
 @njit(inline="always")
-def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, queued):
+def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, q):
     """Store slot t's ``R sqrt(3) / h`` in ``ratio[t]``; accept t if it is within ACCEPT and
     has no scaffold vertex."""
-    queued[t] = 0  # a key from before (a scaffold vertex's lift, a former triangle) no longer holds
+    _unqueue(t, q)  # a key from before (a scaffold vertex's lift, a former triangle) no longer holds
     acc[t] = 0
     r = _radius(pts, tri, t)
     h = par[P_CONST]
@@ -215,14 +218,14 @@ def classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, queued):
 
 
 @njit(inline="always")
-def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued):
+def _push_if_front(t, pts, tri, nbr, treg, acc, ratio, q):
     """Queue slot t (ratio known since it was made) if it waits on the front (and is not
     queued yet: checked first, it spares most front-edge searches)."""
-    if not _inside(t, tri, treg) or queued[t] != 0 or _settled(t, acc):
+    if not _inside(t, tri, treg) or q[3][t] >= 0 or _settled(t, acc):
         return
     if _front_edge(t, pts, tri, nbr, treg, acc) < 0:
         return
-    _push(hkey, htri, fmeta, -ratio[t], t, tri, queued)
+    _push(t, ratio, q)
 
 
 @njit(cache=True)
@@ -232,8 +235,8 @@ def start(s, c, f, bg):
     others that touch the front."""
     s, c, f, bg = borrowed(s), borrowed(c), borrowed(f), borrowed(bg)
     pts, tri, nbr, treg = s.pts, s.tri, s.nbr, c.treg
-    acc, ratio, hkey, htri, fmeta, par, vflag, vbg = f.acc, f.ratio, f.hkey, f.htri, f.fmeta, f.par, f.vflag, f.vbg
-    queued = f.queued
+    acc, ratio, par, vflag, vbg = f.acc, f.ratio, f.par, f.vflag, f.vbg
+    q = (f.qhead, f.qnext, f.qprev, f.qbin, f.qhdr)
     if par[P_CONST] == 0.0:
         for v in range(s.meta[M_NV]):
             if vbg[v] < 0 and c.vtri[v] >= 0:
@@ -242,9 +245,9 @@ def start(s, c, f, bg):
     ntri = s.meta[M_NTRI]
     for t in range(ntri):
         if _inside(t, tri, treg):
-            classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, queued)
+            classify(t, pts, tri, acc, ratio, par, bg, vflag, vbg, q)
     for t in range(ntri):
-        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
+        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, q)
 
 
 @njit(inline="always")
@@ -373,7 +376,7 @@ def seed_scaffold(xy, i0, s, c, f, bg):
 
 
 @njit(inline="always")
-def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, queued):
+def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg):
     """Classify the new star of vertex v, then queue it and its outer neighbours on the front."""
     s0 = vtri[v]
     sl = s0
@@ -382,7 +385,7 @@ def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, pa
         while tri[3 * sl + k] != v:
             k += 1
         if _inside(sl, tri, treg):
-            classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg, queued)
+            classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg, q)
         sl = nbr[3 * sl + (k + 1) % 3]
         if sl == s0 or sl < 0:
             break
@@ -391,16 +394,15 @@ def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, pa
         k = 0
         while tri[3 * sl + k] != v:
             k += 1
-        _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
-        _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
+        _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, q)
+        _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, q)
         sl = nbr[3 * sl + (k + 1) % 3]
         if sl == s0 or sl < 0:
             break
 
 
 @njit(cache=True)
-def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, queued, free,
-          scr, s, c):
+def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr, s, c):
     """Remove scaffold vertex v, refill the freed slots from the end, queue the new front.
 
     A call, not inlined: :func:`run` calls it from three places, and three inlined copies
@@ -416,7 +418,7 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmet
     k = remove_vertex(v, s, c, scr)
     if k < 0:
         fmeta[FM_KEPT] += 1
-        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, queued)
+        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg)
         return
     fmeta[FM_REMOVED] += 1
     free[fmeta[FM_NFREE]] = v
@@ -425,29 +427,31 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmet
     fa = st[k - 2]
     fb = st[k - 1]
     for fs in (max(fa, fb), min(fa, fb)):
+        _unqueue(fs, q)  # the freed slot's triangle is gone
         last = meta[M_NTRI] - 1
         if fs != last:
+            # The entry of the last slot's triangle names that slot: it moves with it.
+            _unqueue(last, q)
             move_slot(last, fs, tri, nbr, cons, treg, vtri, meta)
             acc[fs] = acc[last]
-            queued[fs] = 0  # an entry of the moved triangle names its old slot: stale
             ratio[fs] = ratio[last]
-            for q in range(k - 2):
-                if st[q] == last:
-                    st[q] = fs
-            _push_if_front(fs, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
+            for i in range(k - 2):
+                if st[i] == last:
+                    st[i] = fs
+            _push_if_front(fs, pts, tri, nbr, treg, acc, ratio, q)
         meta[M_NTRI] = last
-    for q in range(k - 2):
-        classify(st[q], pts, tri, acc, ratio, par, bg, vflag, vbg, queued)
-    for q in range(k - 2):
-        t = st[q]
-        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
+    for i in range(k - 2):
+        classify(st[i], pts, tri, acc, ratio, par, bg, vflag, vbg, q)
+    for i in range(k - 2):
+        t = st[i]
+        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, q)
         for j in range(3):
-            _push_if_front(nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
+            _push_if_front(nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, q)
 
 
 @njit(cache=True)
 def run(s, c, f, bg):
-    """Insert Rebay points, worst front triangle first, until the heap is empty and no
+    """Insert Rebay points, worst front triangle first, until the queue is empty and no
     scaffold vertex is left.
 
     The bundles' fields are read once here and handed to the per-step helpers as arrays:
@@ -456,18 +460,20 @@ def run(s, c, f, bg):
     s, c, f, bg = borrowed(s), borrowed(c), borrowed(f), borrowed(bg)
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
     vtri, treg, vseg, vpar, vacute = c.vtri, c.treg, c.vseg, c.vpar, c.vacute
-    acc, ratio, hkey, htri, stamp, fmeta, par = f.acc, f.ratio, f.hkey, f.htri, f.stamp, f.fmeta, f.par
-    vflag, free, scr, vbg, queued, stack = f.vflag, f.free, f.scr, f.vbg, f.queued, f.stack
+    acc, ratio, stamp, fmeta, par = f.acc, f.ratio, f.stamp, f.fmeta, f.par
+    vflag, free, scr, vbg, stack = f.vflag, f.free, f.scr, f.vbg, f.stack
+    qhead, qnext, qprev, qbin, qhdr = f.qhead, f.qnext, f.qprev, f.qbin, f.qhdr
+    q = (qhead, qnext, qprev, qbin, qhdr)
     rows, slots = enc.room_of(s, c)
     rows = min(rows, vflag.shape[0], free.shape[0], vbg.shape[0])
     while True:
         ntri = meta[M_NTRI]
         if (
-            fmeta[FM_HN] + HEAP_ROOM > hkey.shape[0] or acc.shape[0] < ntri + 2 or queued.shape[0] < ntri + 2
+            acc.shape[0] < ntri + 2 or min(qbin.shape[0], qnext.shape[0], qprev.shape[0]) < ntri + 2
             or stamp.shape[0] < ntri + 2 or ratio.shape[0] < ntri + 2 or ntri + 2 > slots
         ):
             return F_ROOM
-        if fmeta[FM_HN] == 0:
+        if qhdr[Q_N] == 0:
             if fmeta[FM_NSCAF] == 0:
                 return F_DONE
             # Safety scan: a scaffold vertex the front never reached.
@@ -478,19 +484,13 @@ def run(s, c, f, bg):
             if v >= meta[M_NV]:
                 fmeta[FM_NSCAF] = 0
                 continue
-            _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                  queued, free, scr, s, c)
+            _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr, s, c)
             continue
         if meta[M_NV] - fmeta[FM_NFREE] - fmeta[FM_NSCAF] >= par[P_MAX_POINTS]:
             return F_POINTS
-        t, a0, b0, c0 = htri[0, 0], htri[0, 1], htri[0, 2], htri[0, 3]
-        heap_pop(hkey, htri, fmeta[FM_HN])
-        fmeta[FM_HN] -= 1
-        if t >= ntri or tri[3 * t] != a0 or tri[3 * t + 1] != b0 or tri[3 * t + 2] != c0:
-            continue
-        queued[t] = 0
-        if not _inside(t, tri, treg) or _settled(t, acc):
-            continue
+        # A queued slot holds a live inside triangle that is not accepted: every rewrite or
+        # acceptance of a slot takes its entry out first (classify, _drop).
+        t = fq_pop(qhead, qnext, qprev, qbin, qhdr)
         e = _front_edge(t, pts, tri, nbr, treg, acc)
         if e < 0:
             continue
@@ -521,26 +521,25 @@ def run(s, c, f, bg):
                          vflag, stamp, fmeta, stack)
         if near >= 0:
             # A scaffold vertex in the way: remove it and try t again (if it survived).
-            _push(hkey, htri, fmeta, -ratio[t], t, tri, queued)
-            _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                  queued, free, scr, s, c)
+            _push(t, ratio, q)
+            _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr, s, c)
             continue
         if near == _NEAR_CROWDED:
             # No room for a point: the triangle stays as it is and joins the accepted ones,
             # unless it hangs on a scaffold vertex, which goes instead.
             sv = _scaffold_of(t, tri, vflag)
             if sv >= 0:
-                _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg,
-                      queued, free, scr, s, c)
+                _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr,
+                      s, c)
                 continue
             acc[t] = 1
             for k in range(3):
-                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, hkey, htri, fmeta, queued)
+                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, q)
             continue
         v = _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark, vtri, treg, vseg, vpar,
                        vacute, free, fmeta, vflag, rows)
         if v == NEED_SPACE:
-            _push(hkey, htri, fmeta, -ratio[t], t, tri, queued)
+            _push(t, ratio, q)
             return F_ROOM
         if v == BROKEN:
             return F_BROKEN
@@ -548,7 +547,7 @@ def run(s, c, f, bg):
             continue  # the point was already a vertex
         fmeta[FM_ADDED] += 1
         vbg[v] = near_bg  # the front edge's midpoint is within about h of v
-        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, hkey, htri, fmeta, par, bg, vflag, vbg, queued)
+        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg)
 
 
 @njit(cache=True)

@@ -16,7 +16,9 @@ background interpolated from the boundary triangulation itself (Weatherill's ``d
 A triangle is *accepted* when its circumradius is at most ``ACCEPT`` times that of the
 equilateral triangle of side h, ``R <= ACCEPT h / sqrt(3)``.  The *front* is the set of
 edges between an accepted triangle (or the domain boundary) and a triangle that is not;
-the non-accepted triangles on it wait in a heap keyed by ``R sqrt(3) / h``.  Repeatedly:
+the non-accepted triangles on it wait in a queue keyed by ``R sqrt(3) / h``, largest first
+(a bucket queue from which a destroyed triangle's entry is deleted,
+:mod:`meshwright.tri._frontal_queue`).  Repeatedly:
 
 1. the worst waiting front triangle proposes the point X on the perpendicular bisector of
    its front edge AB (the longest, if several), on its own side, such that ABX has
@@ -47,7 +49,7 @@ Sizes are evaluated inside the kernel on a background grid
 :class:`~meshwright.sizing.BackgroundGrid`, a uniform one for a constant, or for any other
 field a grid sampled at the vertices of a Delaunay refinement to ``SAMPLE`` times the size.
 Each vertex keeps a background triangle at or near it, and a size query for a triangle or
-a front edge walks from its vertex's: the heap jumps about the whole front, and walks from
+a front edge walks from its vertex's: the queue jumps about the whole front, and walks from
 the previous query crossed the graded sample, or left it across a hole into a bucket scan
 (7x the kernel's time on the graded NACA 0012 of ``benchmarks/quality2d.py``).
 
@@ -67,7 +69,7 @@ whose sizes are known: locating a quadtree's cells one by one in a strongly grad
 (the NACA 0012 far field: 1e-3 at the wall, 1 in the far field, thousands of sample
 triangles per bucket near the wall, the airfoil's inside refined by the wall's size for
 nothing) cost 1.0 s of a 20k-triangle mesh.  Triangles with a scaffold
-vertex are never accepted and wait in the heap before all others, as the long triangles
+vertex are never accepted and wait in the queue before all others, as the long triangles
 do without a scaffold; the front deletes a scaffold vertex when it proposes a point within
 ``CLEAR`` h of it (vertex removal, :mod:`meshwright.tri._scaffold`), so no scaffold vertex
 is left in the mesh.  Measured on the benchmark disk (289k triangles): 1.4-1.9x faster, the
@@ -105,6 +107,7 @@ from meshwright.core.spatial_sort import hilbert_order
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _frontal_kernel as fk
+from meshwright.tri._frontal_queue import new_frontal_queue
 from meshwright.tri._kernel2d import M_NTRI, M_NV
 from meshwright.tri._mapped import transfer_regions
 from meshwright.tri._refine_caps import estimate
@@ -118,7 +121,7 @@ SAMPLE = 3.0  # a general size field is sampled on a mesh this many times coarse
 SCAFFOLD = 4.0  # scaffold cells are at most this many times the local size
 CLEAR = 1.0  # a proposed point removes the scaffold vertices within this many h
 MIN_SCAFFOLD = 1000  # fewer scaffold cells than this: no scaffold (the front is short)
-LIFT = 1e3  # heap-key lift of a triangle with a scaffold vertex: it waits before all others
+LIFT = 1e3  # queue-key lift of a triangle with a scaffold vertex: it waits before all others
 _MAX_LEVELS = 40  # quadtree levels of the scaffold (cells of 2**-40 of the box)
 _MAX_ROOT_LEVELS = 10  # a thin box gets up to 2**10 roots along its longer side
 
@@ -216,15 +219,12 @@ def scaffold_points(bg: BackgroundGrid, lo, hi, limit: int) -> np.ndarray:
 
 
 def _grown(f: fk.FrontalState, ct) -> fk.FrontalState:
-    """``f`` with per-slot, per-row and heap arrays that match ``ct`` (doubling)."""
+    """``f`` with per-slot and per-row arrays that match ``ct`` (doubling)."""
     slots = len(ct.constraints.treg)
     rows = len(ct.state.pts)
-    hkey = f.hkey
-    if int(f.fmeta[fk.FM_HN]) + fk.HEAP_ROOM > len(hkey):
-        hkey = grown_rows(hkey, 2 * len(hkey))
     return f._replace(
-        acc=grown_rows(f.acc, slots, 0), queued=grown_rows(f.queued, slots, 0), stamp=grown_rows(f.stamp, slots, 0),
-        ratio=grown_rows(f.ratio, slots, 0.0), hkey=hkey, htri=grown_rows(f.htri, len(hkey)),
+        acc=grown_rows(f.acc, slots, 0), stamp=grown_rows(f.stamp, slots, 0), ratio=grown_rows(f.ratio, slots, 0.0),
+        qnext=grown_rows(f.qnext, slots), qprev=grown_rows(f.qprev, slots), qbin=grown_rows(f.qbin, slots, -1),
         vflag=grown_rows(f.vflag, rows, 0), free=grown_rows(f.free, rows, 0), vbg=grown_rows(f.vbg, rows, -1),
     )
 
@@ -372,14 +372,14 @@ def frontal_delaunay(ct, size, *, max_points: int | None = None, scaffold: bool 
     par[fk.P_LIFT] = LIFT
     slots = len(ct.constraints.treg)
     rows = len(ct.state.pts)
-    hcap = max(1024, slots)
+    qhead, qnext, qprev, qbin, qhdr = new_frontal_queue(slots)
     f = fk.FrontalState(
-        acc=np.zeros(slots, dtype=np.int8),
-        ratio=np.zeros(slots), hkey=np.empty(hcap), htri=np.empty((hcap, 4), dtype=np.int32),
+        acc=np.zeros(slots, dtype=np.int8), ratio=np.zeros(slots),
+        qhead=qhead, qnext=qnext, qprev=qprev, qbin=qbin, qhdr=qhdr,
         stamp=np.zeros(slots, dtype=np.int64), fmeta=np.zeros(fk.FM_LEN, dtype=np.int64), par=par,
         vflag=np.zeros(rows, dtype=np.int8), free=np.zeros(rows, dtype=np.int32),
         scr=np.zeros(SCRATCH, dtype=np.int32), vbg=np.full(rows, -1, dtype=np.int32),
-        queued=np.zeros(slots, dtype=np.int8), stack=np.empty(fk.STACK, dtype=np.int32),
+        stack=np.empty(fk.STACK, dtype=np.int32),
     )
     seeded = 0
     if scaffold:
