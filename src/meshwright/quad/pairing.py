@@ -525,6 +525,8 @@ def _pair_rounds(
     xy, tris, changed = _open_ears(xy, tris, nbr, mate)
     if changed:
         nbr = _neighbours(tris, bkey, n)
+        # A split ear appends two triangles: unpaired, as the table's other free entries.
+        mate = np.concatenate([mate, np.full(len(tris) - len(mate), -1, dtype=np.int32)])
     chains = 0
     raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
     scratch = pk.augment_scratch(len(tris))
