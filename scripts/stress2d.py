@@ -1,4 +1,4 @@
-"""Stress harness for the 2-D meshers (issue 13): random domains through every method.
+"""Stress harness for the 2-D meshers (issues 12, 13): random domains through every method.
 
 ``make stress`` runs this file; it is not part of ``make test``.  A seeded generator
 (:func:`generate`) draws domains of the kinds that break meshers in practice:
@@ -20,17 +20,27 @@
   use its isotropic spacing).
 
 Each case (a JSON-safe dict, :func:`build` turns it into a domain and keyword arguments)
-runs through every ``triangulate`` method in a worker process with a time limit.  A mesh
-passes when ``Mesh.validate()`` is clean, its area equals the domain's (polygons: up to
-round-off) and every input vertex and interior point is a mesh vertex.  A failure — an
+runs through every ``triangulate`` method (default) or the chosen ones, ``quadrangulate``
+methods included (``--methods pairing zhu paving quadtree``), in a worker process with a
+time limit.  A triangle mesh passes when ``Mesh.validate()`` is clean, its area equals the
+domain's (polygons: up to round-off) and every input vertex and interior point is a mesh
+vertex.  A quad mesh (``all_quad=True``) passes an oracle sharing no code with the
+meshers (:func:`quad_oracle`, NumPy only): ``Mesh.validate()``, no cell but quads and
+lines, every quad's four corners with a positive scaled Jacobian (strictly convex), the
+quads' shoelace areas summing to the polygons' (outer minus holes, to ``AREA_RTOL``) and
+every input vertex present.  A quad method's documented refusal of the domain (interior
+segments or points it does not honour, ``size="boundary"`` where it needs a size: what its
+``QUAD_METHODS`` entry declares) counts as *refused*, not a failure.  A failure — an
 exception of any kind (the domains are valid by construction, so a ``MeshwrightError``
-counts too), a broken mesh, a time-out — is written to ``tests/regressions/`` as a
-reproducer that ``tests/test_regressions.py`` replays: ``"status": "open"`` until fixed
-(replayed as a strict xfail, so a fix is noticed), then ``"fixed"`` (replayed as a test).
+counts too), a broken mesh, a time-out, a worker that dies (a crash in a kernel) — is
+written to ``tests/regressions/`` as a reproducer that ``tests/test_regressions.py``
+replays: ``"status": "open"`` until fixed (replayed as a strict xfail, so a fix is
+noticed; a hang or a crash is not run), then ``"fixed"`` (replayed as a test).
 
 Usage::
 
     python scripts/stress2d.py --count 2000 --seed 1 [--methods delaunay front] [--kinds junction] [--timeout 60] [--jobs 2] [--start 1500]
+    python scripts/stress2d.py --count 400 --seed 12001 --methods pairing zhu paving quadtree
 
 ``--jobs N`` runs N worker processes (each compiles the kernels once, then takes one mesh
 at a time); the domains drawn depend on ``--seed`` only, not on N.  ``--start K`` resumes a run that
@@ -257,16 +267,110 @@ def build(case: dict, method: str):
     kw = {"method": method, "seed": case["seed"]}
     # A door rule, not a failure: frontal-delaunay under a stretched grid refuses min_angle.
     stretched = spec["kind"] == "background" and method == "frontal-delaunay"
-    if case["min_angle"] is not None and mw.MESH_METHODS[method].max_min_angle >= case["min_angle"] and not stretched:
+    if method in mw.QUAD_METHODS:
+        kw["all_quad"] = True  # quadrangulate has no min_angle
+    elif case["min_angle"] is not None and mw.MESH_METHODS[method].max_min_angle >= case["min_angle"] and not stretched:
         kw["min_angle"] = case["min_angle"]
     inputs = [outer, *holes, *segs] + ([pts] if pts is not None else [])
     return dom, size, kw, np.concatenate(inputs)
 
 
-def check(case: dict, method: str) -> None:
-    """Run one method on one case; raise on any failure (see the module docstring)."""
+class Refused(Exception):
+    """A quad method refused the case at its door for a feature its ``QUAD_METHODS`` entry
+    says it does not honour (not a failure)."""
+
+
+def _refusal(case: dict, method: str) -> str | None:
+    """What, by the method's registry entry, makes ``method`` refuse ``case`` (None: nothing)."""
     import meshwright as mw
 
+    m = mw.QUAD_METHODS[method]
+    if case["segments"] and not m.segments:
+        return "does not honour interior segments"
+    if case["points"] and not m.points:
+        return "does not honour interior points"
+    if case["size"]["kind"] == "boundary" and m.needs_size:
+        return "needs a size"
+    return None
+
+
+def _shoelace(loop: np.ndarray) -> float:
+    """Unsigned area of a closed (n, 2) loop, about its first vertex (no shift round-off)."""
+    d = loop[1:] - loop[0]
+    return abs(0.5 * math.fsum(d[:-1, 0] * d[1:, 1] - d[:-1, 1] * d[1:, 0]))
+
+
+def quad_oracle(points: np.ndarray, cells: dict, outer: np.ndarray, holes: list, inputs: np.ndarray) -> None:
+    """The quad mesh checks that do not use meshwright (raise AssertionError on a failure).
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+        The mesh's vertices.
+    cells : dict of str to (m, k) int array
+        The mesh's cell blocks; only ``"quad"`` and ``"line"`` are allowed.
+    outer : (p, 2) float64
+        The domain's outer loop; ``holes`` are (q, 2) float64 loops.
+    inputs : (r, 2) float64
+        Every input vertex (loops, segments, points): each must be a mesh vertex exactly.
+    """
+    other = sorted(set(cells) - {"quad", "line"})
+    if other:
+        raise AssertionError(f"an all-quad mesh has {', '.join(f'{len(cells[t])} {t}' for t in other)} cells")
+    quads = np.asarray(cells.get("quad", np.zeros((0, 4), np.int64)), dtype=np.int64)
+    if not len(quads):
+        raise AssertionError("no quads")
+    q = points[quads]  # (m, 4, 2)
+    into = q - np.roll(q, 1, axis=1)  # edge arriving at each corner
+    out = np.roll(q, -1, axis=1) - q  # edge leaving it
+    cross = into[..., 0] * out[..., 1] - into[..., 1] * out[..., 0]
+    sj = cross / (np.hypot(into[..., 0], into[..., 1]) * np.hypot(out[..., 0], out[..., 1]))
+    bad = np.flatnonzero(~(sj.min(axis=1) > 0))  # NaN (a zero-length side) is bad too
+    if len(bad):
+        c = int(bad[0])
+        raise AssertionError(
+            f"{len(bad)} quads not strictly convex, e.g. quad {c} (min scaled Jacobian {sj[c].min()!r}) at "
+            + ", ".join(f"({x:.17g}, {y:.17g})" for x, y in q[c])
+        )
+    # Each quad's area from its diagonals (differences only, so no shift round-off).
+    d1, d2 = q[:, 2] - q[:, 0], q[:, 3] - q[:, 1]
+    area = 0.5 * math.fsum(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+    want = _shoelace(outer) - math.fsum(_shoelace(h) for h in holes)
+    if not abs(area - want) <= AREA_RTOL * abs(want):
+        raise AssertionError(f"quads' area {area!r} != polygons' area {want!r} (rel. {abs(area - want) / want:.3g})")
+    pts = points[:, 0] + 1j * points[:, 1]
+    missing = inputs[~np.isin(inputs[:, 0] + 1j * inputs[:, 1], pts)]
+    if len(missing):
+        raise AssertionError(f"{len(missing)} input vertices missing, e.g. {missing[0].tolist()}")
+
+
+def _check_quad(case: dict, method: str) -> None:
+    import meshwright as mw
+
+    dom, size, kw, inputs = build(case, method)
+    why = _refusal(case, method)
+    try:
+        mesh = mw.quadrangulate(dom, size, **kw)
+    except mw.InputError as e:
+        if why is not None and why in str(e):
+            raise Refused(str(e)) from None
+        raise
+    if why is not None:
+        raise AssertionError(f"the door accepted a case that the registry says the method refuses ({why})")
+    mesh.validate()
+    s, sh = case["scale"], np.asarray(case["shift"])
+    outer = np.asarray(case["outer"], dtype=np.float64) * s + sh
+    holes = [np.asarray(h, dtype=np.float64) * s + sh for h in case["holes"]]
+    quad_oracle(mesh.points, mesh.cells, outer, holes, inputs)
+
+
+def check(case: dict, method: str) -> None:
+    """Run one method on one case; raise on any failure (see the module docstring), or
+    :class:`Refused` where a quad method refuses the case at its door as documented."""
+    import meshwright as mw
+
+    if method in mw.QUAD_METHODS:
+        return _check_quad(case, method)
     dom, size, kw, inputs = build(case, method)
     mesh = mw.triangulate(dom, size, **kw)
     mesh.validate()
@@ -287,7 +391,10 @@ def _worker(conn, methods) -> None:
     # Compile every method's kernels before the first job, so no time-out counts JIT time.
     square = mw.geometry.polygon([[0, 0], [1, 0], [1, 1], [0, 1]])
     for m in methods:
-        mw.triangulate(square, 0.3, method=m)
+        if m in mw.QUAD_METHODS:
+            mw.quadrangulate(square, 0.3, method=m)
+        else:
+            mw.triangulate(square, 0.3, method=m)
     conn.send("ready")
     while True:
         job = conn.recv()
@@ -298,6 +405,8 @@ def _worker(conn, methods) -> None:
         try:
             check(case, method)
             conn.send(("ok", "", time.perf_counter() - t))
+        except Refused as e:
+            conn.send(("refused", str(e)[:2000], time.perf_counter() - t))
         except BaseException as e:  # noqa: BLE001 - every failure is recorded
             conn.send(("fail", f"{type(e).__name__}: {e}"[:2000], time.perf_counter() - t))
 
@@ -373,7 +482,14 @@ def _run_all(jobs, workers, timeout, report) -> None:
         for w in busy:
             i, case, method, deadline = w.job
             if w.conn in ready:
-                status, msg, _ = w.conn.recv()
+                try:
+                    status, msg, _ = w.conn.recv()
+                except (EOFError, ConnectionError):
+                    # The worker died mid-job (a segfault in a kernel, the OOM killer): a
+                    # failure of this job; the next send starts a fresh worker.
+                    w.proc.join()
+                    status, msg = "fail", f"Crash: the worker died (exit code {w.proc.exitcode})"
+                    w.proc = None
             elif time.monotonic() >= deadline:
                 w.kill()
                 status, msg = "fail", f"Timeout: no result in {timeout} s"
@@ -391,6 +507,8 @@ def record(case: dict, method: str, message: str) -> Path:
     if not path.exists():
         REGRESSIONS.mkdir(exist_ok=True)
         body.update(status="open", error=message, hang=message.startswith("Timeout"))
+        if message.startswith("Crash"):
+            body["crash"] = True  # replayed in-process it would kill the test run
         path.write_text(json.dumps(body, indent=1) + "\n")
     return path
 
@@ -401,7 +519,9 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--count", type=int, default=1000, help="number of domains")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--methods", nargs="*", choices=sorted(mw.MESH_METHODS), default=sorted(mw.MESH_METHODS))
+    ap.add_argument("--methods", nargs="*", choices=sorted(mw.MESH_METHODS) + sorted(mw.QUAD_METHODS),
+                    default=sorted(mw.MESH_METHODS),
+                    help="triangulate methods (default: all of them) and / or quadrangulate methods")
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds per mesh before it counts as a hang")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (one core each)")
     ap.add_argument("--kinds", nargs="*", choices=KINDS, default=list(KINDS),
@@ -417,11 +537,13 @@ def main(argv=None) -> int:
     rng = np.random.default_rng(args.seed)
     workers = [_Worker(args.methods) for _ in range(args.jobs)]
     tally = {"runs": 0, "fails": 0, "domains": set()}
+    per = {m: {"ok": 0, "refused": 0, "fail": 0} for m in args.methods}
     t0 = time.perf_counter()
 
     def report(i, case, method, status, msg):
         tally["runs"] += 1
-        if status != "ok":
+        per[method][status] += 1
+        if status == "fail":
             tally["fails"] += 1
             where = "" if args.no_record else f" -> {record(case, method, msg).name}"
             print(f"[{i}] {method} ({case['kind']}, size {case['size']['kind']}): {msg[:200]}{where}", flush=True)
@@ -437,6 +559,8 @@ def main(argv=None) -> int:
             w.close()
     print(f"done: {args.count} domains drawn, {len(tally['domains'])} meshed, {tally['runs']} meshes, "
           f"{tally['fails']} failures in {time.perf_counter() - t0:.0f} s")
+    for m, c in per.items():
+        print(f"  {m}: {c['ok']} meshed, {c['refused']} refused, {c['fail']} failed")
     return 1 if tally["fails"] else 0
 
 

@@ -1,0 +1,104 @@
+"""The stress harness's own machinery (``scripts/stress2d.py``): the quad oracle, the
+refusal rule of the quad methods and the worker's isolation of crashes and hangs."""
+
+from __future__ import annotations
+
+import faulthandler
+import os
+import signal
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+import stress2d as S  # noqa: E402  (the harness lives in scripts/)
+
+# The unit square cut into four quads about its centre (node 4), counter-clockwise.
+SQ_POINTS = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5], [0.5, 0], [1, 0.5], [0.5, 1], [0, 0.5]], float)
+SQ_QUADS = np.array([[0, 5, 4, 8], [5, 1, 6, 4], [4, 6, 2, 7], [8, 4, 7, 3]])
+OUTER = SQ_POINTS[:4]
+
+
+def test_quad_oracle_accepts_a_good_mesh():
+    S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS, "line": np.zeros((0, 2), int)}, OUTER, [], OUTER)
+
+
+def test_quad_oracle_rejects_each_defect():
+    with pytest.raises(AssertionError, match="2 triangle"):
+        S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS, "triangle": np.array([[0, 1, 2], [0, 2, 3]])}, OUTER, [], OUTER)
+    dart = SQ_POINTS.copy()
+    dart[4] = [0.9, 0.9]  # the centre pushed out: quad 2's corner at it turns clockwise
+    with pytest.raises(AssertionError, match="not strictly convex"):
+        S.quad_oracle(dart, {"quad": SQ_QUADS}, OUTER, [], OUTER)
+    flat = SQ_POINTS.copy()
+    flat[4] = [0.25, 0.25]  # on the line from node 5 to node 8: quad 0 has a straight corner (SJ 0)
+    with pytest.raises(AssertionError, match="not strictly convex"):
+        S.quad_oracle(flat, {"quad": SQ_QUADS}, OUTER, [], OUTER)
+    with pytest.raises(AssertionError, match="area"):
+        S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS[:3]}, OUTER, [], OUTER)
+    hole = np.array([[0.4, 0.4], [0.6, 0.4], [0.6, 0.6], [0.4, 0.6]])  # area 0.04
+    with pytest.raises(AssertionError, match="area"):
+        S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS}, OUTER, [hole], OUTER)
+    with pytest.raises(AssertionError, match="1 input vertices missing"):
+        S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS}, OUTER, [], np.vstack([OUTER, [[0.25, 0.25]]]))
+
+
+def _case(**over):
+    case = {
+        "kind": "plain", "outer": OUTER.tolist(), "holes": [], "segments": [], "points": [], "scale": 1.0,
+        "shift": [0.0, 0.0], "size": {"kind": "number", "h": 0.3}, "min_angle": None, "seed": 0,
+        "methods": ["paving"],
+    }
+    case.update(over)
+    return case
+
+
+def test_documented_refusals_are_not_failures():
+    seg = _case(segments=[[[0.2, 0.5], [0.8, 0.5]]])
+    assert S._refusal(seg, "paving") == "does not honour interior segments"
+    assert S._refusal(seg, "pairing") is None
+    assert S._refusal(_case(points=[[0.5, 0.5]]), "paving") == "does not honour interior points"
+    assert S._refusal(_case(size={"kind": "boundary"}), "quadtree") == "needs a size"
+    assert S._refusal(_case(size={"kind": "boundary"}), "zhu") is None
+    with pytest.raises(S.Refused, match="interior segments"):
+        S.check(seg, "paving")
+    with pytest.raises(S.Refused, match="needs a size"):
+        S.check(_case(size={"kind": "boundary"}), "paving")
+
+
+def _run(jobs, timeout):
+    out = []
+    w = S._Worker([])  # no method to compile: the jobs run the patched check
+    try:
+        S._run_all(iter(jobs), [w], timeout, lambda i, case, method, status, msg: out.append((i, status, msg)))
+    finally:
+        w.close()
+    return out
+
+
+def _fake_check(case, method):
+    if case == "segfault":
+        faulthandler.disable()  # pytest's handler would print the child's traceback
+        os.kill(os.getpid(), signal.SIGSEGV)
+    if case == "hang":
+        time.sleep(60)
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGSEGV by os.kill")
+def test_a_crash_or_a_hang_is_one_failure_and_the_run_goes_on(monkeypatch):
+    # The workers are forked (Linux), so they run the patched check.
+    monkeypatch.setattr(S, "check", _fake_check)
+    out = _run([(0, "ok", "m"), (1, "segfault", "m"), (2, "ok", "m"), (3, "hang", "m"), (4, "ok", "m")], 3.0)
+    assert [(i, st) for i, st, _ in out] == [(0, "ok"), (1, "fail"), (2, "ok"), (3, "fail"), (4, "ok")]
+    assert out[1][2].startswith("Crash: the worker died (exit code -11)")
+    assert out[3][2].startswith("Timeout")
+
+
+def test_a_crash_reproducer_is_marked(tmp_path, monkeypatch):
+    monkeypatch.setattr(S, "REGRESSIONS", tmp_path)
+    path = S.record(_case(), "paving", "Crash: the worker died (exit code -11)")
+    body = path.read_text()
+    assert '"crash": true' in body and '"status": "open"' in body
