@@ -30,7 +30,8 @@ lines, every quad's four corners with a positive scaled Jacobian (strictly conve
 quads' shoelace areas summing to the polygons' (outer minus holes, to ``AREA_RTOL``) and
 every input vertex present.  A quad method's documented refusal of the domain (interior
 segments or points it does not honour, ``size="boundary"`` where it needs a size: what its
-``QUAD_METHODS`` entry declares) counts as *refused*, not a failure.  A failure — an
+``QUAD_METHODS`` entry declares; paving's refusal of a stretched background grid, which its
+entry does not declare) counts as *refused*, not a failure.  A failure — an
 exception of any kind (the domains are valid by construction, so a ``MeshwrightError``
 counts too), a broken mesh, a time-out, a worker that dies (a crash in a kernel) — is
 written to ``tests/regressions/`` as a reproducer that ``tests/test_regressions.py``
@@ -294,6 +295,16 @@ def _refusal(case: dict, method: str) -> str | None:
     return None
 
 
+def _undeclared_refusal(case: dict) -> str | None:
+    """The words of a refusal that a method documents but its registry entry does not
+    declare: paving's of a stretched background grid (``paving_fill``: "... is not
+    honoured; give an isotropic size")."""
+    spec = case["size"]
+    if spec["kind"] == "background" and spec["stretch"] > 1.0:
+        return "is not honoured"
+    return None
+
+
 def _shoelace(loop: np.ndarray) -> float:
     """Unsigned area of a closed (n, 2) loop, about its first vertex (no shift round-off)."""
     d = loop[1:] - loop[0]
@@ -354,6 +365,9 @@ def _check_quad(case: dict, method: str) -> None:
     except mw.InputError as e:
         if why is not None and why in str(e):
             raise Refused(str(e)) from None
+        extra = _undeclared_refusal(case)
+        if extra is not None and extra in str(e):
+            raise Refused(f"{e} (a refusal not declared in QUAD_METHODS)") from None
         raise
     if why is not None:
         raise AssertionError(f"the door accepted a case that the registry says the method refuses ({why})")

@@ -67,6 +67,9 @@ def test_documented_refusals_are_not_failures():
         S.check(seg, "paving")
     with pytest.raises(S.Refused, match="needs a size"):
         S.check(_case(size={"kind": "boundary"}), "paving")
+    stretched = {"kind": "background", "h": 0.3, "stretch": 3.0, "direction": 0.5}
+    with pytest.raises(S.Refused, match="not declared in QUAD_METHODS"):
+        S.check(_case(size=stretched), "paving")
 
 
 def _run(jobs, timeout):
