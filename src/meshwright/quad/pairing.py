@@ -104,7 +104,7 @@ from meshwright.core.validate_input import (
     check_flag,
     check_seed,
 )
-from meshwright.geometry.curves import Parametric
+from meshwright.geometry.curves import Parametric, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.chords import chord_split
@@ -708,7 +708,15 @@ def pair_domain(
     span = np.array([(c.t0, c.t1) if isinstance(c, Parametric) else (np.nan, np.nan) for c in domain.curves])
     ta, sc = disc.segment_params[:, 0], disc.segment_curve
     seam = on & ((ta == span[sc, 0]) | (ta == span[sc, 1]))
-    fixed_pts = np.concatenate([fixed_pts, newid[starts[seam]]]).astype(np.int64)
+    # A polyline's vertices (integer parameters) are input vertices and stay, even where
+    # they are collinear with their neighbours (a point the domain moved into a segment):
+    # the smoother fixes only corners it sees bent.
+    poly = np.array([isinstance(c, Polyline) for c in domain.curves], dtype=bool)
+    ends = ct.index_map[disc.segments[:, 1]]
+    tb = disc.segment_params[:, 1]
+    vert_a = on & poly[sc] & (ta == np.floor(ta))
+    vert_b = used[ends] & poly[sc] & (tb == np.floor(tb))
+    fixed_pts = np.concatenate([fixed_pts, newid[starts[seam | vert_a]], newid[ends[vert_b]]]).astype(np.int64)
 
     tri_in = as_cells(base.cells["triangle"], "triangles", 3, n).copy()
     lkey = np.sort(lines.astype(np.int64), axis=1)
