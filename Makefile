@@ -41,13 +41,13 @@ bench: $(VENV)/.stamp-bench
 	$(BIN)/python benchmarks/scale2d.py
 	$(BIN)/python benchmarks/compile2d.py
 
-# Random domains through every 2-D method (scripts/stress2d.py); failures become reproducers
+# Random domains through every 2-D method, triangles and quads (scripts/stress2d.py); failures become reproducers
 # under tests/regressions/ that `make test` replays.  STRESS_COUNT domains per run.
 STRESS_COUNT ?= 2000
 STRESS_SEED ?= 0
 STRESS_JOBS ?= 1
 stress: $(VENV)/.stamp-test
-	$(BIN)/python scripts/stress2d.py --count $(STRESS_COUNT) --seed $(STRESS_SEED) --jobs $(STRESS_JOBS)
+	$(BIN)/python scripts/stress2d.py --all-methods --count $(STRESS_COUNT) --seed $(STRESS_SEED) --jobs $(STRESS_JOBS)
 
 # Numba's on-disk cache is keyed by each function's own file: after editing a kernel that
 # other modules call (e.g. tri/_kernel2d.py), drop the cache so callers are recompiled.

@@ -536,6 +536,8 @@ def main(argv=None) -> int:
     ap.add_argument("--methods", nargs="*", choices=sorted(mw.MESH_METHODS) + sorted(mw.QUAD_METHODS),
                     default=sorted(mw.MESH_METHODS),
                     help="triangulate methods (default: all of them) and / or quadrangulate methods")
+    ap.add_argument("--all-methods", action="store_true",
+                    help="every triangulate and every quadrangulate method (overrides --methods)")
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds per mesh before it counts as a hang")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (one core each)")
     ap.add_argument("--kinds", nargs="*", choices=KINDS, default=list(KINDS),
@@ -544,6 +546,8 @@ def main(argv=None) -> int:
                     help="draw but skip the domains before this index (resume a run: the same draws)")
     ap.add_argument("--no-record", action="store_true", help="report failures without writing reproducers")
     args = ap.parse_args(argv)
+    if args.all_methods:
+        args.methods = sorted(mw.MESH_METHODS) + sorted(mw.QUAD_METHODS)
     if args.jobs < 1:
         ap.error(f"--jobs must be at least 1, got {args.jobs}")
     if not 0 <= args.start <= args.count:
