@@ -1,4 +1,5 @@
-"""The frontal Delaunay method's bucket queue (:mod:`meshwright.tri._frontal_queue`).
+"""The frontal Delaunay method's bucket queue (:mod:`meshwright.tri._frontal_queue`, over
+:mod:`meshwright.core.bucket_queue`'s slot queue).
 
 Oracles: a Python dict of the queued slots and their ratios; the order is checked by its
 properties (largest first to one bucket's width, newest first among equal ratios), not by
@@ -9,24 +10,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from meshwright.tri._frontal_queue import (
-    NB,
-    OCTAVES,
-    PER_OCTAVE,
-    Q_LO,
-    Q_N,
-    fq_bucket,
-    fq_pop,
-    fq_push,
-    fq_remove,
-    new_frontal_queue,
-)
+from meshwright.core.bucket_queue import Q_LO, Q_N, sq_pop, sq_push, sq_remove
+from meshwright.tri._frontal_queue import NB, OCTAVES, PER_OCTAVE, fq_bucket, new_frontal_queue
 
 
 def _push(q, t, ratio):
     qhead, qnext, qprev, qbin, qhdr = q
     if qbin[t] < 0:
-        fq_push(t, fq_bucket(ratio), qhead, qnext, qprev, qbin, qhdr)
+        sq_push(t, fq_bucket(ratio), qhead, qnext, qprev, qbin, qhdr)
 
 
 def test_distinct_octaves_pop_largest_first():
@@ -34,7 +25,7 @@ def test_distinct_octaves_pop_largest_first():
     ratios = {t: 2.0 ** (t % 20) * 1.5 for t in range(20)}
     for t in np.random.default_rng(3).permutation(20):
         _push(q, int(t), ratios[int(t)])
-    out = [int(fq_pop(*q)) for _ in range(20)]
+    out = [int(sq_pop(*q)) for _ in range(20)]
     assert [ratios[t] for t in out] == sorted(ratios.values(), reverse=True)
     assert q[4][Q_N] == 0 and (q[3] == -1).all()
 
@@ -43,7 +34,7 @@ def test_equal_ratios_pop_newest_first():
     q = new_frontal_queue(16)
     for t in (5, 2, 9, 7):
         _push(q, t, 1.7)
-    assert [int(fq_pop(*q)) for _ in range(4)] == [7, 9, 2, 5]
+    assert [int(sq_pop(*q)) for _ in range(4)] == [7, 9, 2, 5]
 
 
 def test_ratios_outside_the_range_share_the_end_buckets():
@@ -70,11 +61,11 @@ def test_random_pushes_removals_and_pops(seed):
                 order += 1
         elif op < 0.75 and held:
             t = int(rng.choice(list(held)))
-            fq_remove(t, *q)
-            fq_remove(t, *q)  # a second removal is a no-op
+            sq_remove(t, *q)
+            sq_remove(t, *q)  # a second removal is a no-op
             del held[t]
         elif held:
-            t = int(fq_pop(*q))
+            t = int(sq_pop(*q))
             assert t in held
             r, k = held.pop(t)
             rest = np.array([v[0] for v in held.values()] or [0.0])

@@ -27,6 +27,20 @@ and ``val`` grow by copying (:func:`meshwright.core.flat.grown_rows`).
 Usage: ``e = bq_push(head, nxt, hdr, b)``, then write ``val[e, :]``; to pop,
 ``e = bq_pop(head, nxt, hdr)`` (``hdr[Q_N] > 0``) and read ``val[e, :]`` before the next
 push, which may reuse the entry.
+
+**Slot queue** (``sq_*``): the same buckets, but the entries are the caller's own slots
+(say triangle slots), at most one each and no payload, doubly linked so that a slot's
+entry leaves in O(1) when the slot is rewritten; a heap cannot delete an entry below its
+top, so its stale entries are popped and skipped instead (frontal Delaunay: 54.5 % of its
+pops on the benchmark disk).  Layout, ``cap`` the slot capacity::
+
+    head (nb,)   int32  newest slot of bucket b, -1 when empty
+    nxt  (cap,)  int32  next older slot of the same bucket (-1 ends), while queued
+    prv  (cap,)  int32  next newer slot of the same bucket (-1: the slot is the head)
+    sbin (cap,)  int32  bucket of the slot's entry, -1 when the slot is not queued
+    hdr  (4,)    int64  [Q_N] and [Q_LO] as above ([Q_FREE], [Q_USED] unused)
+
+``nxt``, ``prv`` and ``sbin`` grow with the slots (``sbin`` filled with -1).
 """
 
 from __future__ import annotations
@@ -34,7 +48,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["Q_FREE", "Q_LO", "Q_N", "Q_USED", "bq_pop", "bq_push", "new_queue"]
+__all__ = [
+    "Q_FREE", "Q_LO", "Q_N", "Q_USED", "bq_pop", "bq_push", "new_queue", "new_slot_queue", "sq_pop", "sq_push",
+    "sq_remove",
+]
 
 Q_N = 0
 Q_FREE = 1
@@ -98,3 +115,59 @@ def bq_pop(head, nxt, hdr):
     if hdr[Q_N] == 0:
         hdr[Q_LO] = head.shape[0]
     return e
+
+
+def new_slot_queue(nb: int, cap: int):
+    """Empty slot-queue arrays ``(head (nb,), nxt (cap,), prv (cap,), sbin (cap,))`` int32 and
+    ``hdr (4,)`` int64."""
+    hdr = np.zeros(4, dtype=np.int64)
+    hdr[Q_LO] = nb
+    return (
+        np.full(nb, -1, dtype=np.int32), np.empty(cap, dtype=np.int32), np.empty(cap, dtype=np.int32),
+        np.full(cap, -1, dtype=np.int32), hdr,
+    )
+
+
+@njit(inline="always")
+def sq_push(t, b, head, nxt, prv, sbin, hdr):
+    """Queue slot t (not queued: ``sbin[t] < 0``) in bucket b."""
+    h = head[b]
+    nxt[t] = h
+    prv[t] = -1
+    if h >= 0:
+        prv[h] = t
+    head[b] = t
+    sbin[t] = b
+    hdr[Q_N] += 1
+    if b < hdr[Q_LO]:
+        hdr[Q_LO] = b
+
+
+@njit(inline="always")
+def sq_remove(t, head, nxt, prv, sbin, hdr):
+    """Take slot t's entry out of the queue, if it has one."""
+    b = sbin[t]
+    if b < 0:
+        return
+    n = nxt[t]
+    p = prv[t]
+    if p >= 0:
+        nxt[p] = n
+    else:
+        head[b] = n
+    if n >= 0:
+        prv[n] = p
+    sbin[t] = -1
+    hdr[Q_N] -= 1
+
+
+@njit(inline="always")
+def sq_pop(head, nxt, prv, sbin, hdr):
+    """Remove and return the newest slot of the lowest non-empty bucket (``hdr[Q_N] > 0``)."""
+    b = hdr[Q_LO]
+    while head[b] < 0:
+        b += 1
+    hdr[Q_LO] = b
+    t = head[b]
+    sq_remove(t, head, nxt, prv, sbin, hdr)
+    return t

@@ -10,7 +10,7 @@ called again):
                              resets it, and a moved triangle takes its flag along
     ratio  (cap,) float64    R sqrt(3) / h of each slot's triangle, set when it is made
     qhead, qnext, qprev,     the queue of waiting front triangles, largest ratio first
-    qbin, qhdr               (:mod:`meshwright.tri._frontal_queue`: a bucket queue whose
+    qbin, qhdr               (:mod:`meshwright.core.bucket_queue`'s slot queue, whose
                              entries are the slots themselves; qbin[t] >= 0 while slot t
                              is queued, and a slot's entry is deleted wherever the slot
                              is rewritten: classified again, or freed and moved into)
@@ -58,6 +58,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.borrowed import borrowed
+from meshwright.core.bucket_queue import Q_N, sq_pop, sq_push, sq_remove
 from meshwright.core.flat import GHOST
 from meshwright.core.geom2d import circumcentre_offset, corners, segment_dist2
 from meshwright.sizing.background import interpolate_walk
@@ -73,7 +74,7 @@ from meshwright.tri._kernel2d import (
     _walk,
     insert_arrays,
 )
-from meshwright.tri._frontal_queue import Q_N, fq_bucket, fq_pop, fq_push, fq_remove
+from meshwright.tri._frontal_queue import fq_bucket
 from meshwright.tri._scaffold import KMAX, move_row, move_slot, remove_vertex
 
 F_DONE, F_ROOM, F_BROKEN, F_POINTS = range(4)
@@ -160,13 +161,13 @@ def _push(t, ratio, q):
     ``(qhead, qnext, qprev, qbin, qhdr)``."""
     qhead, qnext, qprev, qbin, qhdr = q
     if qbin[t] < 0:
-        fq_push(t, fq_bucket(ratio[t]), qhead, qnext, qprev, qbin, qhdr)
+        sq_push(t, fq_bucket(ratio[t]), qhead, qnext, qprev, qbin, qhdr)
 
 
 @njit(inline="always")
 def _unqueue(t, q):
     qhead, qnext, qprev, qbin, qhdr = q
-    fq_remove(t, qhead, qnext, qprev, qbin, qhdr)
+    sq_remove(t, qhead, qnext, qprev, qbin, qhdr)
 
 
 @njit(inline="always")
@@ -490,7 +491,7 @@ def run(s, c, f, bg):
             return F_POINTS
         # A queued slot holds a live inside triangle that is not accepted: every rewrite or
         # acceptance of a slot takes its entry out first (classify, _drop).
-        t = fq_pop(qhead, qnext, qprev, qbin, qhdr)
+        t = sq_pop(qhead, qnext, qprev, qbin, qhdr)
         e = _front_edge(t, pts, tri, nbr, treg, acc)
         if e < 0:
             continue

@@ -20,39 +20,29 @@ the largest first; inside a bucket the newest entry is served first.  Ratios bel
 the last bucket and ratios of ``2**OCTAVES`` and more the first (scaffold triangles wait
 with a lift of 1e3, ``frontal_delaunay.LIFT``, about 2**10).
 
-Layout (``NB`` buckets; per triangle slot arrays of the slot capacity)::
-
-    qhead (NB,)   int32  newest slot of bucket b, -1 when empty
-    qnext (cap,)  int32  next older slot of the same bucket (-1 ends), while queued
-    qprev (cap,)  int32  next newer slot of the same bucket (-1: the slot is the head)
-    qbin  (cap,)  int32  bucket of the slot's entry, -1 when the slot is not queued
-    qhdr  (2,)    int64  [Q_N] entries queued, [Q_LO] no bucket below it is non-empty
+The queue itself is :mod:`meshwright.core.bucket_queue`'s slot queue (``sq_push``,
+``sq_remove``, ``sq_pop``: the slots' arrays ``qhead (NB,)``, ``qnext``, ``qprev``, ``qbin``
+``(cap,)`` int32 and ``qhdr (4,)`` int64); this module gives its buckets.
 """
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
-__all__ = ["NB", "Q_LO", "Q_N", "fq_bucket", "fq_pop", "fq_push", "fq_remove", "new_frontal_queue"]
+from meshwright.core.bucket_queue import new_slot_queue
+
+__all__ = ["NB", "OCTAVES", "PER_OCTAVE", "fq_bucket", "new_frontal_queue"]
 
 PER_OCTAVE = 256  # buckets per doubling of the ratio: ties within 0.2-0.4 %
 OCTAVES = 24
 NB = PER_OCTAVE * OCTAVES
-Q_N = 0
-Q_LO = 1
 
 
 def new_frontal_queue(slots: int):
     """Empty queue arrays ``(qhead, qnext, qprev, qbin, qhdr)`` for ``slots`` triangle slots."""
-    qhdr = np.zeros(2, dtype=np.int64)
-    qhdr[Q_LO] = NB
-    return (
-        np.full(NB, -1, dtype=np.int32), np.empty(slots, dtype=np.int32), np.empty(slots, dtype=np.int32),
-        np.full(slots, -1, dtype=np.int32), qhdr,
-    )
+    return new_slot_queue(NB, slots)
 
 
 @njit(inline="always")
@@ -62,48 +52,3 @@ def fq_bucket(ratio):
     m, e = math.frexp(ratio)  # ratio = m 2**e, 0.5 <= m < 1
     level = (e - 1) * PER_OCTAVE + int((2.0 * m - 1.0) * PER_OCTAVE)
     return NB - 1 - min(max(level, 0), NB - 1)
-
-
-@njit(inline="always")
-def fq_push(t, b, qhead, qnext, qprev, qbin, qhdr):
-    """Queue slot t (not queued: ``qbin[t] < 0``) in bucket b."""
-    h = qhead[b]
-    qnext[t] = h
-    qprev[t] = -1
-    if h >= 0:
-        qprev[h] = t
-    qhead[b] = t
-    qbin[t] = b
-    qhdr[Q_N] += 1
-    if b < qhdr[Q_LO]:
-        qhdr[Q_LO] = b
-
-
-@njit(inline="always")
-def fq_remove(t, qhead, qnext, qprev, qbin, qhdr):
-    """Take slot t's entry out of the queue, if it has one."""
-    b = qbin[t]
-    if b < 0:
-        return
-    n = qnext[t]
-    p = qprev[t]
-    if p >= 0:
-        qnext[p] = n
-    else:
-        qhead[b] = n
-    if n >= 0:
-        qprev[n] = p
-    qbin[t] = -1
-    qhdr[Q_N] -= 1
-
-
-@njit(inline="always")
-def fq_pop(qhead, qnext, qprev, qbin, qhdr):
-    """Remove and return the newest slot of the first non-empty bucket (``qhdr[Q_N] > 0``)."""
-    b = qhdr[Q_LO]
-    while qhead[b] < 0:
-        b += 1
-    qhdr[Q_LO] = b
-    t = qhead[b]
-    fq_remove(t, qhead, qnext, qprev, qbin, qhdr)
-    return t
