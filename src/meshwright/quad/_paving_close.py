@@ -38,10 +38,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from meshwright.core.errors import MeshingError
 from meshwright.core.predicates import orient2d_batch
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad import _paving_row as pr
-from meshwright.quad.enhancement import enhance, unpair_nonconvex
+from meshwright.quad.enhancement import enhance, nonconvex, unpair_nonconvex
 from meshwright.quad.pairing import pair_triangles
 from meshwright.quad.smoothing import smooth_cells
 from meshwright.sizing.background import BackgroundGrid
@@ -457,9 +458,19 @@ def fill_voids(xy, voids, field, seed):
     pts2, quads, _, _ = enhance(pts2, quads, bnd, t3[left])
     # The pairing's last round admits non-convex pairs: the guarded smoother opens most
     # (a move never lowers the smallest corner sine around a node), the rest go back to
-    # two triangles each.
-    pts2 = smooth_cells(pts2, quads, t3[left], bnd, VOID_SMOOTH)
-    quads, lt = unpair_nonconvex(pts2, quads, t3[left])
+    # two triangles each.  A reflex corner already holds its quad's smallest sine, so the
+    # guard may let a node pass over the other diagonal too, leaving a quad that no
+    # diagonal splits (thin and tiny voids): then the smoothing is redone with every
+    # non-convex pair held as its two triangles, which the guard keeps counter-clockwise.
+    held = pts2
+    pts2 = smooth_cells(held, quads, t3[left], bnd, VOID_SMOOTH)
+    try:
+        quads, lt = unpair_nonconvex(pts2, quads, t3[left])
+    except MeshingError:
+        bent = nonconvex(held, quads)
+        halves = unpair_nonconvex(held, quads[bent], t3[left])[1]
+        pts2 = smooth_cells(held, np.delete(quads, bent, axis=0), halves, bnd, VOID_SMOOTH)
+        quads, lt = unpair_nonconvex(pts2, quads, t3[left])
     extra = pts2[n_ct:]
     m = np.concatenate([glob, len(xy) + np.arange(len(extra))])
     return np.vstack([xy, extra]), m[quads], m[lt]
