@@ -54,21 +54,72 @@ def _grid(seed, k, jitter):
     return xy, quads, inner
 
 
+def _measure(p, c, n):
+    """The guard's corner quality, from ``math`` and rationals: the sine of a strictly
+    convex corner; else the sine from 180 to 270 degrees, then -2 + |sine| up to 360
+    (falling with the angle over the reflex range); -2 for a degenerate corner."""
+    ux, uy, wx, wy = n[0] - c[0], n[1] - c[1], p[0] - c[0], p[1] - c[1]
+    den = math.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+    sine = (ux * wy - uy * wx) / den if den > 0 else -1.0
+    if _orient(p, c, n) > 0:
+        return sine
+    if den == 0:
+        return -2.0
+    return min(sine, 0.0) if ux * wx + uy * wy <= 0 else -2.0 + abs(sine)
+
+
+def _kernel_centroid(pts, star, v):
+    """Centroid of the region where every corner of v's star that v changes is convex,
+    by SciPy (a Chebyshev centre by linear programming, the half-spaces' intersection,
+    its hull's area centroid), within the star's bounding box, relative to v; None if the
+    region has no interior."""
+    from scipy.optimize import linprog
+    from scipy.spatial import ConvexHull, HalfspaceIntersection
+
+    x0, y0 = pts[v]
+    rows = []  # a x + b y + c <= 0 (SciPy's form) for the half-planes (X - u) x (Y - u) > 0
+    for q in star[v]:
+        i, m = q.index(v), len(q)
+        for k in range(m):
+            if m == 4 and k == (i + 2) % 4:
+                continue  # the corner opposite v
+            a, b, d = q[k - 1], q[k], q[(k + 1) % m]
+            x, y = (d, a) if b == v else ((b, d) if a == v else (a, b))  # orient(v, x, y)
+            X = (pts[x][0] - x0, pts[x][1] - y0)
+            Y = (pts[y][0] - x0, pts[y][1] - y0)
+            # X x Y + u_x (X_y - Y_y) - u_y (X_x - Y_x) > 0
+            rows.append([-(X[1] - Y[1]), (X[0] - Y[0]), -(X[0] * Y[1] - X[1] * Y[0])])
+    ring = [w for q in star[v] for w in q]
+    lo = np.min([[pts[w][0] - x0, pts[w][1] - y0] for w in ring] + [[0.0, 0.0]], axis=0)
+    hi = np.max([[pts[w][0] - x0, pts[w][1] - y0] for w in ring] + [[0.0, 0.0]], axis=0)
+    rows += [[-1, 0, lo[0]], [1, 0, -hi[0]], [0, -1, lo[1]], [0, 1, -hi[1]]]
+    h = np.array(rows, dtype=float)
+    norm = np.hypot(h[:, 0], h[:, 1])
+    lp = linprog([0, 0, -1], A_ub=np.column_stack([h[:, :2], norm]), b_ub=-h[:, 2], bounds=[(None, None)] * 2 + [(0, None)])
+    if lp.status != 0 or lp.x[2] <= 1e-9 * max(hi - lo):
+        return None
+    corners = HalfspaceIntersection(h, lp.x[:2]).intersections
+    hull = ConvexHull(corners)
+    ring = corners[hull.vertices]
+    x, y = ring[:, 0], ring[:, 1]
+    w = x * np.roll(y, -1) - np.roll(x, -1) * y
+    area = w.sum() / 2
+    return (x0 + ((x + np.roll(x, -1)) * w).sum() / (6 * area), y0 + ((y + np.roll(y, -1)) * w).sum() / (6 * area))
+
+
 @settings(max_examples=10, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([0.0, 0.01]))
 def test_sliding_interior_sweeps_match_a_python_sweep(seed, settle):
     """smooth_sliding without boundary lines: its interior sweeps (corner table, active
-    set, worst corner first, filtered exact convexity) against a Python Gauss-Seidel sweep
-    that recomputes every sine with ``math`` and decides convexity by rationals.  The
-    jitter leaves some quads non-convex, which may only move to become convex."""
+    set, worst corner first, filtered exact convexity, the kernel's centroid for a bad
+    star) against a Python Gauss-Seidel sweep that recomputes every corner with ``math``,
+    decides convexity by rationals and finds the kernel with SciPy.  The rule: a full,
+    else a half step to the neighbours' mean, else (a star worse than ``UNTANGLE``) the
+    kernel's centroid, kept if no convex corner of the star turns and no corner falls
+    below the star's worst before.  The jitter leaves some quads non-convex."""
     xy, quads, inner = _grid(seed, 6, 0.45)
     lines = np.zeros((0, 2), np.int64)
     got = sm.smooth_sliding(xy, quads, np.zeros((0, 3), np.int64), lines, ~inner, None, 4, settle)
-
-    def sine(p, c, n):
-        ux, uy, wx, wy = n[0] - c[0], n[1] - c[1], p[0] - c[0], p[1] - c[1]
-        den = math.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
-        return (ux * wy - uy * wx) / den if den > 0 else -1.0
 
     ql = quads.tolist()
     star = {v: [q for q in ql if v in q] for v in range(len(xy))}
@@ -82,10 +133,10 @@ def test_sliding_interior_sweeps_match_a_python_sweep(seed, settle):
     pts = [list(p) for p in xy.tolist()]
 
     def corners(v):
-        return [sine(pts[q[i - 1]], pts[q[i]], pts[q[(i + 1) % 4]]) for q in star[v] for i in range(4)]
+        return [_measure(pts[q[i - 1]], pts[q[i]], pts[q[(i + 1) % 4]]) for q in star[v] for i in range(4)]
 
     def convex(v):
-        return all(_orient(pts[q[i - 1]], pts[q[i]], pts[q[(i + 1) % 4]]) > 0 for q in star[v] for i in range(4))
+        return [_orient(pts[q[i - 1]], pts[q[i]], pts[q[(i + 1) % 4]]) > 0 for q in star[v] for i in range(4)]
 
     last, now = [True] * len(pts), [False] * len(pts)
     for _ in range(4):
@@ -96,9 +147,18 @@ def test_sliding_interior_sweeps_match_a_python_sweep(seed, settle):
             ty = sum(pts[w][1] for w in nbrs[v]) / len(nbrs[v])
             x0, y0 = pts[v]
             before = min(corners(v) + [1.0])
-            for step in (1.0, 0.5):
-                pts[v] = [x0 + step * (tx - x0), y0 + step * (ty - y0)]
-                if min(corners(v)) >= before and convex(v):
+            was = convex(v)
+            trials = [(x0 + s * (tx - x0), y0 + s * (ty - y0)) for s in (1.0, 0.5)]
+            if before < sm.UNTANGLE:
+                trials.append("kernel")
+            for t in trials:
+                if t == "kernel":
+                    pts[v] = [x0, y0]
+                    t = _kernel_centroid(pts, star, v)
+                    if t is None:
+                        break
+                pts[v] = list(t)
+                if min(corners(v)) >= before and all(c or not w for c, w in zip(convex(v), was)):
                     w = nbrs[v][0]
                     if settle and (pts[v][0] - x0) ** 2 + (pts[v][1] - y0) ** 2 > settle**2 * (
                         (pts[w][0] - x0) ** 2 + (pts[w][1] - y0) ** 2
@@ -120,3 +180,26 @@ def test_sliding_jitter_makes_nonconvex_quads():
         for q in quads.tolist():
             found += not all(_orient(xy[q[i - 1]], xy[q[i]], xy[q[(i + 1) % 4]]) > 0 for i in range(4))
     assert found > 0
+
+
+def test_tangled_stars_open():
+    """Grid vertices pushed through their neighbours leave folded and reflex quads that no
+    Laplacian step of one vertex makes all convex; the sliding smoother (exact guard with
+    the kernel's centroid) opens every one, never turns a convex corner, and never lowers
+    a star's worst corner quality (checked with rationals and ``math``)."""
+    for seed in range(6):
+        xy, quads, inner = _grid(seed, 6, 0.1)
+        rng = np.random.default_rng(seed)
+        ids = np.flatnonzero(inner)
+        for v in rng.choice(ids, 3, replace=False):
+            xy[v] += rng.choice([-1.0, 1.0], 2) * rng.uniform(0.9, 1.4, 2)
+        ql = quads.tolist()
+        bad = [q for q in ql if not all(_orient(xy[q[i - 1]], xy[q[i]], xy[q[(i + 1) % 4]]) > 0 for i in range(4))]
+        assert bad
+        lines = np.zeros((0, 2), np.int64)
+        got = sm.smooth_sliding(xy, quads, np.zeros((0, 3), np.int64), lines, ~inner, None, 6)
+        for q in ql:
+            assert all(_orient(got[q[i - 1]], got[q[i]], got[q[(i + 1) % 4]]) > 0 for i in range(4)), (seed, q)
+        worst = min(_measure(xy[q[i - 1]], xy[q[i]], xy[q[(i + 1) % 4]]) for q in ql for i in range(4))
+        after = min(_measure(got[q[i - 1]], got[q[i]], got[q[(i + 1) % 4]]) for q in ql for i in range(4))
+        assert after >= worst

@@ -12,9 +12,14 @@ mesh's minimum scaled Jacobian, so a valid mesh stays valid.  Vertices on ``line
 :func:`smooth_sliding` is the same guard with boundary vertices sliding along their true
 curves (the pairing's enhancement smoothing, 18.5.1): a sliding vertex's Laplacian step is
 projected onto the chord of its two boundary neighbours and put back on its curve by the
-caller's projection, and every move is also checked exactly: every cell around the vertex
-must be strictly convex (a triangle strictly counter-clockwise) after it by exact
-``orient2d``, so a vertex of a relaxed non-convex quad moves only to make it convex.
+caller's projection, and every move is also checked exactly: no strictly convex corner
+around the vertex (a triangle's: counter-clockwise) may stop being one by exact
+``orient2d``, and reflex corners are ranked by how far they fold, so relaxed,
+tangled or flat cells open over several moves and never close again.  A vertex of a bad
+star that no Laplacian step may move tries the centroid of the star's kernel, the convex
+region where all its corners are convex (the local untangling of Freitag and Plassmann,
+IJNME 2000): the pairing's cells split from flat triangles under a size jump of 1e-4
+are opened that way.
 
 Array layout: points (n, 2) float64; cells (m, 4) int64, a triangle padded with -1 in
 column 3, counter-clockwise; vertex-to-cell and vertex-to-neighbour tables in CSR form
@@ -30,7 +35,9 @@ from meshwright.core.errors import InputError
 from meshwright.core.predicates import CCW_ERRBOUND_A, orient2d
 from meshwright.core.validate_input import check_count
 
-__all__ = ["cell_tables", "smooth_cells", "smooth_sliding"]
+__all__ = ["UNTANGLE", "cell_tables", "smooth_cells", "smooth_sliding"]
+
+UNTANGLE = 0.1  # smooth_sliding: a star this bad (worst corner quality) whose Laplacian steps fail tries its kernel
 
 
 @njit(inline="always")
@@ -65,11 +72,11 @@ def _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
 
 @njit(cache=True)
 def _corner_table(points, cells, exact):
-    """Sine of every corner, (m, 4) float64: ``cs[c, k]`` of corner k of cell c (unused
-    slot of a triangle: 1); with ``exact`` also every corner's exact convexity, (m, 4)
-    int8: ``cv[c, k]`` 1 when strictly convex (exact ``orient2d``, through
-    :func:`_convex`'s filter on the same cross product), else 0 (unused slot: 1); without
-    it ``cv`` is (0, 4).  Returns (cs, cv)."""
+    """Quality of every corner, (m, 4) float64: ``cs[c, k]`` of corner k of cell c (unused
+    slot of a triangle: 1), its sine, or with ``exact`` :func:`_corner_measure`; with
+    ``exact`` also every corner's exact convexity, (m, 4) int8: ``cv[c, k]`` 1 when
+    strictly convex (exact ``orient2d``, through :func:`_convex`'s filter on the same cross
+    product), else 0 (unused slot: 1); without it ``cv`` is (0, 4).  Returns (cs, cv)."""
     m = cells.shape[0]
     cs = np.ones((m, 4))
     cv = np.ones((m if exact else 0, 4), np.int8)
@@ -80,9 +87,11 @@ def _corner_table(points, cells, exact):
             # run-time nv, per corner, in the hot loops below).
             a = cells[c, k - 1 if k > 0 else nv - 1]
             d = cells[c, k + 1 if k + 1 < nv else 0]
-            cs[c, k], cross, scale = _corner_cross(points, a, cells[c, k], d)
             if exact:
-                cv[c, k] = 1 if _convex(points, a, cells[c, k], d, cross, scale) else 0
+                cs[c, k], ok = _corner_measure(points, a, cells[c, k], d)
+                cv[c, k] = 1 if ok else 0
+            else:
+                cs[c, k], _, _ = _corner_cross(points, a, cells[c, k], d)
     return cs, cv
 
 
@@ -132,22 +141,50 @@ def _convex(points, a, b, d, cross, scale):
     return orient2d(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1]) > 0.0
 
 
+@njit(inline="always")
+def _corner_measure(points, a, b, d):
+    """Quality of corner b (between b->d and b->a) for the exact guard, and whether it is
+    strictly convex (exact).  A strictly convex corner's quality is its sine; a corner that
+    is not gets a value that falls with the angle over the whole reflex range: its sine
+    from 180 to 270 degrees (0 to -1), then ``-2 + |sine|`` up to 360 (-1 to -2); a
+    degenerate corner -2.  The sine alone would rank a corner of 359 degrees, almost
+    folded, with one of 181, so a guard that lets reflex corners stay (a relaxed quad
+    opening over several moves) could fold one; the convexity is the exact one, since near
+    0 or 360 degrees the floating cross product's sign cannot tell the two apart."""
+    ux = points[d, 0] - points[b, 0]
+    uy = points[d, 1] - points[b, 1]
+    wx = points[a, 0] - points[b, 0]
+    wy = points[a, 1] - points[b, 1]
+    sn, cross, scale = _corner_cross(points, a, b, d)
+    if _convex(points, a, b, d, cross, scale):
+        return sn, True
+    den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+    if den == 0.0:
+        return -2.0, False
+    if ux * wx + uy * wy <= 0.0:
+        return min(sn, 0.0), False
+    return -2.0 + abs(sn), False
+
+
 @njit(cache=True)
 def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old, exact):
     """Test ``v``'s new position and bring the corner table ``cs`` up to date if it passes.
 
-    Passes if every corner sine that moving ``v`` changes is at least ``bound`` (the
-    star's smallest sine before the move: the guard's test without the corners opposite
-    ``v`` in its quads, unchanged and not below ``bound``) and, with ``exact``, every
-    cell of the star is strictly convex (a triangle strictly counter-clockwise) by exact
-    ``orient2d``, certified from the same cross products where the filter allows.  One
-    walk of the star: the new sines are written into ``cs`` as they are computed, the old
-    ones kept in ``slot`` / ``old`` and put back at the first failure.
+    Passes if every corner quality that moving ``v`` changes is at least ``bound`` (the
+    star's smallest before the move: the guard's test without the corners opposite ``v``
+    in its quads, unchanged and not below ``bound``) and, with ``exact``, every corner of
+    the star that was strictly convex (``cv``) still is by exact ``orient2d``, certified
+    from the same cross products where the filter allows.  The qualities are sines, or
+    with ``exact`` :func:`_corner_measure`'s: a reflex corner may stay reflex, no better
+    than the star's worst was, so a relaxed or tangled quad opens over several moves of
+    its vertices (one move rarely makes a quad with two bad corners convex at once, and a
+    rule that asked for it kept every such star still), while no convex corner ever
+    turns.  One walk of the star: the new values are written into ``cs`` as they are
+    computed, the old ones kept in ``slot`` / ``old`` and put back at the first failure.
 
     With ``exact``, ``cv`` (m, 4) int8 holds every corner's exact convexity
-    (:func:`_corner_table`): the corner opposite ``v`` in a quad keeps its two edges, so
-    its entry is read instead of computed (a quarter of the star's corners), and a passing
-    move sets the entries of the corners it changed, all convex then.  Without ``exact``
+    (:func:`_corner_table`); a passing move sets the entries of the corners it changed
+    (``slot`` carries each one's new convexity in its lowest bit).  Without ``exact``
     ``cv`` is not read.
 
     A refused move almost always fails at the star's worst corner (``worst``, from
@@ -161,9 +198,14 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old
         if nv == 3 or cells[c, (k + 2) & 3] != v:
             a = cells[c, k - 1 if k > 0 else nv - 1]
             d = cells[c, k + 1 if k + 1 < nv else 0]
-            sn, _, _ = _corner_cross(points, a, cells[c, k], d)
-            if sn < bound:
-                return False
+            if exact:
+                sn, ok = _corner_measure(points, a, cells[c, k], d)
+                if sn < bound or (cv[c, k] == 1 and not ok):
+                    return False
+            else:
+                sn, _, _ = _corner_cross(points, a, cells[c, k], d)
+                if sn < bound:
+                    return False
     i = 0
     ok = True
     for t in range(cell_ptr[v], cell_ptr[v + 1]):
@@ -173,20 +215,26 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old
         while cells[c, kv] != v:
             kv += 1
         for k in range(nv):
-            # The corner opposite v does not change: only its exact convexity is read.
+            # The corner opposite v keeps its two sides: unchanged, nothing to test.
             if nv == 4 and k == ((kv + 2) & 3):
-                if exact and cv[c, k] == 0:
-                    ok = False
-                    break
                 continue
             a = cells[c, k - 1 if k > 0 else nv - 1]
             b = cells[c, k]
             d = cells[c, k + 1 if k + 1 < nv else 0]
-            sn, cross, scale = _corner_cross(points, a, b, d)
-            if sn < bound or (exact and not _convex(points, a, b, d, cross, scale)):
+            now = 1
+            if exact:
+                sn, convex = _corner_measure(points, a, b, d)
+                if not convex:
+                    now = 0
+                    if cv[c, k] == 1:
+                        ok = False
+                        break
+            else:
+                sn, _, _ = _corner_cross(points, a, b, d)
+            if sn < bound:
                 ok = False
                 break
-            slot[i] = 4 * c + k
+            slot[i] = 2 * (4 * c + k) + now
             old[i] = cs[c, k]
             cs[c, k] = sn
             i += 1
@@ -194,10 +242,12 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old
             break
     if not ok:
         for j in range(i):
-            cs[slot[j] >> 2, slot[j] & 3] = old[j]
+            s = slot[j] >> 1
+            cs[s >> 2, s & 3] = old[j]
     elif exact:
         for j in range(i):
-            cv[slot[j] >> 2, slot[j] & 3] = 1
+            s = slot[j] >> 1
+            cv[s >> 2, s & 3] = slot[j] & 1
     return ok
 
 
@@ -334,12 +384,112 @@ def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, worst, cs, c
 
 
 @njit(cache=True)
-def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old):
+def _clip(px, py, n, qx, qy, a, b, c):
+    """Clip the convex polygon ``px``, ``py`` (``n`` vertices, counter-clockwise) to the
+    open half-plane ``a x + b y + c > 0`` (Sutherland and Hodgman 1974) into ``qx``, ``qy``;
+    returns the new vertex count (0: nothing left)."""
+    m = 0
+    for i in range(n):
+        j = i + 1 if i + 1 < n else 0
+        hi = a * px[i] + b * py[i] + c
+        hj = a * px[j] + b * py[j] + c
+        if hi > 0.0:
+            qx[m] = px[i]
+            qy[m] = py[i]
+            m += 1
+        if (hi > 0.0) != (hj > 0.0) and hi != hj:
+            t = hi / (hi - hj)
+            qx[m] = px[i] + t * (px[j] - px[i])
+            qy[m] = py[i] + t * (py[j] - py[i])
+            m += 1
+    return m
+
+
+@njit(cache=True)
+def _kernel_target(points, cells, cell_ptr, cell_idx, v, px, py, qx, qy):
+    """Centroid of the region where every corner of ``v``'s star is convex, and whether
+    it is not empty (floating point; the exact guard decides).
+
+    Each corner that moving ``v`` changes is an orientation with ``v`` as one of its three
+    points, linear in ``v``: the region is an intersection of half-planes, a convex
+    polygon (the feasible set of Freitag and Plassmann's local untangling, IJNME 2000),
+    clipped here from the box of the star one half-plane at a time.  Coordinates are taken
+    relative to ``v``, whose stars in size jumps of 1e-4 are 1e-7 wide at coordinates of
+    hundreds.  ``px``, ``py``, ``qx``, ``qy``: scratch of at least 4 + the star's corners.
+    """
+    x0 = points[v, 0]
+    y0 = points[v, 1]
+    lo_x = 0.0
+    hi_x = 0.0
+    lo_y = 0.0
+    hi_y = 0.0
+    for t in range(cell_ptr[v], cell_ptr[v + 1]):
+        c = cell_idx[t]
+        for k in range(4 if cells[c, 3] >= 0 else 3):
+            dx = points[cells[c, k], 0] - x0
+            dy = points[cells[c, k], 1] - y0
+            lo_x = min(lo_x, dx)
+            hi_x = max(hi_x, dx)
+            lo_y = min(lo_y, dy)
+            hi_y = max(hi_y, dy)
+    px[0], py[0], px[1], py[1] = lo_x, lo_y, hi_x, lo_y
+    px[2], py[2], px[3], py[3] = hi_x, hi_y, lo_x, hi_y
+    n = 4
+    for t in range(cell_ptr[v], cell_ptr[v + 1]):
+        c = cell_idx[t]
+        nv = 4 if cells[c, 3] >= 0 else 3
+        for k in range(nv):
+            a = cells[c, k - 1 if k > 0 else nv - 1]
+            b = cells[c, k]
+            d = cells[c, k + 1 if k + 1 < nv else 0]
+            # orient(a, b, d) with v first: orient(v, x, y) = (x - v) x (y - v).
+            if b == v:
+                x, y = d, a
+            elif a == v:
+                x, y = b, d
+            elif d == v:
+                x, y = a, b
+            else:
+                continue  # the corner opposite v
+            xx = points[x, 0] - x0
+            xy = points[x, 1] - y0
+            yx = points[y, 0] - x0
+            yy = points[y, 1] - y0
+            # (X - u) x (Y - u) = X x Y + u_x (X_y - Y_y) - u_y (X_x - Y_x)
+            n = _clip(px, py, n, qx, qy, xy - yy, yx - xx, xx * yy - xy * yx)
+            if n == 0:
+                return False, x0, y0
+            px[:n] = qx[:n]
+            py[:n] = qy[:n]
+    # Area centroid (the vertex mean when the polygon is too thin to have one).
+    area = 0.0
+    cx = 0.0
+    cy = 0.0
+    mx = 0.0
+    my = 0.0
+    for i in range(n):
+        j = i + 1 if i + 1 < n else 0
+        w = px[i] * py[j] - px[j] * py[i]
+        area += w
+        cx += (px[i] + px[j]) * w
+        cy += (py[i] + py[j]) * w
+        mx += px[i]
+        my += py[i]
+    if area > 0.0:
+        return True, x0 + cx / (3.0 * area), y0 + cy / (3.0 * area)
+    return True, x0 + mx / n, y0 + my / n
+
+
+@njit(cache=True)
+def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box):
     """One Gauss-Seidel guarded Laplacian sweep over the free vertices, exact validity
     kept; with ``settle > 0`` only those awake in ``cur`` (:func:`_sweeps`; this sweep's
     moves wake their neighbours in ``cur`` and ``nxt``, :func:`_note_move`).  ``cs``, ``cv``: the corner
-    sines and exact convexity, kept up to date; ``slot``, ``old``: scratch for a star's
-    sines (:func:`_guard`)."""
+    qualities and exact convexity, kept up to date; ``slot``, ``old``: scratch for a star's
+    corners (:func:`_guard`).  A vertex whose star's worst corner is below ``UNTANGLE``
+    and whose two Laplacian steps are refused tries the centroid of its star's kernel
+    (:func:`_kernel_target`; ``box``: its (4, k) scratch): a Laplacian step towards the
+    neighbours' mean seldom opens a reflex or flat corner.  Returns the moves kept."""
     kept = 0
     for v in range(points.shape[0]):
         if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
@@ -349,17 +499,23 @@ def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, c
         tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
         x0 = points[v, 0]
         y0 = points[v, 1]
-        # A refused trial puts v back exactly, so both trials share one ``before``.
+        # A refused trial puts v back exactly, so every trial shares one ``before``.
         before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
+        moved = False
         for step in (1.0, 0.5):
             if _try_move(
                 points, cells, cell_ptr, cell_idx, v, x0 + step * (tx - x0), y0 + step * (ty - y0), before, worst, cs, cv,
                 slot, old,
             ):
-                kept += 1
-                if settle > 0.0:
-                    _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle)
+                moved = True
                 break
+        if not moved and before < UNTANGLE:
+            found, kx, ky = _kernel_target(points, cells, cell_ptr, cell_idx, v, box[0], box[1], box[2], box[3])
+            moved = found and _try_move(points, cells, cell_ptr, cell_idx, v, kx, ky, before, worst, cs, cv, slot, old)
+        if moved:
+            kept += 1
+            if settle > 0.0:
+                _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle)
     return kept
 
 
@@ -504,8 +660,10 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     cs, cv = _corner_table(pts, cells, True)
     slot = np.empty(4 * int(np.diff(cell_ptr).max(initial=0)) + 1, np.int64)
     old = np.empty(len(slot))
+    # Clipping one half-plane adds at most one vertex to the box's four.
+    box = np.empty((4, len(slot) + 4))
     for _ in range(passes):
-        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old)
+        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box)
         cur, nxt = nxt, cur
         nxt[:] = 0
         cur[woken] = 1
