@@ -105,11 +105,12 @@ from meshwright.tri._front_kernel import (
     heap_push,
 )
 
-__all__ = ["FAR", "LEFT", "R_PAUSE", "colour_nodes", "zhu_advance"]
+__all__ = ["FAR", "LEFT", "R_PAUSE", "SCRATCH", "colour_nodes", "new_scratch", "zhu_advance"]
 
 LEFT = -1  # F_TRIES of a face the pair front left to the triangle front
 FAR = 2.5  # no apex farther than FAR rho (metric) from a base end
 R_PAUSE = 6  # the triangle count reached the caller's max_tris (R_* codes of the front kernel otherwise)
+SCRATCH = 256  # initial room of the candidate search's scratch arrays
 
 
 @njit(cache=True)
@@ -281,42 +282,22 @@ def _bad_pocket(pts, f, q, fs):
 
 
 @njit(inline="always")
-def _second(u, w, o, io, p, last, fs, par, col, want, items, nodes, cand, ckey, stack, fstack):
-    """Apex of the second triangle on the virtual face u -> w (step 6): a node of colour
-    ``want`` (or uncoloured), or the new point ``p`` (ideal point as :func:`_gather`'s
-    ``o = io``); ``o`` is the first triangle's third corner, across u w.  Strictly convex quadrilaterals are preferred in the first round.
-
-    Returns ``(d, items, nodes, cand, ckey)``, d = -1 when none is admissible.
-    """
-    pts, face, qbox = fs.pts, fs.face, fs.qbox
-    nin = fs.meta[M_NIN]
-    ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
-        u, w, np.int64(-1), p, io, last, False, fs, par, col, want, items, nodes, cand, ckey, stack, fstack
-    )
-    rounds = 2 if last else 1
-    per = nc + n_close + 1
-    for i in range(rounds * per):
-        d, clear = _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, u)
-        if d < 0:
-            continue
-        # The quad is u o w d (o right of u -> w); its corners at u and w may be reflex,
-        # which the chapter allows (step 8) but only in the last round here.  A corner
-        # between two input nodes wider than 150 degrees is never made: they barely move,
-        # so no smoothing would open it (the face is left to the triangle front instead).
-        if (clear > 0.0 and not _convex(pts, u, o, w, d)) or _flat_input(pts, nin, u, o, w, d):
-            continue
-        if _valid(pts, face, qbox, u, w, d, np.int64(-1), items, ni, nodes, nn, clear, l11, l21, l22):
-            return d, items, nodes, cand, ckey
-    return np.int64(-1), items, nodes, cand, ckey
-
-
-@njit(inline="always")
 def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack):
     """Advance face f by one quadrilateral (steps 1-9) if any admissible pair exists.
+
+    Two searches, nested: for each admissible first apex C of the triangle on f = A -> B,
+    each admissible base of the second triangle (step 5: the side of ABC joining two nodes
+    of one colour) and each apex D on it (step 6).  They are written as one loop over the
+    search ``lvl`` (0: C, 1: D) with a single call of the candidate search, of the trial
+    order and of the validity test, so that the kernel holds one inlined copy of each
+    (the nested form held two: the largest part of this kernel's compile time, and a
+    compiled call in place of the second costs run time).  ``g*`` are the current level's
+    search results; the first level's are ``kept`` while the second runs.
 
     Returns ``(ok, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2)``.
     """
     pts, met, face, qbox, meta = fs.pts, fs.met, fs.face, fs.qbox, fs.meta
+    nin = meta[M_NIN]
     a = np.int64(face[f, F_A])
     b = np.int64(face[f, F_B])
     last = face[f, F_TRIES] >= par[P_MAX_DEFER]
@@ -327,93 +308,179 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
     # keeps the triangle front's equilateral apex (squares there met the far field's
     # elements at corners of 175 degrees on the airfoils, min SJ 0.05).
     shape = np.int64(-2) if uniform else np.int64(-1)
-    ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand, ckey = _gather(
-        a, b, np.int64(f), p, shape, last, False, fs, par, col, np.int64(-1), items, nodes, cand, ckey, stack, fstack
-    )
-    px = pts[p, 0]
-    py = pts[p, 1]
     rounds = 2 if last else 1
-    per = nc + n_close + 1
-    for i in range(rounds * per):
-        c, clear = _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, a)
-        if c < 0:
-            continue
-        if c == p:
-            # The second triangle's search wrote its own ideal point; this one is the first's.
-            pts[p, 0] = px
-            pts[p, 1] = py
-        if not _valid(pts, face, qbox, a, b, c, f, items, ni, nodes, nn, clear, l11, l21, l22):
-            continue
-        p2 = p + 1 if c == p else p
-        if c == p:
-            for k in range(3):
-                met[p, k] = met[a, k]
-        # Step 5: the base of the second triangle is the side of ABC joining two nodes of
-        # one colour; a new (or uncoloured) C may take either colour, A C tried first.
-        for side in range(2):
-            if side == 0 and col[c] >= 0 and col[c] != col[a]:
-                continue
-            if side == 1 and col[c] >= 0 and col[c] != col[b]:
-                continue
-            u = a if side == 0 else c
-            w = c if side == 0 else b
-            cu = col[a] if side == 0 else col[b]
-            want = np.int64(1 - cu)
-            d, items2, nodes2, cand2, ckey2 = _second(
-                u, w, b if side == 0 else a, (b if side == 0 else a) if c == p and uniform else np.int64(-1), p2, last, fs, par, col, want, items2, nodes2, cand2, ckey2, stack, fstack
+    zero = np.int64(0)
+    gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1 = zero, zero, zero, zero, False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    kept = (gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1)
+    lvl = 0
+    fresh = True  # the level's candidates are still to be gathered
+    i = zero  # next trial of the level
+    fi = zero  # the first level's next trial, kept while the second runs
+    total = zero
+    side = 2  # no first apex yet: no base to try
+    c = u = w = o = io = p2 = want = np.int64(-1)
+    cu = np.int8(0)
+    px = py = clear = 0.0
+    # Bounded: each pass takes the level's next trial (at most rounds * (nc + n_close + 1)
+    # a level), or moves to the next base (two per first apex), or returns.
+    while True:
+        ga = a if lvl == 0 else u
+        gb = b if lvl == 0 else w
+        gp = p if lvl == 0 else p2
+        gf = np.int64(f) if lvl == 0 else np.int64(-1)
+        if fresh:
+            fresh = False
+            it, nd, cd, ck = (items, nodes, cand, ckey) if lvl == 0 else (items2, nodes2, cand2, ckey2)
+            gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1, it, nd, cd, ck = _gather(
+                ga, gb, gf, gp, shape if lvl == 0 else io, last, False, fs, par, col,
+                np.int64(-1) if lvl == 0 else want, it, nd, cd, ck, stack, fstack,
             )
-            if d < 0:
+            if lvl == 0:
+                items, nodes, cand, ckey = it, nd, cd, ck
+                px = pts[p, 0]
+                py = pts[p, 1]
+            else:
+                items2, nodes2, cand2, ckey2 = it, nd, cd, ck
+            i = zero
+            total = rounds * (gnc + gclose + 1)
+        x = np.int64(-1)
+        if i < total:
+            x, clear = _trial(
+                i, gnc, gclose, gp, gok, cand if lvl == 0 else cand2, pts, par, grho, g11, g21, g22, gu0, gu1, ga
+            )
+            i += 1
+        next_base = False
+        if x < 0:
+            if i < total:
                 continue
-            dx = pts[d, 0]
-            dy = pts[d, 1]
-            if c == p:
+            if lvl == 0:
+                return False, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
+            next_base = True  # no apex D on this base
+        else:
+            if lvl == 0 and x == p:
+                # The second triangle's search wrote its own ideal point; this one is the first's.
                 pts[p, 0] = px
                 pts[p, 1] = py
-            if _bad_pocket(pts, f, (a, b, c, d) if side == 0 else (a, b, d, c), fs):
+            # The quad is u o w x (o right of u -> w); its corners at u and w may be reflex,
+            # which the chapter allows (step 8) but only in the last round here.  A corner
+            # between two input nodes wider than 150 degrees is never made: they barely move,
+            # so no smoothing would open it (the face is left to the triangle front instead).
+            if lvl == 1 and ((clear > 0.0 and not _convex(pts, u, o, w, x)) or _flat_input(pts, nin, u, o, w, x)):
                 continue
-            _make_triangle(f, a, b, c, fs, uniform)
-            col[c] = cu
-            g = _find_face(u, w, fs.vint, face, fs.falive)
-            if d == p2:
-                pts[d, 0] = dx
-                pts[d, 1] = dy
-            _make_triangle(g, u, w, d, fs, uniform)
-            if col[d] < 0:
-                col[d] = want
-            tpair[meta[M_NT] - 2] = 1
-            tpair[meta[M_NT] - 1] = 0
-            return True, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
-    return False, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
+            if not _valid(
+                pts, face, qbox, ga, gb, x, gf, items if lvl == 0 else items2, gni, nodes if lvl == 0 else nodes2,
+                gnn, clear, g11, g21, g22,
+            ):
+                continue
+            if lvl == 0:
+                c = x
+                p2 = p + 1 if c == p else p
+                if c == p:
+                    for k in range(3):
+                        met[p, k] = met[a, k]
+                side = -1
+                next_base = True
+            else:
+                d = x
+                dx = pts[d, 0]
+                dy = pts[d, 1]
+                if c == p:
+                    pts[p, 0] = px
+                    pts[p, 1] = py
+                if _bad_pocket(pts, f, (a, b, c, d) if side == 0 else (a, b, d, c), fs):
+                    next_base = True
+                else:
+                    # Both triangles by one inlined copy of the front's update.
+                    for t in range(2):
+                        tf_ = np.int64(f)
+                        if t == 1:
+                            col[c] = cu
+                            tf_ = np.int64(_find_face(u, w, fs.vint, face, fs.falive))
+                            if d == p2:
+                                pts[d, 0] = dx
+                                pts[d, 1] = dy
+                        _make_triangle(tf_, a if t == 0 else u, b if t == 0 else w, c if t == 0 else d, fs, uniform)
+                    if col[d] < 0:
+                        col[d] = want
+                    tpair[meta[M_NT] - 2] = 1
+                    tpair[meta[M_NT] - 1] = 0
+                    return True, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
+        if not next_base:
+            continue
+        # Step 5: the base of the second triangle is the side of ABC joining two nodes of
+        # one colour; a new (or uncoloured) C may take either colour, A C tried first.
+        side += 1
+        while side < 2 and col[c] >= 0 and col[c] != (col[a] if side == 0 else col[b]):
+            side += 1
+        if side < 2:
+            if lvl == 0:
+                kept = (gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1)
+                fi = i
+            u = a if side == 0 else c
+            w = c if side == 0 else b
+            o = b if side == 0 else a
+            io = o if c == p and uniform else np.int64(-1)
+            cu = col[a] if side == 0 else col[b]
+            want = np.int64(1 - cu)
+            lvl = 1
+            fresh = True
+        elif lvl == 1:
+            # Both bases tried: the first search goes on with its next apex.
+            gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1 = kept
+            i = fi
+            total = rounds * (gnc + gclose + 1)
+            lvl = 0
+
+
+def new_scratch(depth, size=SCRATCH):
+    """The kernel's scratch arrays, made by the caller (see :func:`zhu_advance`).
+
+    Parameters
+    ----------
+    depth : int
+        The front's quadtree depth (``fs.qmeta[Q_DEPTH]``).
+    size : int
+        Room for query items, nodes and candidates.
+
+    Returns
+    -------
+    tuple
+        ``(items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack)``: four
+        (size,) int32 / int32 / int32 / float64 arrays for each triangle of a pair, the
+        quadtree query's stacks (s,) int64 and (s, 3) float64, s = STACK_PER_LEVEL (depth + 2).
+    """
+    s = STACK_PER_LEVEL * (int(depth) + 2)
+    per_triangle = [(np.empty(size, np.int32), np.empty(size, np.int32), np.empty(size, np.int32), np.empty(size))
+                    for _ in range(2)]
+    return (*per_triangle[0], *per_triangle[1], np.empty(s, np.int64), np.empty((s, 3)))
 
 
 @njit(cache=True)
-def zhu_advance(fs, par, col, tpair, max_tris):
+def zhu_advance(fs, par, col, tpair, max_tris, scratch):
     """Run the pair front until it is empty or Python must act; returns an ``R_*`` code of
     :mod:`meshwright.tri._front_kernel` (``R_DONE``: no face left on the heap; faces
     marked ``LEFT`` may remain on the front) or :data:`R_PAUSE`.
 
     ``col`` (pcap,) int8 and ``tpair`` (tcap,) int8 as in the module docstring, at least
     as long as ``fs.pts`` and ``fs.tri``; ``max_tris``: pause before the triangle count
-    would pass it (a caller stepping pair by pair).
+    would pass it (a caller stepping pair by pair); ``scratch``: :func:`new_scratch`'s
+    tuple, which the caller keeps.  The scratch is the caller's, not allocated here: a
+    kernel's own arrays carry a reference count, and every inlined helper they are handed
+    to pays an increment and a decrement per array and call (``core.borrowed``); an array
+    a query outgrows is replaced by a larger one of the kernel's for the rest of the call.
     """
-    fs, par, col, tpair = borrowed(fs), borrowed(par), borrowed(col), borrowed(tpair)
+    fs, par, col, tpair, scratch = borrowed(fs), borrowed(par), borrowed(col), borrowed(tpair), borrowed(scratch)
     pts, face, falive, qmeta, qhead, hkey = fs.pts, fs.face, fs.falive, fs.qmeta, fs.qhead, fs.hkey
     hface, wkey, wface, tri, meta = fs.hface, fs.wkey, fs.wface, fs.tri, fs.meta
     for i in range(meta[M_NW]):
         if falive[wface[i]]:
             heap_push(hkey, hface, meta, wkey[i], wface[i])
     meta[M_NW] = 0
-    items = np.empty(256, dtype=np.int32)
-    nodes = np.empty(256, dtype=np.int32)
-    cand = np.empty(256, dtype=np.int32)
-    ckey = np.empty(256)
-    items2 = np.empty(256, dtype=np.int32)
-    nodes2 = np.empty(256, dtype=np.int32)
-    cand2 = np.empty(256, dtype=np.int32)
-    ckey2 = np.empty(256)
+    items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack = scratch
     depth = qmeta[Q_DEPTH]
-    stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
-    fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
+    if stack.shape[0] < STACK_PER_LEVEL * (depth + 2) or fstack.shape[0] < STACK_PER_LEVEL * (depth + 2):
+        stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
+        fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
     sync_every = int(par[P_SYNC_EVERY])
     max_defer = int(par[P_MAX_DEFER])
     while True:

@@ -198,6 +198,8 @@ class PairFront:
         self.coloured = self.pairing = col0 is not None
         self.stuck = 0
         self.nt_pairs = 0
+        # The kernel's scratch, kept across its calls (it replaces what it outgrows).
+        self.scratch = zk.new_scratch(self.fr.fs.qmeta[zk.Q_DEPTH])
         if self.pairing:
             self.col[: len(pts0)] = col0
             _loop_order(self.fr.fs, faces)
@@ -209,7 +211,7 @@ class PairFront:
         par = self.par
         while True:
             if self.pairing:
-                code = int(zk.zhu_advance(self.fr.fs, par, self.col, self.tpair, stop))
+                code = int(zk.zhu_advance(self.fr.fs, par, self.col, self.tpair, stop, self.scratch))
             else:
                 code = self.fr.advance(par)
             fs = self.fr.fs
