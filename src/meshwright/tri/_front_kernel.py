@@ -15,9 +15,9 @@ functions; capacities grow by doubling in :mod:`meshwright.tri.front`) and the p
                                free-point item (-1 none), query stamp
     face   (fcap, 4) int32     per face: start a, end b, next out-face of a, tries
     falive (fcap,) int8        1 while the face is on the front
-    qbox   (fcap, 4) float64   the loose quadtree (:mod:`meshwright.core.spatial.loose_quadtree`):
+    qbox   (fcap, 4) float64   the quadtree of split boxes (:mod:`meshwright.core.spatial.cell_quadtree`):
     qgeo, qmeta, qchild,       item boxes (item = face id), root geometry, header, children,
-    qhead, qnext               node lists and item links
+    qhead, qnext, qcell        node lists, entry links (4 fcap,) and items' integer corners
     hkey, hface (fcap, 1)      binary min-heap (:mod:`meshwright.core.heap`) of faces by key
                                (length, plus deferrals)
     wkey, wface                faces waiting for the metric of a new end (meta[M_NW] of them)
@@ -49,12 +49,13 @@ from meshwright.core.borrowed import borrowed
 from meshwright.core.heap import heap_pop as core_heap_pop
 from meshwright.core.heap import heap_push as core_heap_push
 from meshwright.core.predicates import orient2d
-from meshwright.core.spatial.loose_quadtree import (
+from meshwright.core.spatial.cell_quadtree import (
     Q_DEPTH,
     Q_NODES,
+    Q_ROOM,
     STACK_PER_LEVEL,
-    qt_insert,
-    qt_query,
+    ct_insert,
+    ct_query,
 )
 
 R_DONE = 0  # the front is empty
@@ -90,6 +91,7 @@ class FrontState(NamedTuple):
     qchild: np.ndarray
     qhead: np.ndarray
     qnext: np.ndarray
+    qcell: np.ndarray
     hkey: np.ndarray
     hface: np.ndarray
     wkey: np.ndarray
@@ -145,7 +147,7 @@ def _find_face(u, v, vint, face, falive):
 def add_item(u, v, fs):
     """New quadtree item u -> v (a face, or a free point when u == v); returns its id."""
     pts, face, falive, qbox, qgeo, qmeta = fs.pts, fs.face, fs.falive, fs.qbox, fs.qgeo, fs.qmeta
-    qchild, qhead, qnext, meta = fs.qchild, fs.qhead, fs.qnext, fs.meta
+    qchild, qhead, qnext, qcell, meta = fs.qchild, fs.qhead, fs.qnext, fs.qcell, fs.meta
     f = meta[M_NF]
     meta[M_NF] = f + 1
     face[f, F_A] = u
@@ -157,7 +159,7 @@ def add_item(u, v, fs):
     qbox[f, 1] = min(pts[u, 1], pts[v, 1])
     qbox[f, 2] = max(pts[u, 0], pts[v, 0])
     qbox[f, 3] = max(pts[u, 1], pts[v, 1])
-    qt_insert(f, qgeo, qmeta, qchild, qhead, qnext, qbox)
+    ct_insert(f, qgeo, qmeta, qchild, qhead, qnext, qcell, qbox)
     return f
 
 
@@ -470,12 +472,12 @@ def _gather(a, b, fid, p, o, wide, grow, fs, par, col, want, items, nodes, cand,
 
     Returns ``(ni, nn, nc, n_close, p_ok, rho, l11, l21, l22, u0, u1, items, nodes, cand,
     ckey)``: query items and nodes, candidates (``n_close`` close ones first, nearest
-    first; the others best triangle first), whether the ideal point keeps its clearances,
-    the metric's Cholesky factor and the base in it; the scratch arrays come back because
-    they may have been replaced by larger ones.
+    first; the others best triangle first; equal keys by node id), whether the ideal point
+    keeps its clearances, the metric's Cholesky factor and the base in it; the scratch
+    arrays come back because they may have been replaced by larger ones.
     """
     pts, met, vint, face, falive, qbox, qgeo = fs.pts, fs.met, fs.vint, fs.face, fs.falive, fs.qbox, fs.qgeo
-    qchild, qhead, qnext, meta = fs.qchild, fs.qhead, fs.qnext, fs.meta
+    qmeta, qchild, qhead, qnext, qcell, meta = fs.qmeta, fs.qchild, fs.qhead, fs.qnext, fs.qcell, fs.meta
     m11 = 0.5 * (met[a, 0] + met[b, 0])
     m12 = 0.5 * (met[a, 1] + met[b, 1])
     m22 = 0.5 * (met[a, 2] + met[b, 2])
@@ -514,10 +516,10 @@ def _gather(a, b, fid, p, o, wide, grow, fs, par, col, want, items, nodes, cand,
     y0 = min(py - wy, ay, by)
     y1 = max(py + wy, ay, by)
     for rnd in range(2 if grow else 1):
-        ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
+        ni = ct_query(x0, y0, x1, y1, qgeo, qmeta, qchild, qhead, qnext, qcell, qbox, falive, items, stack, fstack)
         if ni > items.shape[0]:
             items = np.empty(2 * ni, dtype=np.int32)
-            ni = qt_query(x0, y0, x1, y1, qgeo, qchild, qhead, qnext, qbox, falive, items, stack, fstack)
+            ni = ct_query(x0, y0, x1, y1, qgeo, qmeta, qchild, qhead, qnext, qcell, qbox, falive, items, stack, fstack)
         if grow and rnd == 0:
             # A gap narrower than the spacing, or a front loop of three faces, closes with
             # nodes however far they lie (the pair front does not grow: a colour-restricted
@@ -594,8 +596,10 @@ def _gather(a, b, fid, p, o, wide, grow, fs, par, col, want, items, nodes, cand,
             else:
                 qx, qy = _to_metric(l11, l21, l22, pts[v, 0] - ax, pts[v, 1] - ay)
                 key = 2.0 - _quality(0.0, 0.0, u0, u1, qx, qy)
+            # Equal keys (mirror-image nodes) go by node id, so the choice does not depend
+            # on the order in which the quadtree returns the faces.
             j = nc
-            while j > 0 and ckey[j - 1] > key:
+            while j > 0 and (ckey[j - 1] > key or (ckey[j - 1] == key and cand[j - 1] > v)):
                 cand[j] = cand[j - 1]
                 ckey[j] = ckey[j - 1]
                 j -= 1
@@ -678,6 +682,7 @@ def advance(fs, par):
     ckey = np.empty(256)
     nocol = np.empty(0, dtype=np.int8)
     depth = qmeta[Q_DEPTH]
+    node_room = qmeta[Q_ROOM]
     stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
     fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
     tbuf = np.empty(BACKOFF_TRIS * MAX_LEVEL, dtype=np.int32)
@@ -691,7 +696,7 @@ def advance(fs, par):
             or meta[M_NH] + ROOM_FACES > hkey.shape[0]
             or meta[M_NW] + 2 > wface.shape[0]
             or meta[M_NT] + 2 > tri.shape[0]
-            or qmeta[Q_NODES] + ROOM_FACES * (depth + 1) > qhead.shape[0]
+            or qmeta[Q_NODES] + ROOM_FACES * node_room > qhead.shape[0]
         ):
             return R_ROOM
         if meta[M_NP] - meta[M_SYNC] >= sync_every:

@@ -70,7 +70,7 @@ import numpy as np
 
 from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.core.flat import grown_rows
-from meshwright.core.spatial.loose_quadtree import Q_NODES, qt_new
+from meshwright.core.spatial.cell_quadtree import Q_NODES, Q_ROOM, ct_new
 from meshwright.core.validate_input import check_flag
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
@@ -182,7 +182,7 @@ class _Front:
         met[:n] = metric
         lo, hi = points.min(axis=0), points.max(axis=0)
         lens = np.hypot(*(points[faces[:, 1]] - points[faces[:, 0]]).T) if len(faces) else np.ones(1)
-        qgeo, qmeta, qchild, qhead = qt_new(
+        qgeo, qmeta, qchild, qhead = ct_new(
             (lo[0], lo[1], hi[0], hi[1]), 0.25 * float(lens.min()), nodes=max(1024, 4 * fcap)
         )
         meta = np.zeros(fk.M_LEN, dtype=np.int64)
@@ -192,7 +192,8 @@ class _Front:
         self.fs = fk.FrontState(
             pts=pts, met=met, vint=np.full((pcap, 4), -1, dtype=np.int32), face=np.empty((fcap, 4), dtype=np.int32),
             falive=np.zeros(fcap, dtype=np.int8), qbox=np.empty((fcap, 4)), qgeo=qgeo, qmeta=qmeta, qchild=qchild,
-            qhead=qhead, qnext=np.empty(fcap, dtype=np.int32), hkey=np.empty(fcap),
+            qhead=qhead, qnext=np.empty(4 * fcap, dtype=np.int32), qcell=np.empty((fcap, 2), dtype=np.int64),
+            hkey=np.empty(fcap),
             hface=np.empty((fcap, 1), dtype=np.int32), wkey=np.empty(fcap), wface=np.empty(fcap, dtype=np.int32),
             tri=np.empty((tcap, 3), dtype=np.int32), tnext=np.empty((tcap, 3), dtype=np.int32),
             talive=np.zeros(tcap, dtype=np.int8), meta=meta,
@@ -213,9 +214,11 @@ class _Front:
             new["vint"] = grown_rows(fs.vint, need_p, -1)
         need_f = int(m[fk.M_NF]) + fk.ROOM_FACES
         if need_f > len(fs.face):
-            for name in ("face", "qbox", "qnext", "wkey", "wface"):
+            for name in ("face", "qbox", "qcell", "wkey", "wface"):
                 new[name] = grown_rows(getattr(fs, name), need_f)
             new["falive"] = grown_rows(fs.falive, need_f, 0)
+            # Four entries per item, one per cell its box may meet.
+            new["qnext"] = grown_rows(fs.qnext, 4 * len(new["face"]))
         need_h = int(m[fk.M_NH]) + int(m[fk.M_NW]) + fk.ROOM_FACES
         if need_h > len(fs.hkey):
             new.update(hkey=grown_rows(fs.hkey, need_h), hface=grown_rows(fs.hface, need_h))
@@ -223,7 +226,7 @@ class _Front:
         if need_t > len(fs.tri):
             new.update(tri=grown_rows(fs.tri, need_t), tnext=grown_rows(fs.tnext, need_t))
             new["talive"] = grown_rows(fs.talive, need_t, 0)
-        need_q = int(fs.qmeta[Q_NODES]) + fk.ROOM_FACES * (int(fs.qmeta[1]) + 1)
+        need_q = int(fs.qmeta[Q_NODES]) + fk.ROOM_FACES * int(fs.qmeta[Q_ROOM])
         if need_q > len(fs.qhead):
             qhead = grown_rows(fs.qhead, need_q, -1)
             new.update(qhead=qhead, qchild=grown_rows(fs.qchild, 4 * len(qhead), -1))
