@@ -47,6 +47,7 @@ __all__ = [
     "dual_neighbours",
     "greedy_pairs",
     "pair_quad",
+    "pair_quads",
     "pair_score",
     "quad_ok",
     "quad_sj",
@@ -66,10 +67,29 @@ def corner_ok(xy, p, c, n):
 # quad_sj, quad_ok, corner_flat and _raw_score are calls, not inlined IR: inlined at
 # their dozens of nested call sites they cost 7 s of first-run compile (27 -> 20 s CPU for
 # the first pairing, tri kernels cached); the benchmark cases run no slower.
+@njit(inline="always")
+def _length(xy, p, q):
+    """Length of the side from node p to node q."""
+    x = xy[q, 0] - xy[p, 0]
+    y = xy[q, 1] - xy[p, 1]
+    return np.sqrt(x * x + y * y)
+
+
 @njit
 def quad_sj(xy, a, b, c, d):
-    """Scaled Jacobian of quad (a, b, c, d): the smallest corner sine, <= 0 when not convex."""
+    """Scaled Jacobian of quad (a, b, c, d): the smallest corner sine, <= 0 when not convex.
+
+    Each side's length serves the corners at both its ends (4 square roots, not 8): the
+    squares of p - q and of q - p are the same, and every sine is formed from its corner's
+    own differences, so the value is the one of a corner-by-corner evaluation, bit for bit.
+    """
     v = (a, b, c, d)
+    # Side k runs from corner k to corner k + 1.
+    l0 = _length(xy, a, b)
+    l1 = _length(xy, b, c)
+    l2 = _length(xy, c, d)
+    l3 = _length(xy, d, a)
+    ln = (l0, l1, l2, l3)
     worst = 1.0
     for k in range(4):
         p = v[(k + 3) % 4]
@@ -79,8 +99,8 @@ def quad_sj(xy, a, b, c, d):
         uy = xy[r, 1] - xy[q, 1]
         wx = xy[p, 0] - xy[q, 0]
         wy = xy[p, 1] - xy[q, 1]
-        lu = np.sqrt(ux * ux + uy * uy)
-        lw = np.sqrt(wx * wx + wy * wy)
+        lu = ln[k]
+        lw = ln[(k + 3) % 4]
         s = (ux * wy - uy * wx) / (lu * lw) if lu * lw > 0.0 else 0.0
         if s < worst:
             worst = s
@@ -309,63 +329,78 @@ def greedy_pairs(raw, nbr, mate, qmin):
     return made
 
 
+# Columns of augment's per-triangle table (augment_scratch's ``st``, (nt, 8) int32): the
+# fields a search reads for one triangle share a row, so a visit touches one or two cache
+# lines instead of one per array.
+_A0 = 0  # _A0.._A0 + 2: the neighbour across each side the round allows, -1 across the others
+_MATE = 3  # partner, -1 while unpaired (the caller's mate, copied in and out)
+_PRED = 4  # the outer triangle an inner one was reached from, -1 at rest
+_BASE = 5  # base of the blossom the triangle is shrunk into, itself at rest
+_VPOS = 6  # position in the search's visit list
+_FLAG = 7  # bit 0: outer (in the queue), bit 1: marked base of the blossom being shrunk; 0 at rest
+_OUTER = 1
+_MARKED = 2
+
+
 @njit(cache=True)
-def _lca(a, b, mate, pred, base, mark, stamp):
+def _lca(a, b, st, mark, stamp):
     """Base of the blossom closing at a and b (walk up both alternating trees)."""
     while True:
-        a = base[a]
+        a = st[a, _BASE]
         mark[a] = stamp
-        if mate[a] < 0:
+        m = st[a, _MATE]
+        if m < 0:
             break
-        a = pred[mate[a]]
+        a = st[m, _PRED]
     while True:
-        b = base[b]
+        b = st[b, _BASE]
         if mark[b] == stamp:
             return b
-        b = pred[mate[b]]
+        b = st[st[b, _MATE], _PRED]
 
 
 @njit(cache=True)
-def _mark_path(v, b, child, mate, pred, base, blossom, bstack, nb):
+def _mark_path(v, b, child, st, bstack, nb):
     """Mark the bases on the path from v up to the blossom base b (pushed on ``bstack``)."""
-    while base[v] != b:
-        for x in (base[v], base[mate[v]]):
-            if blossom[x] == 0:
-                blossom[x] = 1
+    while st[v, _BASE] != b:
+        m = st[v, _MATE]
+        for x in (st[v, _BASE], st[m, _BASE]):
+            if st[x, _FLAG] & _MARKED == 0:
+                st[x, _FLAG] |= _MARKED
                 bstack[nb] = x
                 nb += 1
-        pred[v] = child
-        child = mate[v]
-        v = pred[mate[v]]
+        st[v, _PRED] = child
+        child = m
+        v = st[m, _PRED]
     return nb
 
 
 @njit(cache=True)
-def _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis, cand, queue, qtail):
+def _contract(cur, st, bstack, nb, head, tail, link, vis, cand, queue, qtail):
     """Shrink the blossom of the marked bases ``bstack[:nb]`` into ``cur``.
 
     Each base keeps the list of the triangles it stands for (``head``/``tail``/``link``),
     so only the blossom's own members are visited, not the whole search (a scan of every
     visited triangle per blossom made failing searches quadratic in ``max_visit``).  The
     members not yet in the queue enter it in the order they were first reached
-    (``vpos``), as a scan of the visit list would push them.  Returns the new queue tail.
+    (``_VPOS``), as a scan of the visit list would push them.  Returns the new queue tail.
     """
     nc = 0
     for r in range(nb):
         b = bstack[r]
         i = head[b]
         while i >= 0:
-            base[i] = cur
-            if used[i] == 0:
-                used[i] = 1
-                cand[nc] = vpos[i]
+            st[i, _BASE] = cur
+            if st[i, _FLAG] & _OUTER == 0:
+                st[i, _FLAG] |= _OUTER
+                cand[nc] = st[i, _VPOS]
                 nc += 1
             i = link[i]
         if b != cur:
             link[tail[cur]] = head[b]
             tail[cur] = tail[b]
             head[b] = -1
-        blossom[b] = 0
+        st[b, _FLAG] &= ~_MARKED
     # Sorted in place: a blossom-heavy search contracts thousands of times, and np.sort
     # would allocate a new array for each.
     order = cand[:nc]
@@ -377,21 +412,18 @@ def _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis,
 
 
 @njit(cache=True)
-def _search(adj, mate, root, used, pred, base, blossom, mark, stamp, vis, queue, max_visit, bstack, head, tail, link,
-            vpos, cand):
+def _search(st, root, mark, stamp, vis, queue, max_visit, bstack, head, tail, link, cand):
     """Edmonds' alternating-tree search from ``root``; returns the free triangle reached or -1.
 
-    ``adj`` is flat like ``nbr``: the neighbour across each side the round allows, -1
-    across the others (:func:`augment`).
-
-    ``vis[:count]`` lists every triangle whose ``used``/``pred``/``base``/member-list
-    entries changed; the count is returned second so the caller can reset them.
+    ``vis[:count]`` lists every triangle whose ``st`` row (bar its sides and partner) or
+    member-list entries changed; the count is returned second so the caller can reset
+    them.
     """
     nv = 0
     vis[nv] = root
-    vpos[root] = nv
+    st[root, _VPOS] = nv
     nv += 1
-    used[root] = 1
+    st[root, _FLAG] |= _OUTER
     head_q = 0
     tail_q = 0
     queue[tail_q] = root
@@ -402,31 +434,30 @@ def _search(adj, mate, root, used, pred, base, blossom, mark, stamp, vis, queue,
         v = queue[head_q]
         head_q += 1
         for k in range(3):
-            to = adj[3 * v + k]
+            to = st[v, _A0 + k]
             if to < 0:
                 continue
-            if base[v] == base[to] or mate[v] == to:
+            if st[v, _BASE] == st[to, _BASE] or st[v, _MATE] == to:
                 continue
-            if to == root or (mate[to] >= 0 and pred[mate[to]] >= 0):
+            mt = st[to, _MATE]
+            if to == root or (mt >= 0 and st[mt, _PRED] >= 0):
                 stamp += 1
-                cur = _lca(v, to, mate, pred, base, mark, stamp)
-                nb = _mark_path(v, cur, to, mate, pred, base, blossom, bstack, np.int64(0))
-                nb = _mark_path(to, cur, v, mate, pred, base, blossom, bstack, nb)
-                tail_q = _contract(cur, used, base, blossom, bstack, nb, head, tail, link, vpos, vis, cand, queue,
-                                   tail_q)
-            elif pred[to] < 0:
-                pred[to] = v
+                cur = _lca(v, to, st, mark, stamp)
+                nb = _mark_path(v, cur, to, st, bstack, np.int64(0))
+                nb = _mark_path(to, cur, v, st, bstack, nb)
+                tail_q = _contract(cur, st, bstack, nb, head, tail, link, vis, cand, queue, tail_q)
+            elif st[to, _PRED] < 0:
+                st[to, _PRED] = v
                 vis[nv] = to
-                vpos[to] = nv
+                st[to, _VPOS] = nv
                 nv += 1
-                if mate[to] < 0:
+                if mt < 0:
                     return to, nv, stamp
-                w = mate[to]
-                used[w] = 1
-                vis[nv] = w
-                vpos[w] = nv
+                st[mt, _FLAG] |= _OUTER
+                vis[nv] = mt
+                st[mt, _VPOS] = nv
                 nv += 1
-                queue[tail_q] = w
+                queue[tail_q] = mt
                 tail_q += 1
     return -1, nv, stamp
 
@@ -435,27 +466,29 @@ def augment_scratch(nt: int):
     """Work arrays of :func:`augment` for ``nt`` triangles, in their rest state.
 
     One set serves every :func:`augment` call on the same triangles: each search puts back
-    what it changed, and the blossom stamp (last entry, (1,) int64) carries over, so a
-    caller making several rounds allocates and fills the O(nt) arrays once (about 1 ms a
-    call at 78,000 triangles, a dozen calls on the disk h=0.01).
+    what it changed, and the blossom stamp (``stamp``) carries over, so a caller making
+    several rounds allocates and fills the O(nt) arrays once (about 1 ms a call at 78,000
+    triangles, a dozen calls on the disk h=0.01).
 
     Returns
     -------
     tuple
-        ``used`` (nt,) int8, ``pred`` (nt,) int32 (-1), ``base`` (nt,) int32 (identity),
-        ``blossom`` (nt,) int8, ``mark`` (nt,) int64, ``vis`` and ``queue`` (2 nt + 2,)
-        int32, ``bstack`` (nt + 1,) int32, ``head`` and ``tail`` (nt,) int32 (identity),
-        ``link`` (nt,) int32 (-1), ``vpos`` (nt,) int32, ``cand`` (nt + 1,) int32,
-        ``stamp`` (1,) int64, ``adj`` (3 nt,) int32 (filled by each call).
+        ``st`` (nt, 8) int32, the per-triangle table (columns ``_A0`` .. ``_FLAG``; at
+        rest ``_PRED`` -1, ``_BASE`` the row's own index, ``_FLAG`` 0, the sides and
+        partner filled by each call), ``mark`` (nt,) int64, ``vis`` and ``queue``
+        (2 nt + 2,) int32, ``bstack`` (nt + 1,) int32, ``head`` and ``tail`` (nt,) int32
+        (identity), ``link`` (nt,) int32 (-1), ``cand`` (nt + 1,) int32, ``stamp`` (1,)
+        int64.
     """
     nt = int(nt)
     ident = np.arange(nt, dtype=np.int32)
+    st = np.zeros((nt, 8), dtype=np.int32)
+    st[:, _PRED] = -1
+    st[:, _BASE] = ident
     return (
-        np.zeros(nt, dtype=np.int8), np.full(nt, -1, dtype=np.int32), ident.copy(), np.zeros(nt, dtype=np.int8),
-        np.zeros(nt, dtype=np.int64), np.empty(2 * nt + 2, dtype=np.int32), np.empty(2 * nt + 2, dtype=np.int32),
+        st, np.zeros(nt, dtype=np.int64), np.empty(2 * nt + 2, dtype=np.int32), np.empty(2 * nt + 2, dtype=np.int32),
         np.empty(nt + 1, dtype=np.int32), ident.copy(), ident.copy(), np.full(nt, -1, dtype=np.int32),
-        np.zeros(nt, dtype=np.int32), np.empty(nt + 1, dtype=np.int32), np.zeros(1, dtype=np.int64),
-        np.empty(3 * nt, dtype=np.int32),
+        np.empty(nt + 1, dtype=np.int32), np.zeros(1, dtype=np.int64),
     )
 
 
@@ -471,44 +504,93 @@ def augment(raw, nbr, mate, qmin, max_visit, scratch):
     ``len(mate)``, left in its rest state.  Returns the number of pairs gained.
 
     The sides the round allows (a neighbour, and a score of at least ``qmin``,
-    :func:`score_of`) are listed once per call in ``adj``, so a visit reads one entry per
-    side instead of the neighbour, its raw score and the score's tests (a third of the
-    searches' time on the airfoils).
+    :func:`score_of`) and the partners are copied once per call into the rows of ``st``
+    (a path's new pairs are written to both), so a visit reads one row per triangle
+    instead of one entry of each array.  A search
+    that shrank no blossom changed only its triangles' ``_PRED`` and ``_FLAG``.
     """
     nt = mate.shape[0]
-    used, pred, base, blossom, mark, vis, queue, bstack, head, tail, link, vpos, cand, stamps, adj = scratch
-    for i in range(3 * nt):
-        adj[i] = nbr[i] if nbr[i] >= 0 and score_of(raw[i], qmin) >= 0.0 else -1
+    st, mark, vis, queue, bstack, head, tail, link, cand, stamps = scratch
+    for t in range(nt):
+        for k in range(3):
+            i = 3 * t + k
+            st[t, _A0 + k] = nbr[i] if nbr[i] >= 0 and score_of(raw[i], qmin) >= 0.0 else -1
+        st[t, _MATE] = mate[t]
     # Blossom stamps go on from the last call: marks it left must not match new ones.
     stamp = stamps[0]
     gained = 0
     for u in range(nt):
-        if mate[u] >= 0:
+        if st[u, _MATE] >= 0:
             continue
-        found, nv, stamp = _search(
-            adj, mate, u, used, pred, base, blossom, mark, stamp, vis, queue, max_visit, bstack, head, tail, link, vpos,
-            cand,
-        )
+        before = stamp
+        found, nv, stamp = _search(st, u, mark, stamp, vis, queue, max_visit, bstack, head, tail, link, cand)
         if found >= 0:
             v = found
             while v >= 0:
-                pv = pred[v]
-                ppv = mate[pv]
+                pv = st[v, _PRED]
+                ppv = st[pv, _MATE]
+                st[v, _MATE] = pv
+                st[pv, _MATE] = v
                 mate[v] = pv
                 mate[pv] = v
                 v = ppv
             gained += 1
         for r in range(nv):
             i = vis[r]
-            used[i] = 0
-            pred[i] = -1
-            base[i] = i
-            blossom[i] = 0
-            head[i] = i
-            tail[i] = i
-            link[i] = -1
+            st[i, _PRED] = -1
+            st[i, _FLAG] = 0
+        if stamp != before:
+            for r in range(nv):
+                i = vis[r]
+                st[i, _BASE] = i
+                head[i] = i
+                tail[i] = i
+                link[i] = -1
     stamps[0] = stamp
     return gained
+
+
+@njit(cache=True)
+def pair_quads(tri, nbr, mate):
+    """The quads of the pairs in ``mate`` (t,) int32, in triangle order.
+
+    The pair (t, s) with t < s, t = (a, b, c) with a opposite the shared side (the first
+    side k with ``nbr[3 t + k] == s``, side 0 if none), gives quad (a, b, d, c), d the
+    vertex of s that is not b or c (the sum of its vertices less b and c).
+
+    Returns
+    -------
+    quads : (q, 4) int32
+    first : (q,) int64
+        t of each pair.
+    """
+    nt = mate.shape[0]
+    q = 0
+    for t in range(nt):
+        if mate[t] > t:
+            q += 1
+    quads = np.empty((q, 4), dtype=np.int32)
+    first = np.empty(q, dtype=np.int64)
+    i = 0
+    for t in range(nt):
+        s = mate[t]
+        if s <= t:
+            continue
+        k = 0
+        for j in range(2, -1, -1):
+            if nbr[3 * t + j] == s:
+                k = j
+        a = tri[3 * t + k]
+        b = tri[3 * t + (k + 1) % 3]
+        c = tri[3 * t + (k + 2) % 3]
+        d = np.int64(tri[3 * s]) + tri[3 * s + 1] + tri[3 * s + 2] - b - c
+        quads[i, 0] = a
+        quads[i, 1] = b
+        quads[i, 2] = d
+        quads[i, 3] = c
+        first[i] = t
+        i += 1
+    return quads, first
 
 
 @njit(cache=True)

@@ -576,14 +576,8 @@ def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairSt
 def _quads_of(st: _PairState):
     """:func:`pair_triangles`'s results from a pairing state."""
     xy, tris, nbr, mate, chains, _ = st
-    first = np.flatnonzero((mate >= 0) & (mate > np.arange(len(tris))))
     # Quad (a, b, d, c): t = (a, b, c) with a opposite the shared side, d the partner's third vertex.
-    k = np.argmax(nbr[first] == mate[first][:, None], axis=1)
-    t = tris[first].astype(np.int64)
-    rows = np.arange(len(first))
-    a, b, c = t[rows, k], t[rows, (k + 1) % 3], t[rows, (k + 2) % 3]
-    d = tris[mate[first]].astype(np.int64).sum(axis=1) - b - c
-    quads = np.column_stack([a, b, d, c]).astype(np.int32)
+    quads, first = pk.pair_quads(np.ascontiguousarray(tris).ravel(), np.ascontiguousarray(nbr).ravel(), mate)
     return quads, first, np.flatnonzero(mate < 0), tris, chains, xy
 
 
