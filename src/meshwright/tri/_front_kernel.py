@@ -696,7 +696,8 @@ def advance(fs, par):
             or meta[M_NH] + ROOM_FACES > hkey.shape[0]
             or meta[M_NW] + 2 > wface.shape[0]
             or meta[M_NT] + 2 > tri.shape[0]
-            or qmeta[Q_NODES] + ROOM_FACES * node_room > qhead.shape[0]
+            # (node_room + 1: as the pair front's kernel asks, so one growth serves both)
+            or qmeta[Q_NODES] + ROOM_FACES * (node_room + 1) > qhead.shape[0]
         ):
             return R_ROOM
         if meta[M_NP] - meta[M_SYNC] >= sync_every:

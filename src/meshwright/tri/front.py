@@ -226,7 +226,8 @@ class _Front:
         if need_t > len(fs.tri):
             new.update(tri=grown_rows(fs.tri, need_t), tnext=grown_rows(fs.tnext, need_t))
             new["talive"] = grown_rows(fs.talive, need_t, 0)
-        need_q = int(fs.qmeta[Q_NODES]) + fk.ROOM_FACES * int(fs.qmeta[Q_ROOM])
+        # One spare insertion's nodes: the pair front's kernel asks ROOM_FACES * (Q_ROOM + 1).
+        need_q = int(fs.qmeta[Q_NODES]) + fk.ROOM_FACES * (int(fs.qmeta[Q_ROOM]) + 1)
         if need_q > len(fs.qhead):
             qhead = grown_rows(fs.qhead, need_q, -1)
             new.update(qhead=qhead, qchild=grown_rows(fs.qchild, 4 * len(qhead), -1))
