@@ -395,8 +395,10 @@ def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vb
         k = 0
         while tri[3 * sl + k] != v:
             k += 1
-        _push_if_front(sl, pts, tri, nbr, treg, acc, ratio, q)
-        _push_if_front(nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, q)
+        # One inlined copy for the slot and its outer neighbour (a copy per call site typed
+        # and lowered again on the first run).
+        for j in range(2):
+            _push_if_front(sl if j == 0 else nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, q)
         sl = nbr[3 * sl + (k + 1) % 3]
         if sl == s0 or sl < 0:
             break
@@ -412,15 +414,16 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, b
     methods cached); as a call, 39 s, and no measurable run time (one call per removed
     scaffold vertex; disk of 289k triangles, 2026-12-02).
 
-    A refused removal leaves v as an ordinary vertex (counted in ``FM_KEPT``).
+    Returns True when the removal was refused: v stays as an ordinary vertex (counted in
+    ``FM_KEPT``) whose star the caller updates with its own inlined :func:`_star_update`
+    (a copy here typed and lowered again on every first run: issue 13, about 3 s).
     """
     vflag[v] = 0
     fmeta[FM_NSCAF] -= 1
     k = remove_vertex(v, s, c, scr)
     if k < 0:
         fmeta[FM_KEPT] += 1
-        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg)
-        return
+        return True
     fmeta[FM_REMOVED] += 1
     free[fmeta[FM_NFREE]] = v
     fmeta[FM_NFREE] += 1
@@ -444,10 +447,11 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, b
     for i in range(k - 2):
         classify(st[i], pts, tri, acc, ratio, par, bg, vflag, vbg, q)
     for i in range(k - 2):
+        # Each new triangle (j = -1), then its three neighbours: one inlined copy.
         t = st[i]
-        _push_if_front(t, pts, tri, nbr, treg, acc, ratio, q)
-        for j in range(3):
-            _push_if_front(nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, q)
+        for j in range(-1, 3):
+            _push_if_front(t if j < 0 else nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, q)
+    return False
 
 
 @njit(cache=True)
@@ -467,7 +471,15 @@ def run(s, c, f, bg):
     q = (qhead, qnext, qprev, qbin, qhdr)
     rows, slots = enc.room_of(s, c)
     rows = min(rows, vflag.shape[0], free.shape[0], vbg.shape[0])
+    # The vertex whose new star the last step left to classify and queue: done here, at the
+    # top of the next step, so that the loop has one inlined copy of _star_update for
+    # insertions and refused removals alike (it changes no slot count, so the room check
+    # below holds after it as before).
+    pending = -1
     while True:
+        if pending >= 0:
+            _star_update(pending, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg)
+            pending = -1
         ntri = meta[M_NTRI]
         if (
             acc.shape[0] < ntri + 2 or min(qbin.shape[0], qnext.shape[0], qprev.shape[0]) < ntri + 2
@@ -485,7 +497,9 @@ def run(s, c, f, bg):
             if v >= meta[M_NV]:
                 fmeta[FM_NSCAF] = 0
                 continue
-            _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr, s, c)
+            if _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr, s,
+                     c):
+                pending = v
             continue
         if meta[M_NV] - fmeta[FM_NFREE] - fmeta[FM_NSCAF] >= par[P_MAX_POINTS]:
             return F_POINTS
@@ -523,15 +537,18 @@ def run(s, c, f, bg):
         if near >= 0:
             # A scaffold vertex in the way: remove it and try t again (if it survived).
             _push(t, ratio, q)
-            _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr, s, c)
+            if _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr,
+                     s, c):
+                pending = near
             continue
         if near == _NEAR_CROWDED:
             # No room for a point: the triangle stays as it is and joins the accepted ones,
             # unless it hangs on a scaffold vertex, which goes instead.
             sv = _scaffold_of(t, tri, vflag)
             if sv >= 0:
-                _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr,
-                      s, c)
+                if _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free,
+                         scr, s, c):
+                    pending = sv
                 continue
             acc[t] = 1
             for k in range(3):
@@ -548,7 +565,7 @@ def run(s, c, f, bg):
             continue  # the point was already a vertex
         fmeta[FM_ADDED] += 1
         vbg[v] = near_bg  # the front edge's midpoint is within about h of v
-        _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg)
+        pending = v
 
 
 @njit(cache=True)

@@ -32,6 +32,7 @@ previous links, the planned ears (3 per triangle).
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from meshwright.core.flat import GHOST, back3, index3, next3, prev3
@@ -46,7 +47,9 @@ SCRATCH = 8 * KMAX
 
 @njit(inline="always")
 def _key(rank, v):
-    return rank[v] if v < rank.shape[0] else v
+    # int64 as the kernel's keys (tri._encroach.key_of): int32 keys compiled incircle_sos a
+    # second time on the first frontal-delaunay run (0.4 s), for the same values.
+    return np.int64(rank[v]) if v < rank.shape[0] else np.int64(v)
 
 
 @njit(inline="always")
