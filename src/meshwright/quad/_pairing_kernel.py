@@ -67,29 +67,19 @@ def corner_ok(xy, p, c, n):
 # quad_sj, quad_ok, corner_flat and _raw_score are calls, not inlined IR: inlined at
 # their dozens of nested call sites they cost 7 s of first-run compile (27 -> 20 s CPU for
 # the first pairing, tri kernels cached); the benchmark cases run no slower.
-@njit(inline="always")
-def _length(xy, p, q):
-    """Length of the side from node p to node q."""
-    x = xy[q, 0] - xy[p, 0]
-    y = xy[q, 1] - xy[p, 1]
-    return np.sqrt(x * x + y * y)
-
-
 @njit
 def quad_sj(xy, a, b, c, d):
     """Scaled Jacobian of quad (a, b, c, d): the smallest corner sine, <= 0 when not convex.
 
-    Each side's length serves the corners at both its ends (4 square roots, not 8): the
-    squares of p - q and of q - p are the same, and every sine is formed from its corner's
-    own differences, so the value is the one of a corner-by-corner evaluation, bit for bit.
+    Corner k's side back to corner k - 1 is the side corner k - 1 measured forwards, so its
+    length is carried over (5 square roots, not 8): the squares of p - q and q - p are the
+    same, and every sine is formed from its corner's own differences, so the value is the
+    one of a corner-by-corner evaluation, bit for bit.
     """
     v = (a, b, c, d)
-    # Side k runs from corner k to corner k + 1.
-    l0 = _length(xy, a, b)
-    l1 = _length(xy, b, c)
-    l2 = _length(xy, c, d)
-    l3 = _length(xy, d, a)
-    ln = (l0, l1, l2, l3)
+    wx = xy[d, 0] - xy[a, 0]
+    wy = xy[d, 1] - xy[a, 1]
+    lw = np.sqrt(wx * wx + wy * wy)
     worst = 1.0
     for k in range(4):
         p = v[(k + 3) % 4]
@@ -99,11 +89,11 @@ def quad_sj(xy, a, b, c, d):
         uy = xy[r, 1] - xy[q, 1]
         wx = xy[p, 0] - xy[q, 0]
         wy = xy[p, 1] - xy[q, 1]
-        lu = ln[k]
-        lw = ln[(k + 3) % 4]
+        lu = np.sqrt(ux * ux + uy * uy)
         s = (ux * wy - uy * wx) / (lu * lw) if lu * lw > 0.0 else 0.0
         if s < worst:
             worst = s
+        lw = lu
     return worst
 
 
