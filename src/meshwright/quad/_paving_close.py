@@ -41,6 +41,7 @@ import numpy as np
 from meshwright.core.errors import MeshingError
 from meshwright.core.predicates import orient2d_batch
 from meshwright.quad import _paving_kernel as pk
+from meshwright.quad import _paving_long as pl
 from meshwright.quad import _paving_row as pr
 from meshwright.quad.enhancement import enhance, nonconvex, unpair_nonconvex
 from meshwright.quad.pairing import pair_triangles
@@ -74,9 +75,10 @@ __all__ = [
 
 CHORD_MIN_ANGLE = 35.0  # degrees: a chord leaves no angle sharper than this beside it
 CHORD_REACH = 4.0  # sizes: chords up to this long are tried first
-CHORD_TRIES = 48
+CHORD_TRIES = 48  # best-scored chords tested for crossings before giving up on a part
 VOID_SMOOTH = 8  # guarded Laplacian sweeps of the void fill before non-convex pairs are cut back
-STAR_MAX = 12  # a part of up to this many nodes no chord can cut is closed around a centre node  # best-scored chords tested for crossings before giving up on a part
+STAR_MAX = 12  # a part of up to this many nodes no chord can cut is closed around a centre node
+LONG_LOOP = 200  # loops above this many nodes are closed by the kernel of _paving_long (near chords only)
 
 
 def shift_next(a: np.ndarray) -> np.ndarray:
@@ -323,6 +325,8 @@ def close_loop(xy, loop, field, oa, ob, max_parts: int):
     (new coordinates (j, 2), quads (q, 4) int64) or None
         New nodes numbered from ``len(xy)``; None when some part cannot be closed.
     """
+    if len(loop) > LONG_LOOP:
+        return _close_long(xy, np.asarray(loop, dtype=np.int64), field, oa, ob, max_parts)
     extra: list[np.ndarray] = []
     quads: list[np.ndarray] = []
     todo = [np.asarray(loop, dtype=np.int64)]
@@ -354,6 +358,31 @@ def close_loop(xy, loop, field, oa, ob, max_parts: int):
     if todo or not quads:
         return None
     return (np.vstack(extra) if extra else np.zeros((0, 2))), np.concatenate(quads)
+
+
+def _close_long(xy, loop, field, oa, ob, max_parts):
+    """:func:`close_loop` of a loop above :data:`LONG_LOOP` nodes, in one kernel
+    (:func:`meshwright.quad._paving_long.close_long`: near chords only, long parts cut
+    near their middle, the size asked at the loop's nodes only); same returns."""
+    n = len(loop)
+    room = n + 4 * n + 64
+    P = np.empty((room, 2))
+    P[:n] = xy[loop]
+    H = np.empty(room)
+    H[:n] = field(P[:n])
+    lo, hi = P[:n].min(axis=0), P[:n].max(axis=0)
+    if len(oa):
+        e = np.column_stack([xy[oa], xy[ob]])
+        near = (np.maximum(e[:, 0], e[:, 2]) >= lo[0]) & (np.minimum(e[:, 0], e[:, 2]) <= hi[0])
+        near &= (np.maximum(e[:, 1], e[:, 3]) >= lo[1]) & (np.minimum(e[:, 1], e[:, 3]) <= hi[1])
+        other = np.ascontiguousarray(e[near])
+    else:
+        other = np.zeros((0, 4))
+    ok, q, used = pl.close_long(P, H, n, other, CHORD_MIN_ANGLE, CHORD_REACH, CHORD_TRIES, STAR_MAX, max_parts)
+    if not ok:
+        return None
+    ids = np.concatenate([loop, len(xy) + np.arange(used - n, dtype=np.int64)])
+    return P[n:used].copy(), ids[q]
 
 
 def bridge(xy, outer, hole, field, oa, ob):

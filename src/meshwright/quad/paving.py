@@ -541,6 +541,18 @@ class _Paver:
             left += region
         return left
 
+    def thin(self, f) -> bool:
+        """Whether the region left of paving boundary ``f`` is thin: its area positive
+        (a boundary around its region, not a hole's) and below :data:`THIN` times its
+        perimeter times the mean size at its nodes (a strip thinner than about one and
+        a half sizes)."""
+        p = self.pts[f]
+        area = signed_area(p)
+        if area <= 0.0:
+            return False
+        perimeter = float(np.hypot(*(shift_next(p) - p).T).sum())
+        return area < THIN * perimeter * float(np.mean(self.size_at(f)))
+
     def _may_close(self, region) -> bool:
         """Whether the region bounded by ``region`` (a paving boundary and the holes'
         inside it) may pass :meth:`join_and_close`'s test once bridged: the bridges' nodes
@@ -670,6 +682,14 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
                 continue
             if len(f) <= 6:
                 if not pv.close(f, others, rnd):
+                    stopped.append(f)
+                continue
+            if rnd == 0 and pv.thin(f):
+                # No row fits a domain thinner than about one and a half sizes: the
+                # rows' repairs and checks were all wasted (seconds to minutes on the
+                # stress harness's slivers); chords close it at once.  Later paving
+                # boundaries keep their rows (a thin one stops and is closed at the end).
+                if not pv.close(f, others, rnd, limit=len(f)):
                     stopped.append(f)
                 continue
             row = pv.row_with_repairs(f, others)

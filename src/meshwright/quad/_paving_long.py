@@ -1,0 +1,533 @@
+"""Closure of long paving boundaries by chords, in one Numba kernel (step 2 / step 7 of
+:mod:`meshwright.quad.paving` on thin regions).
+
+:func:`meshwright.quad._paving_close.close_loop` cuts a paving boundary by the best chord
+over every pair of its nodes, one chord per Python round: fine for the few dozen nodes
+of a closure, cubic on a thin domain whose rows never start (a sliver thinner than its
+size keeps its whole boundary, 9,000 to 65,000 nodes in the stress harness's
+reproducers, which ran past a minute).  :func:`close_long` keeps the same rules for a
+chord (both ends leave at least ``min_angle`` beside it, a score from those angles, the
+spacing against the size and the nodes on it, no crossing with any paving-boundary edge
+or the part's own, both parts even) with three changes that make it
+O(n log n) on a thin region:
+
+* only chords no longer than ``reach`` times the larger size at their ends are
+  candidates, found by a window sweep along the part's longer bounding-box axis;
+* a part of more than :data:`BALANCED` nodes takes the best chord that leaves at least
+  a quarter of its nodes on each side when one exists (a sliver is cut in halves, not
+  shaved from one end, so every part's work is paid about log n times);
+* the size on a chord is the mean of the sizes at its ends (nodes a chord adds get the
+  size interpolated along it), so the field is asked once, at the boundary's nodes.
+
+Parts of four or six nodes close by the templates of
+:func:`~meshwright.quad._paving_close.closure_quads` (one quad; two along a long diagonal
+or three around the nodes' mean, the valid one with the best smallest corner sine), a
+part of up to ``star_max`` nodes no chord cuts by a centre node (the nodes' mean or the
+polygon's centroid, as :func:`~meshwright.quad._paving_close.star_quads`).  Every quad is
+strictly convex by exact ``orient2d``; every chord is checked by exact segment tests.
+
+Array layout: points (c, 2) float64 with the loop's nodes first (local ids 0..n-1 in
+loop order, region on the left) and room for new nodes after them; sizes (c,) float64;
+other edges as (m, 4) float64 rows ``x0, y0, x1, y1``; quads (q, 4) int64 of local ids.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.predicates import orient2d
+
+__all__ = ["BALANCED", "close_long"]
+
+BALANCED = 24  # parts above this many nodes are cut near their middle when a chord allows
+SMALL = 16  # parts up to this many nodes try chords of any length
+
+
+@njit
+def _side(ax, ay, bx, by, cx, cy):
+    o = orient2d(ax, ay, bx, by, cx, cy)
+    return 1 if o > 0.0 else (-1 if o < 0.0 else 0)
+
+
+@njit
+def _on(ax, ay, bx, by, cx, cy):
+    """c, collinear with a b, lies on the closed segment a b."""
+    return min(ax, bx) <= cx <= max(ax, bx) and min(ay, by) <= cy <= max(ay, by)
+
+
+@njit
+def _meet(ax, ay, bx, by, cx, cy, dx, dy):
+    """Closed segments a b and c d share a point (exact)."""
+    d1 = _side(ax, ay, bx, by, cx, cy)
+    d2 = _side(ax, ay, bx, by, dx, dy)
+    d3 = _side(cx, cy, dx, dy, ax, ay)
+    d4 = _side(cx, cy, dx, dy, bx, by)
+    if d1 * d2 < 0 and d3 * d4 < 0:
+        return True
+    if d1 == 0 and _on(ax, ay, bx, by, cx, cy):
+        return True
+    if d2 == 0 and _on(ax, ay, bx, by, dx, dy):
+        return True
+    if d3 == 0 and _on(cx, cy, dx, dy, ax, ay):
+        return True
+    return d4 == 0 and _on(cx, cy, dx, dy, bx, by)
+
+
+@njit
+def _convex(P, a, b, c, d):
+    """Quad a b c d strictly convex and counter-clockwise (exact)."""
+    v = (a, b, c, d)
+    for k in range(4):
+        u = v[(k + 3) % 4]
+        w = v[k]
+        z = v[(k + 1) % 4]
+        if orient2d(P[u, 0], P[u, 1], P[w, 0], P[w, 1], P[z, 0], P[z, 1]) <= 0.0:
+            return False
+    return True
+
+
+@njit
+def _min_sine(P, a, b, c, d):
+    """Smallest corner sine of quad a b c d (floating point, a quality rule)."""
+    v = (a, b, c, d)
+    worst = 1.0
+    for k in range(4):
+        u = v[(k + 3) % 4]
+        w = v[k]
+        z = v[(k + 1) % 4]
+        ux = P[z, 0] - P[w, 0]
+        uy = P[z, 1] - P[w, 1]
+        wx = P[u, 0] - P[w, 0]
+        wy = P[u, 1] - P[w, 1]
+        den = np.hypot(ux, uy) * np.hypot(wx, wy)
+        s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
+        worst = min(worst, s)
+    return worst
+
+
+@njit
+def _angles(P, g):
+    """Interior angle (degrees, (0, 360]) and direction of the edge to the next node
+    (degrees) at every node of part ``g``."""
+    m = g.shape[0]
+    ang = np.empty(m)
+    th = np.empty(m)
+    for i in range(m):
+        a = g[i]
+        nx_ = P[g[(i + 1) % m], 0] - P[a, 0]
+        ny_ = P[g[(i + 1) % m], 1] - P[a, 1]
+        px = P[g[(i - 1) % m], 0] - P[a, 0]
+        py = P[g[(i - 1) % m], 1] - P[a, 1]
+        t = np.arctan2(nx_ * py - ny_ * px, nx_ * px + ny_ * py)
+        if t <= 0.0:
+            t += 2.0 * np.pi
+        ang[i] = np.degrees(t)
+        th[i] = np.degrees(np.arctan2(ny_, nx_))
+    return ang, th
+
+
+@njit
+def _distinct(g):
+    """No node twice in the small part ``g`` (a part pinched at a joint's node is no
+    polygon a template or a star may close)."""
+    for i in range(g.shape[0]):
+        for j in range(i + 1, g.shape[0]):
+            if g[i] == g[j]:
+                return False
+    return True
+
+
+@njit
+def _template(P, H, cnt, g, out, nq):
+    """Close a part of four or six nodes (see the module docstring).  Returns (quads
+    written, points used) or (-1, cnt) when no template is valid."""
+    m = g.shape[0]
+    if (m != 4 and m != 6) or not _distinct(g):
+        return -1, cnt
+    if m == 4:
+        if not _convex(P, g[0], g[1], g[2], g[3]):
+            return -1, cnt
+        out[nq, 0], out[nq, 1], out[nq, 2], out[nq, 3] = g[0], g[1], g[2], g[3]
+        return 1, cnt
+    best = -np.inf
+    pick = -1
+    for s in range(3):
+        r0, r1, r2, r3, r4, r5 = g[s], g[s + 1], g[s + 2], g[s + 3], g[(s + 4) % 6], g[(s + 5) % 6]
+        if _convex(P, r0, r1, r2, r3) and _convex(P, r3, r4, r5, r0):
+            w = min(_min_sine(P, r0, r1, r2, r3), _min_sine(P, r3, r4, r5, r0))
+            if w > best:
+                best = w
+                pick = s
+    c = cnt
+    P[c, 0] = 0.0
+    P[c, 1] = 0.0
+    for i in range(6):
+        P[c, 0] += P[g[i], 0] / 6.0
+        P[c, 1] += P[g[i], 1] / 6.0
+    for s in range(2):
+        r0, r1, r2, r3, r4, r5 = g[s], g[s + 1], g[s + 2], g[s + 3], g[s + 4], g[(s + 5) % 6]
+        if _convex(P, c, r0, r1, r2) and _convex(P, c, r2, r3, r4) and _convex(P, c, r4, r5, r0):
+            w = min(_min_sine(P, c, r0, r1, r2), min(_min_sine(P, c, r2, r3, r4), _min_sine(P, c, r4, r5, r0)))
+            if w > best:
+                best = w
+                pick = 3 + s
+    if pick < 0:
+        return -1, cnt
+    if pick < 3:
+        s = pick
+        out[nq, 0], out[nq, 1], out[nq, 2], out[nq, 3] = g[s], g[s + 1], g[s + 2], g[s + 3]
+        out[nq + 1, 0], out[nq + 1, 1], out[nq + 1, 2], out[nq + 1, 3] = g[s + 3], g[(s + 4) % 6], g[(s + 5) % 6], g[s]
+        return 2, cnt
+    s = pick - 3
+    for j in range(3):
+        out[nq + j, 0] = c
+        out[nq + j, 1] = g[(s + 2 * j) % 6]
+        out[nq + j, 2] = g[(s + 2 * j + 1) % 6]
+        out[nq + j, 3] = g[(s + 2 * j + 2) % 6]
+    H[c] = 0.0
+    for i in range(6):
+        H[c] += H[g[i]] / 6.0
+    return 3, cnt + 1
+
+
+@njit
+def _star(P, H, cnt, g, out, nq):
+    """Close an even part around one centre node (the nodes' mean or the polygon's
+    centroid, whichever valid choice has the best smallest corner sine).  Returns
+    (quads written, points used) or (-1, cnt)."""
+    m = g.shape[0]
+    if m % 2 or not _distinct(g):
+        return -1, cnt
+    mx = 0.0
+    my = 0.0
+    area = 0.0
+    cx = 0.0
+    cy = 0.0
+    for i in range(m):
+        a = g[i]
+        b = g[(i + 1) % m]
+        mx += P[a, 0] / m
+        my += P[a, 1] / m
+        cr = P[a, 0] * P[b, 1] - P[b, 0] * P[a, 1]
+        area += 0.5 * cr
+        cx += (P[a, 0] + P[b, 0]) * cr
+        cy += (P[a, 1] + P[b, 1]) * cr
+    if area <= 0.0:
+        return -1, cnt
+    best = -np.inf
+    pick = -1
+    c = cnt
+    for choice in range(2):
+        P[c, 0] = mx if choice == 0 else cx / (6.0 * area)
+        P[c, 1] = my if choice == 0 else cy / (6.0 * area)
+        for s in range(2):
+            ok = True
+            w = 1.0
+            for j in range(m // 2):
+                a = g[(s + 2 * j) % m]
+                b = g[(s + 2 * j + 1) % m]
+                d = g[(s + 2 * j + 2) % m]
+                if not _convex(P, c, a, b, d):
+                    ok = False
+                    break
+                w = min(w, _min_sine(P, c, a, b, d))
+            if ok and w > best:
+                best = w
+                pick = 2 * choice + s
+    if pick < 0:
+        return -1, cnt
+    P[c, 0] = mx if pick < 2 else cx / (6.0 * area)
+    P[c, 1] = my if pick < 2 else cy / (6.0 * area)
+    s = pick % 2
+    for j in range(m // 2):
+        out[nq + j, 0] = c
+        out[nq + j, 1] = g[(s + 2 * j) % m]
+        out[nq + j, 2] = g[(s + 2 * j + 1) % m]
+        out[nq + j, 3] = g[(s + 2 * j + 2) % m]
+    H[c] = 0.0
+    for i in range(m):
+        H[c] += H[g[i]] / m
+    return m // 2, cnt + 1
+
+
+@njit
+def _clear(P, a, b, g, other):
+    """Segment a b meets no edge of part ``g`` other than those at a or b, and no edge
+    of ``other`` (exact)."""
+    ax, ay, bx, by = P[a, 0], P[a, 1], P[b, 0], P[b, 1]
+    x0, x1 = min(ax, bx), max(ax, bx)
+    y0, y1 = min(ay, by), max(ay, by)
+    m = g.shape[0]
+    for i in range(m):
+        c = g[i]
+        d = g[(i + 1) % m]
+        if c == a or c == b or d == a or d == b:
+            continue
+        cx, cy, dx, dy = P[c, 0], P[c, 1], P[d, 0], P[d, 1]
+        if max(cx, dx) < x0 or min(cx, dx) > x1 or max(cy, dy) < y0 or min(cy, dy) > y1:
+            continue
+        if _meet(ax, ay, bx, by, cx, cy, dx, dy):
+            return False
+    for i in range(other.shape[0]):
+        cx, cy, dx, dy = other[i, 0], other[i, 1], other[i, 2], other[i, 3]
+        if max(cx, dx) < x0 or min(cx, dx) > x1 or max(cy, dy) < y0 or min(cy, dy) > y1:
+            continue
+        if _meet(ax, ay, bx, by, cx, cy, dx, dy):
+            return False
+    return True
+
+
+@njit
+def _parts_close(P, H, cnt, g, i, j, k, scratch):
+    """Whether the parts of six nodes or fewer that the chord from ``g[i]`` to ``g[j]``
+    with ``k`` nodes leaves take a template (written as scratch from ``P[cnt]``): a cut
+    that leaves a part no template closes is not taken while another is left."""
+    m = g.shape[0]
+    one = j - i + 1 + k
+    two = m - (j - i) + 1 + k
+    if one > 6 and two > 6:
+        return True
+    a = g[i]
+    b = g[j]
+    for t in range(k):
+        f = (t + 1) / (k + 1)
+        P[cnt + t, 0] = P[a, 0] + f * (P[b, 0] - P[a, 0])
+        P[cnt + t, 1] = P[a, 1] + f * (P[b, 1] - P[a, 1])
+        H[cnt + t] = H[a] + f * (H[b] - H[a])
+    if one <= 6:
+        part = np.empty(one, dtype=np.int64)
+        for t in range(i, j + 1):
+            part[t - i] = g[t]
+        for t in range(k):
+            part[j - i + 1 + t] = cnt + k - 1 - t
+        if _template(P, H, cnt + k, part, scratch, 0)[0] < 0:
+            return False
+    if two <= 6:
+        part = np.empty(two, dtype=np.int64)
+        w = 0
+        for t in range(j, m):
+            part[w] = g[t]
+            w += 1
+        for t in range(0, i + 1):
+            part[w] = g[t]
+            w += 1
+        for t in range(k):
+            part[w] = cnt + t
+            w += 1
+        if _template(P, H, cnt + k, part, scratch, 0)[0] < 0:
+            return False
+    return True
+
+
+@njit
+def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
+    """The chord of part ``g`` to cut along: (i, j, k) positions in ``g`` (i < j) and
+    nodes on the chord, or (-1, -1, -1).  ``P[cnt:]`` is scratch room."""
+    m = g.shape[0]
+    ang, th = _angles(P, g)
+    x0 = np.inf
+    x1 = -np.inf
+    y0 = np.inf
+    y1 = -np.inf
+    for i in range(m):
+        x0 = min(x0, P[g[i], 0])
+        x1 = max(x1, P[g[i], 0])
+        y0 = min(y0, P[g[i], 1])
+        y1 = max(y1, P[g[i], 1])
+    axis = 0 if x1 - x0 >= y1 - y0 else 1
+    key = np.empty(m)
+    for i in range(m):
+        key[i] = P[g[i], axis]
+    order = np.argsort(key)
+    cap = 64 * m
+    ci = np.empty(cap, dtype=np.int64)
+    cj = np.empty(cap, dtype=np.int64)
+    ck = np.empty(cap, dtype=np.int64)
+    cs = np.empty(cap)
+    cb = np.empty(cap, dtype=np.bool_)
+    nc = 0
+    quarter = m // 4
+    # A small part no near chord cuts tries every chord, as close_loop does.
+    wide = reach if m > SMALL else np.inf
+    for u in range(m):
+        i0 = order[u]
+        # A pair is found from its end with the larger size (the smaller position on a
+        # tie), whose reach bounds the window both ways.
+        r0 = wide * H[g[i0]]
+        w = u - 1
+        while w >= 0 and key[order[w]] >= key[i0] - r0:
+            w -= 1
+        w += 1
+        while w < m and key[order[w]] <= key[i0] + r0 and nc < cap:
+            j0 = order[w]
+            w += 1
+            if j0 == i0 or H[g[j0]] > H[g[i0]] or (H[g[j0]] == H[g[i0]] and j0 < i0):
+                continue
+            i = min(i0, j0)
+            j = max(i0, j0)
+            if j - i < 2 or (i == 0 and j == m - 1) or g[i] == g[j]:
+                continue
+            dx = P[g[j], 0] - P[g[i], 0]
+            dy = P[g[j], 1] - P[g[i], 1]
+            length = np.hypot(dx, dy)
+            h = 0.5 * (H[g[i]] + H[g[j]])
+            if length > wide * max(H[g[i]], H[g[j]]):
+                continue
+            ai = (np.degrees(np.arctan2(dy, dx)) - th[i]) % 360.0
+            aj = (np.degrees(np.arctan2(-dy, -dx)) - th[j]) % 360.0
+            split = min(min(ai, ang[i] - ai), min(aj, ang[j] - aj))
+            if split < min_angle:
+                continue
+            ideal = length / h - 1.0
+            k = max(0, int(np.rint(ideal)))
+            if (k % 2) != ((j - i + 1) % 2):
+                k = k + 1 if (ideal >= k or k == 0) else k - 1
+            ci[nc] = i
+            cj[nc] = j
+            ck[nc] = k
+            cs[nc] = split - 45.0 * abs(length / ((k + 1) * h) - 1.0) - 15.0 * k
+            inner = j - i + 1 + k
+            cb[nc] = min(inner, m - (j - i) + 1 + k) >= quarter
+            nc += 1
+    if nc == 0:
+        return -1, -1, -1
+    balanced = m > BALANCED
+    if balanced:
+        balanced = False
+        for c in range(nc):
+            if cb[c]:
+                balanced = True
+                break
+    score = np.empty(nc)
+    for c in range(nc):
+        score[c] = -cs[c] if (cb[c] or not balanced) else np.inf
+    rank = np.argsort(score, kind="mergesort")
+    scratch = np.empty((3, 4), dtype=np.int64)
+    for t in range(min(tries, nc)):
+        c = rank[t]
+        if score[c] == np.inf:
+            break
+        if _clear(P, g[ci[c]], g[cj[c]], g, other) and _parts_close(P, H, cnt, g, ci[c], cj[c], ck[c], scratch):
+            return ci[c], cj[c], ck[c]
+    return -1, -1, -1
+
+
+@njit(cache=True)
+def close_long(P, H, n, other, min_angle, reach, tries, star_max, max_parts):
+    """Close the loop ``P[:n]`` (even, region on the left) by chords and templates.
+
+    Parameters
+    ----------
+    P : (c, 2) float64
+        The loop's nodes in order, then room for new nodes (written in place).
+    H : (c,) float64
+        The size at the loop's nodes (new nodes' sizes are written in place).
+    n : int
+        Nodes on the loop.
+    other : (m, 4) float64
+        Edges no chord may meet (``x0, y0, x1, y1``).
+    min_angle : float
+        Degrees a chord leaves beside it at least.
+    reach : float
+        Chords up to this many times the larger size at their ends are tried.
+    tries : int
+        Best-scored chords tested for crossings per part.
+    star_max : int
+        Parts up to this many nodes that no chord cuts close around a centre node.
+    max_parts : int
+        Cap on chords and closures.
+
+    Returns
+    -------
+    ok : bool
+    quads : (q, 4) int64
+        Local ids (new nodes from ``n`` on).
+    used : int
+        Points used in ``P`` (new nodes are ``P[n:used]``).
+    """
+    cnt = n
+    c_pts = P.shape[0]
+    quads = np.empty((n, 4), dtype=np.int64)
+    nq = 0
+    buf = np.empty(4 * n + 16, dtype=np.int64)
+    for i in range(n):
+        buf[i] = i
+    top = n
+    st_s = np.empty(n + 2, dtype=np.int64)
+    st_n = np.empty(n + 2, dtype=np.int64)
+    st_s[0] = 0
+    st_n[0] = n
+    depth = 1
+    for _ in range(max_parts):
+        if depth == 0:
+            break
+        depth -= 1
+        g = buf[st_s[depth] : st_s[depth] + st_n[depth]].copy()
+        m = g.shape[0]
+        if nq + m > quads.shape[0]:
+            grown = np.empty((2 * quads.shape[0] + m, 4), dtype=np.int64)
+            grown[:nq] = quads[:nq]
+            quads = grown
+        if m <= 6:
+            if m % 2 or cnt + 1 > c_pts:
+                return False, quads[:nq], cnt
+            got, cnt = _template(P, H, cnt, g, quads, nq)
+            if got < 0:
+                # Six nodes: a centre at the polygon's centroid may hold where the mean failed.
+                got, cnt = _star(P, H, cnt, g, quads, nq)
+            if got < 0:
+                return False, quads[:nq], cnt
+            nq += got
+            continue
+        if cnt + 8 > c_pts:
+            return False, quads[:nq], cnt
+        i, j, k = _best_cut(P, H, cnt, g, other, min_angle, reach, tries)
+        if i < 0:
+            if m > star_max or cnt + 1 > c_pts:
+                return False, quads[:nq], cnt
+            got, cnt = _star(P, H, cnt, g, quads, nq)
+            if got < 0:
+                return False, quads[:nq], cnt
+            nq += got
+            continue
+        if cnt + k > c_pts or depth + 2 > st_s.shape[0]:
+            return False, quads[:nq], cnt
+        a = g[i]
+        b = g[j]
+        for t in range(k):
+            f = (t + 1) / (k + 1)
+            P[cnt + t, 0] = P[a, 0] + f * (P[b, 0] - P[a, 0])
+            P[cnt + t, 1] = P[a, 1] + f * (P[b, 1] - P[a, 1])
+            H[cnt + t] = H[a] + f * (H[b] - H[a])
+        need = (j - i + 1 + k) + (m - (j - i) + 1 + k)
+        if top + need > buf.shape[0]:
+            grown_b = np.empty(2 * buf.shape[0] + need, dtype=np.int64)
+            grown_b[:top] = buf[:top]
+            buf = grown_b
+        # Part one: g[i..j] and the chord back from b to a; part two: g[j..], g[..i]
+        # and the chord from a to b.
+        s1 = top
+        for t in range(i, j + 1):
+            buf[top] = g[t]
+            top += 1
+        for t in range(k - 1, -1, -1):
+            buf[top] = cnt + t
+            top += 1
+        s2 = top
+        for t in range(j, m):
+            buf[top] = g[t]
+            top += 1
+        for t in range(0, i + 1):
+            buf[top] = g[t]
+            top += 1
+        for t in range(k):
+            buf[top] = cnt + t
+            top += 1
+        cnt += k
+        st_s[depth] = s1
+        st_n[depth] = s2 - s1
+        st_s[depth + 1] = s2
+        st_n[depth + 1] = top - s2
+        depth += 2
+    return depth == 0 and nq > 0, quads[:nq], cnt
