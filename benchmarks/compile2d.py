@@ -7,6 +7,7 @@ Usage::
     python benchmarks/compile2d.py --no-all        # skip the all-methods-in-one-process row
     python benchmarks/compile2d.py --profile 25 --no-all --cases delaunay   # where it goes
     python benchmarks/compile2d.py --only-all --cold-only --profile 40      # every method, one process
+    python benchmarks/compile2d.py --only-all --cold-only --profile 20 --signatures  # duplicate specialisations
 
 ``MESHWRIGHT_STOCK_INLINING=1`` in the environment compiles with Numba's stock IR inliner
 (:mod:`meshwright.core.fast_inline` not installed), for A/B measurements.
@@ -58,7 +59,7 @@ from numba.core import event as ev
 class Compiles(ev.Listener):
     # Self CPU seconds and signature count per compiled function (nested compiles subtracted).
     def __init__(self):
-        self.stack, self.self_s, self.count, self.passes = [], {}, {}, {}
+        self.stack, self.self_s, self.count, self.passes, self.sigs = [], {}, {}, {}, {}
 
     def on_start(self, event):
         self.stack.append([time.process_time(), 0.0, time.perf_counter()])
@@ -74,6 +75,7 @@ class Compiles(ev.Listener):
         name = f"{d.py_func.__module__}.{d.py_func.__qualname__}"
         self.self_s[name] = self.self_s.get(name, 0.0) + total - nested
         self.count[name] = self.count.get(name, 0) + 1
+        self.sigs.setdefault(name, []).append([total - nested, ", ".join(str(a) for a in event.data["args"])])
         # Wall seconds of the passes (the nested compiles run inside type inference).
         cres = d.overloads.get(tuple(event.data["args"]))
         times = cres.metadata.get("pipeline_times", {}).get("nopython", {}) if cres is not None else {}
@@ -101,6 +103,7 @@ for code in json.loads(sys.argv[1]):
 out["compiles"] = sorted(
     ([k, v, rec.count[k], *rec.passes.get(k, [0.0] * 3)] for k, v in rec.self_s.items()), key=lambda r: -r[1]
 )
+out["signatures"] = {k: v for k, v in rec.sigs.items() if len(v) > 1}
 print(json.dumps(out))
 """
 
@@ -114,6 +117,20 @@ def run_child(snippets: list[str], cache: str) -> dict:
     if res.returncode != 0:
         raise RuntimeError(f"child failed:\n{res.stderr[-3000:]}")
     return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+def _print_signatures(cold: dict) -> None:
+    """Functions compiled for more than one signature (int32 and int64 arguments, Literal
+    constants, layouts): each extra signature is a whole extra compile of the function."""
+    sigs = sorted(cold["signatures"].items(), key=lambda kv: -sum(s for s, _ in kv[1]))
+    extra = sum(sum(s for s, _ in v) - max(s for s, _ in v) for _, v in sigs)
+    print(f"  {len(sigs)} functions compiled more than once, {extra:.1f} s CPU beyond each one's costliest",
+          file=sys.stderr)
+    for fn, rows in sigs:
+        print(f"  x{len(rows)}  {fn}", file=sys.stderr)
+        for sec, args in rows:
+            print(f"      {sec:6.2f} s  ({args[:160]})", file=sys.stderr)
+    sys.stderr.flush()
 
 
 def _print_profile(name: str, cold: dict, top: int) -> None:
@@ -139,6 +156,8 @@ def main() -> None:
     ap.add_argument("--profile", type=int, default=0, metavar="N",
                     help="print the N costliest compiled functions of each cold case")
     ap.add_argument("--cold-only", action="store_true", help="skip the cached reruns")
+    ap.add_argument("--signatures", action="store_true",
+                    help="with --profile: list the functions compiled for more than one signature")
     args = ap.parse_args()
     rows = []
     for name in [] if args.only_all else args.cases:
@@ -147,6 +166,8 @@ def main() -> None:
             warm = cold if args.cold_only else run_child([CASES[name]], cache)
         if args.profile:
             _print_profile(name, cold, args.profile)
+            if args.signatures:
+                _print_signatures(cold)
         rows.append(
             [
                 name,
@@ -165,6 +186,8 @@ def main() -> None:
             warm = cold if args.cold_only else run_child(snippets, cache)
         if args.profile:
             _print_profile("all cases", cold, args.profile)
+            if args.signatures:
+                _print_signatures(cold)
         cw = cold["import_wall"] + sum(c[0] for c in cold["calls"])
         cc = cold["import_cpu"] + sum(c[1] for c in cold["calls"])
         ww = warm["import_wall"] + sum(c[0] for c in warm["calls"])
