@@ -63,7 +63,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.borrowed import borrowed
-from meshwright.core.spatial.loose_quadtree import Q_DEPTH, Q_NODES, STACK_PER_LEVEL
+from meshwright.core.spatial.cell_quadtree import Q_DEPTH, Q_NODES, Q_ROOM, STACK_PER_LEVEL
 from meshwright.quad._pairing_kernel import corner_flat
 from meshwright.tri._front_kernel import (
     F_A,
@@ -261,15 +261,24 @@ def _bad_pocket(pts, f, q, fs):
     # A loop the pair changes passes through a corner of the quad: it holds a face the
     # pair adds, or a corner whose other face the pair fills (a pinch point resolved).
     for k in range(4):
+        # The loop x0 x1 x2 x3 back to x0, walked by one inlined copy of _next_after.
         x0 = q[k]
-        x1 = _next_after(x0, q, gone, f, fs)
-        if x1 < 0:
-            continue
-        x2 = _next_after(x1, q, gone, f, fs)
-        if x2 < 0 or x2 == x0:
-            continue
-        x3 = _next_after(x2, q, gone, f, fs)
-        if x3 < 0 or x3 == x0 or x3 == x1 or _next_after(x3, q, gone, f, fs) != x0:
+        x1 = x2 = x3 = np.int64(-1)
+        x = x0
+        four = False
+        for step in range(4):
+            x = _next_after(x, q, gone, f, fs)
+            if step == 3:
+                four = x == x0
+            elif x < 0 or (step >= 1 and x == x0) or (step == 2 and x == x1):
+                break
+            elif step == 0:
+                x1 = x
+            elif step == 1:
+                x2 = x
+            else:
+                x3 = x
+        if not four:
             continue
         loop = (x0, x1, x2, x3)
         if _flat_input(pts, nin, x0, x1, x2, x3):
@@ -478,6 +487,7 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
     meta[M_NW] = 0
     items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack = scratch
     depth = qmeta[Q_DEPTH]
+    node_room = qmeta[Q_ROOM]
     if stack.shape[0] < STACK_PER_LEVEL * (depth + 2) or fstack.shape[0] < STACK_PER_LEVEL * (depth + 2):
         stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
         fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
@@ -490,7 +500,7 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
             or meta[M_NH] + ROOM_FACES > hkey.shape[0]
             or meta[M_NW] + 2 > wface.shape[0]
             or meta[M_NT] + 2 > tri.shape[0]
-            or qmeta[Q_NODES] + ROOM_FACES * (depth + 1) > qhead.shape[0]
+            or qmeta[Q_NODES] + ROOM_FACES * (node_room + 1) > qhead.shape[0]
         ):
             return R_ROOM
         if meta[M_NP] - meta[M_SYNC] >= sync_every:
