@@ -37,7 +37,7 @@ from meshwright.core.validate_input import check_count
 
 __all__ = ["UNTANGLE", "cell_tables", "smooth_cells", "smooth_sliding"]
 
-UNTANGLE = 0.1  # smooth_sliding: a star this bad (worst corner quality) whose Laplacian steps fail tries its kernel
+UNTANGLE = 0.01  # smooth_sliding: a star this flat or folded whose Laplacian steps fail tries its kernel
 
 
 @njit(inline="always")
