@@ -338,22 +338,30 @@ def facing_pairs(p, nrm, reach, ids, fid, pos, size, out_u, out_v, out_d):
 
 
 @njit
-def _quad_min_sine(p, q, c):
-    """Smallest corner sine of quad c, written as :func:`~meshwright.quad._paving_close.min_sine`
-    computes it (the same rounding: which quads are below the floor is the same)."""
+def corner_min_sine(p, a, b, c, d):
+    """Smallest corner sine of quad a b c d (floating point, a quality rule), computed as
+    :func:`~meshwright.quad._paving_close.min_sine` computes it (the same rounding: which quads
+    are below a floor is the same); -1 at a corner with a zero-length side."""
+    v = (a, b, c, d)
     worst = 1.0
     for k in range(4):
-        b = q[c, k]
-        d = q[c, (k + 1) % 4]
-        a = q[c, (k + 3) % 4]
-        ux = p[d, 0] - p[b, 0]
-        uy = p[d, 1] - p[b, 1]
-        wx = p[a, 0] - p[b, 0]
-        wy = p[a, 1] - p[b, 1]
+        u = v[(k + 3) % 4]
+        w = v[k]
+        z = v[(k + 1) % 4]
+        ux = p[z, 0] - p[w, 0]
+        uy = p[z, 1] - p[w, 1]
+        wx = p[u, 0] - p[w, 0]
+        wy = p[u, 1] - p[w, 1]
         den = np.hypot(ux, uy) * np.hypot(wx, wy)
         s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
         worst = min(worst, s)
     return worst
+
+
+@njit
+def _quad_min_sine(p, q, c):
+    """Smallest corner sine of quad c (:func:`corner_min_sine`)."""
+    return corner_min_sine(p, q[c, 0], q[c, 1], q[c, 2], q[c, 3])
 
 
 @njit

@@ -37,6 +37,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.predicates import orient2d
+from meshwright.quad._paving_kernel import corner_min_sine
 
 __all__ = ["BALANCED", "close_long"]
 
@@ -88,25 +89,6 @@ def _convex(P, a, b, c, d):
 
 
 @njit
-def _min_sine(P, a, b, c, d):
-    """Smallest corner sine of quad a b c d (floating point, a quality rule)."""
-    v = (a, b, c, d)
-    worst = 1.0
-    for k in range(4):
-        u = v[(k + 3) % 4]
-        w = v[k]
-        z = v[(k + 1) % 4]
-        ux = P[z, 0] - P[w, 0]
-        uy = P[z, 1] - P[w, 1]
-        wx = P[u, 0] - P[w, 0]
-        wy = P[u, 1] - P[w, 1]
-        den = np.hypot(ux, uy) * np.hypot(wx, wy)
-        s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
-        worst = min(worst, s)
-    return worst
-
-
-@njit
 def _angles(P, g):
     """Interior angle (degrees, (0, 360]) and direction of the edge to the next node
     (degrees) at every node of part ``g``."""
@@ -155,7 +137,7 @@ def _template(P, H, cnt, g, out, nq):
     for s in range(3):
         r0, r1, r2, r3, r4, r5 = g[s], g[s + 1], g[s + 2], g[s + 3], g[(s + 4) % 6], g[(s + 5) % 6]
         if _convex(P, r0, r1, r2, r3) and _convex(P, r3, r4, r5, r0):
-            w = min(_min_sine(P, r0, r1, r2, r3), _min_sine(P, r3, r4, r5, r0))
+            w = min(corner_min_sine(P, r0, r1, r2, r3), corner_min_sine(P, r3, r4, r5, r0))
             if w > best:
                 best = w
                 pick = s
@@ -168,7 +150,7 @@ def _template(P, H, cnt, g, out, nq):
     for s in range(2):
         r0, r1, r2, r3, r4, r5 = g[s], g[s + 1], g[s + 2], g[s + 3], g[s + 4], g[(s + 5) % 6]
         if _convex(P, c, r0, r1, r2) and _convex(P, c, r2, r3, r4) and _convex(P, c, r4, r5, r0):
-            w = min(_min_sine(P, c, r0, r1, r2), min(_min_sine(P, c, r2, r3, r4), _min_sine(P, c, r4, r5, r0)))
+            w = min(corner_min_sine(P, c, r0, r1, r2), min(corner_min_sine(P, c, r2, r3, r4), corner_min_sine(P, c, r4, r5, r0)))
             if w > best:
                 best = w
                 pick = 3 + s
@@ -231,7 +213,7 @@ def _star(P, H, cnt, g, out, nq):
                 if not _convex(P, c, a, b, d):
                     ok = False
                     break
-                w = min(w, _min_sine(P, c, a, b, d))
+                w = min(w, corner_min_sine(P, c, a, b, d))
             if ok and w > best:
                 best = w
                 pick = 2 * choice + s
