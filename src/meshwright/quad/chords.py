@@ -22,6 +22,7 @@ markers and curves (k,) int32).  Half-edge ``h`` is side ``h % 4`` of quad ``h /
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from meshwright.core.errors import InputError, MeshingError
 from meshwright.core.validate_input import check_count
@@ -86,30 +87,9 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
     tris = fill.triangles.astype(np.int64)
     m = len(quads)
     starts = np.concatenate([quads.ravel(), tris.ravel()])
-    ends = np.concatenate([np.roll(quads, -1, axis=1).ravel(), np.roll(tris, -1, axis=1).ravel()])
+    ends = np.concatenate([quads[:, [1, 2, 3, 0]].ravel(), tris[:, [1, 2, 0]].ravel()])
     key = np.minimum(starts, ends) * n + np.maximum(starts, ends)
-    order = np.argsort(key, kind="stable")
-    other = np.full(len(key), -1, dtype=np.int64)
-    same = key[order[1:]] == key[order[:-1]]
-    a, b = order[:-1][same], order[1:][same]
-    other[a], other[b] = b, a
-    crossed = np.zeros(m, dtype=np.int8)  # bit 0: sides 0 and 2 split, bit 1: sides 1 and 3
-    split = np.zeros(len(key), dtype=bool)
-    for h in range(4 * m, len(key)):
-        split[h] = True
-        o = other[h]
-        while 0 <= o < 4 * m:
-            q, k = divmod(int(o), 4)
-            bit = 1 << (k % 2)
-            if crossed[q] & bit:
-                break  # the same chord, walked from its other end
-            crossed[q] |= bit
-            split[o] = True
-            out = 4 * q + (k + 2) % 4
-            split[out] = True
-            o = other[out]
-        if o >= 0:
-            split[o] = True
+    split, crossed = _chord_walk(starts, ends, m, n)
     uniq = np.unique(key[split])
     total = n + len(uniq) + int((crossed == 3).sum()) + len(tris)
     if total > max_points:
@@ -154,19 +134,73 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
         p = cells.shape[1]
         for k in range(p):
             out.append(np.column_stack([cells[:, k], h[:, k], c, h[:, (k - 1) % p]]))
-    new_lines = []
-    for r, (u, w) in enumerate(lines.tolist()):
-        if lsplit[r]:
-            mm = n + int(np.searchsorted(uniq, lkey[r]))
-            new_lines += [(u, mm), (mm, w)]
-        else:
-            new_lines.append((u, w))
+    # Each split line becomes (u, mid) and (mid, w), in the lines' order.
     reps = np.where(lsplit, 2, 1)
+    at = np.cumsum(reps) - reps
+    new_lines = np.empty((int(reps.sum()), 2), dtype=np.int64)
+    new_lines[at, 0] = lines[:, 0]
+    new_lines[at, 1] = lines[:, 1]
+    new_lines[at[lsplit], 1] = n + lmid
+    new_lines[at[lsplit] + 1, 0] = n + lmid
+    new_lines[at[lsplit] + 1, 1] = lines[lsplit, 1]
     return fill._replace(
         points=np.ascontiguousarray(np.concatenate([xy, mid, centres])),
         quads=np.ascontiguousarray(np.concatenate(out)).astype(np.int32),
         triangles=np.zeros((0, 3), dtype=np.int32),
-        lines=np.asarray(new_lines, dtype=np.int32).reshape(-1, 2),
+        lines=new_lines.astype(np.int32),
         line_markers=np.repeat(fill.line_markers, reps).astype(np.int32),
         line_curves=np.repeat(fill.line_curves, reps).astype(np.int32),
     )
+
+
+@njit(cache=True)
+def _chord_walk(starts, ends, m, n):
+    """Walk the chords from every triangle side; returns (split, crossed).
+
+    Half-edge ``h`` runs from ``starts[h]`` to ``ends[h]`` (both (4 m + 3 t,) int64, the
+    module's half-edge order); its twin, the half-edge of the same side in the other cell,
+    runs the other way and is looked up, only for the sides the chords reach, among the
+    half-edges leaving ``ends[h]`` (a table by start vertex, ``n`` vertices: no sort).
+    ``split`` (4 m + 3 t,) bool marks the half-edges whose side gets a midpoint;
+    ``crossed`` (m,) int8 has bit 0 set for a quad whose sides 0 and 2 are split, bit 1
+    for sides 1 and 3.  A chord stops at a side with no twin (a line), at a triangle, or
+    at a quad it crossed already in the same direction (the same chord walked from its
+    other end): every step sets a new bit, so all the walks together take at most 2 m
+    steps.
+    """
+    nh = starts.shape[0]
+    ptr = np.zeros(n + 1, np.int64)
+    for h in range(nh):
+        ptr[starts[h] + 1] += 1
+    for v in range(n):
+        ptr[v + 1] += ptr[v]
+    fill = ptr[:-1].copy()
+    out_of = np.empty(nh, np.int64)
+    for h in range(nh):
+        out_of[fill[starts[h]]] = h
+        fill[starts[h]] += 1
+    crossed = np.zeros(m, np.int8)
+    split = np.zeros(nh, np.bool_)
+    for h in range(4 * m, nh):
+        split[h] = True
+        at = h
+        while True:
+            o = -1
+            for j in range(ptr[ends[at]], ptr[ends[at] + 1]):
+                if ends[out_of[j]] == starts[at]:
+                    o = out_of[j]
+                    break
+            if not 0 <= o < 4 * m:
+                break
+            q = o >> 2
+            k = o & 3
+            bit = 1 << (k & 1)
+            if crossed[q] & bit:
+                break  # the same chord, walked from its other end
+            crossed[q] |= bit
+            split[o] = True
+            at = 4 * q + ((k + 2) & 3)
+            split[at] = True
+        if o >= 0:
+            split[o] = True
+    return split, crossed
