@@ -46,6 +46,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.spatial._nodes import child_of
+
 __all__ = ["Q_NODES", "Q_ROOM", "Q_DEPTH", "STACK_PER_LEVEL", "MAX_DEPTH", "SPLIT", "ct_new", "ct_insert", "ct_query"]
 
 Q_NODES = 0
@@ -117,16 +119,7 @@ def ct_insert(item, qgeo, qmeta, qchild, qhead, qnext, qcell, qbox):
         for cy in range(iy0 >> sh, (iy1 >> sh) + 1):
             node = 0
             for t in range(level - 1, -1, -1):
-                q = ((cx >> t) & 1) + 2 * ((cy >> t) & 1)
-                child = qchild[4 * node + q]
-                if child < 0:
-                    child = qmeta[Q_NODES]
-                    qmeta[Q_NODES] += 1
-                    qhead[child] = -1
-                    for j in range(4):
-                        qchild[4 * child + j] = -1
-                    qchild[4 * node + q] = child
-                node = child
+                node = child_of(node, ((cx >> t) & 1) + 2 * ((cy >> t) & 1), qmeta, qchild, qhead)
             e = 4 * item + k
             qnext[e] = qhead[node]
             qhead[node] = e

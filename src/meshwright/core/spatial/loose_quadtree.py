@@ -37,6 +37,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from meshwright.core.spatial._nodes import child_of
+
 __all__ = ["Q_NODES", "Q_DEPTH", "qt_new", "qt_insert", "qt_query", "STACK_PER_LEVEL"]
 
 Q_NODES = 0
@@ -87,15 +89,7 @@ def qt_insert(item, qgeo, qmeta, qchild, qhead, qnext, qbox):
         cx = cx + hc if east else cx - hc
         cy = cy + hc if north else cy - hc
         h = hc
-        child = qchild[4 * node + q]
-        if child < 0:
-            child = qmeta[Q_NODES]
-            qmeta[Q_NODES] += 1
-            qhead[child] = -1
-            for k in range(4):
-                qchild[4 * child + k] = -1
-            qchild[4 * node + q] = child
-        node = child
+        node = child_of(node, q, qmeta, qchild, qhead)
     qnext[item] = qhead[node]
     qhead[node] = item
 
