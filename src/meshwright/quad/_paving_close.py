@@ -305,7 +305,7 @@ def _best_chord(xy, g, field, oa, ob):
     return pts, np.concatenate([g[a : b + 1], ids[::-1]]), np.concatenate([g[b:], g[: a + 1], ids])
 
 
-def close_loop(xy, loop, field, oa, ob, max_parts: int):
+def close_loop(xy, loop, field, oa, ob, max_parts: int, partial: bool = False):
     """Close a paving boundary by chords and templates.
 
     Parameters
@@ -319,14 +319,23 @@ def close_loop(xy, loop, field, oa, ob, max_parts: int):
         Edges of the other paving boundaries (chords may not meet them).
     max_parts : int
         Cap on chords and templates.
+    partial : bool
+        A loop above :data:`LONG_LOOP` nodes may close in part: the parts that no chord,
+        template or centre node closes are returned open (for the void fill) while the
+        others close.  Smaller loops close whole or not at all.
 
     Returns
     -------
-    (new coordinates (j, 2), quads (q, 4) int64) or None
-        New nodes numbered from ``len(xy)``; None when some part cannot be closed.
+    (new coordinates (j, 2), quads (q, 4) int64, open parts) or None
+        New nodes numbered from ``len(xy)``; the open parts a list of (r,) int64 node
+        ids (region on the left; empty unless ``partial``); None when nothing closes, or
+        some part does not and ``partial`` is False.
     """
     if len(loop) > LONG_LOOP:
-        return _close_long(xy, np.asarray(loop, dtype=np.int64), field, oa, ob, max_parts)
+        done = _close_long(xy, np.asarray(loop, dtype=np.int64), field, oa, ob, max_parts)
+        if done is None or (done[2] and not partial):
+            return None
+        return done
     extra: list[np.ndarray] = []
     quads: list[np.ndarray] = []
     todo = [np.asarray(loop, dtype=np.int64)]
@@ -357,13 +366,14 @@ def close_loop(xy, loop, field, oa, ob, max_parts: int):
         todo += [a, b]
     if todo or not quads:
         return None
-    return (np.vstack(extra) if extra else np.zeros((0, 2))), np.concatenate(quads)
+    return (np.vstack(extra) if extra else np.zeros((0, 2))), np.concatenate(quads), []
 
 
 def _close_long(xy, loop, field, oa, ob, max_parts):
     """:func:`close_loop` of a loop above :data:`LONG_LOOP` nodes, in one kernel
     (:func:`meshwright.quad._paving_long.close_long`: near chords only, long parts cut
-    near their middle, the size asked at the loop's nodes only); same returns."""
+    near their middle, the size asked at the loop's nodes only); the open parts as
+    global ids; None when no quad closes."""
     n = len(loop)
     room = n + 4 * n + 64
     P = np.empty((room, 2))
@@ -378,11 +388,14 @@ def _close_long(xy, loop, field, oa, ob, max_parts):
         other = np.ascontiguousarray(e[near])
     else:
         other = np.zeros((0, 4))
-    ok, q, used = pl.close_long(P, H, n, other, CHORD_MIN_ANGLE, CHORD_REACH, CHORD_TRIES, STAR_MAX, max_parts)
-    if not ok:
+    q, used, open_ids, open_ptr = pl.close_long(
+        P, H, n, other, CHORD_MIN_ANGLE, CHORD_REACH, CHORD_TRIES, STAR_MAX, max_parts
+    )
+    if not len(q):
         return None
     ids = np.concatenate([loop, len(xy) + np.arange(used - n, dtype=np.int64)])
-    return P[n:used].copy(), ids[q]
+    open_parts = [ids[open_ids[a:b]] for a, b in zip(open_ptr[:-1].tolist(), open_ptr[1:].tolist())]
+    return P[n:used].copy(), ids[q], open_parts
 
 
 def bridge(xy, outer, hole, field, oa, ob):

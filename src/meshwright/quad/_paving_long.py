@@ -14,8 +14,15 @@ O(n log n) on a thin region:
 * only chords no longer than ``reach`` times the larger size at their ends are
   candidates, found by a window sweep along the part's longer bounding-box axis;
 * a part of more than :data:`BALANCED` nodes takes the best chord that leaves at least
-  a quarter of its nodes on each side when one exists (a sliver is cut in halves, not
-  shaved from one end, so every part's work is paid about log n times);
+  a quarter of its nodes on each side when one passes, else the best that leaves a
+  sixteenth (a sliver is cut in halves, not shaved from one end, so every part's work
+  is paid about log n times); only parts up to :data:`SHAVE_MAX` nodes take any other
+  chord;
+* a part that no chord cuts and no template or centre node closes is handed back open
+  (the caller fills it as a void) while the other parts still close: a large part
+  with no near balanced chord is thick at its own spacing, and a small one is often a
+  transition (one edge against three) that no template of one centre node takes;
+* template and centre-node quads keep every corner sine at least :data:`SINE_FLOOR`;
 * the size on a chord is the mean of the sizes at its ends (nodes a chord adds get the
   size interpolated along it), so the field is asked once, at the boundary's nodes.
 
@@ -43,6 +50,12 @@ __all__ = ["BALANCED", "close_long"]
 
 BALANCED = 24  # parts above this many nodes are cut near their middle when a chord allows
 SMALL = 16  # parts up to this many nodes try chords of any length
+SHAVE_MAX = 128  # parts up to this many nodes may take a chord that leaves few nodes on one side
+# A template or centre-node quad needs every corner sine at least this (about 3 degrees
+# from flat): a chord's own nodes are collinear, and a quad with a corner at one of them
+# between its chord neighbours passes the exact convexity test by rounding alone; the
+# chord refinement and smoothing that follow turned such quads inside out.
+SINE_FLOOR = 0.05
 
 
 @njit
@@ -128,11 +141,11 @@ def _template(P, H, cnt, g, out, nq):
     if (m != 4 and m != 6) or not _distinct(g):
         return -1, cnt
     if m == 4:
-        if not _convex(P, g[0], g[1], g[2], g[3]):
+        if not _convex(P, g[0], g[1], g[2], g[3]) or corner_min_sine(P, g[0], g[1], g[2], g[3]) < SINE_FLOOR:
             return -1, cnt
         out[nq, 0], out[nq, 1], out[nq, 2], out[nq, 3] = g[0], g[1], g[2], g[3]
         return 1, cnt
-    best = -np.inf
+    best = SINE_FLOOR
     pick = -1
     for s in range(3):
         r0, r1, r2, r3, r4, r5 = g[s], g[s + 1], g[s + 2], g[s + 3], g[(s + 4) % 6], g[(s + 5) % 6]
@@ -197,7 +210,7 @@ def _star(P, H, cnt, g, out, nq):
         cy += (P[a, 1] + P[b, 1]) * cr
     if area <= 0.0:
         return -1, cnt
-    best = -np.inf
+    best = SINE_FLOOR
     pick = -1
     c = cnt
     for choice in range(2):
@@ -261,44 +274,60 @@ def _clear(P, a, b, g, other):
 
 
 @njit
-def _parts_close(P, H, cnt, g, i, j, k, scratch):
-    """Whether the parts of six nodes or fewer that the chord from ``g[i]`` to ``g[j]``
-    with ``k`` nodes leaves take a template (written as scratch from ``P[cnt]``): a cut
-    that leaves a part no template closes is not taken while another is left."""
-    m = g.shape[0]
-    one = j - i + 1 + k
-    two = m - (j - i) + 1 + k
-    if one > 6 and two > 6:
-        return True
-    a = g[i]
-    b = g[j]
+def _chord_nodes(P, H, cnt, a, b, k):
+    """Write the ``k`` nodes evenly spaced on the chord from ``a`` to ``b`` at
+    ``P[cnt:cnt + k]``, their sizes interpolated along it at ``H[cnt:cnt + k]``."""
     for t in range(k):
         f = (t + 1) / (k + 1)
         P[cnt + t, 0] = P[a, 0] + f * (P[b, 0] - P[a, 0])
         P[cnt + t, 1] = P[a, 1] + f * (P[b, 1] - P[a, 1])
         H[cnt + t] = H[a] + f * (H[b] - H[a])
-    if one <= 6:
-        part = np.empty(one, dtype=np.int64)
+
+
+@njit
+def _write_part(g, i, j, k, cnt, second, out, at):
+    """Write one of the two parts that the chord from ``g[i]`` to ``g[j]`` (i < j) with
+    ``k`` nodes numbered from ``cnt`` (from ``g[i]``'s end) leaves, region on the left,
+    to ``out[at:]``; returns the position after it.  The first part is ``g[i..j]`` and
+    the chord back from ``g[j]`` to ``g[i]``, the second ``g[j..]``, ``g[..i]`` and the
+    chord from ``g[i]`` to ``g[j]``."""
+    w = at
+    if not second:
         for t in range(i, j + 1):
-            part[t - i] = g[t]
-        for t in range(k):
-            part[j - i + 1 + t] = cnt + k - 1 - t
-        if _template(P, H, cnt + k, part, scratch, 0)[0] < 0:
-            return False
-    if two <= 6:
-        part = np.empty(two, dtype=np.int64)
-        w = 0
-        for t in range(j, m):
-            part[w] = g[t]
+            out[w] = g[t]
             w += 1
-        for t in range(0, i + 1):
-            part[w] = g[t]
+        for t in range(k - 1, -1, -1):
+            out[w] = cnt + t
             w += 1
-        for t in range(k):
-            part[w] = cnt + t
-            w += 1
-        if _template(P, H, cnt + k, part, scratch, 0)[0] < 0:
-            return False
+        return w
+    for t in range(j, g.shape[0]):
+        out[w] = g[t]
+        w += 1
+    for t in range(0, i + 1):
+        out[w] = g[t]
+        w += 1
+    for t in range(k):
+        out[w] = cnt + t
+        w += 1
+    return w
+
+
+@njit
+def _parts_close(P, H, cnt, g, i, j, k, scratch):
+    """Whether the parts of six nodes or fewer that the chord from ``g[i]`` to ``g[j]``
+    with ``k`` nodes leaves take a template (written as scratch from ``P[cnt]``): a cut
+    that leaves a part no template closes is not taken while another is left."""
+    m = g.shape[0]
+    sizes = (j - i + 1 + k, m - (j - i) + 1 + k)
+    if sizes[0] > 6 and sizes[1] > 6:
+        return True
+    _chord_nodes(P, H, cnt, g[i], g[j], k)
+    part = np.empty(6, dtype=np.int64)
+    for second in range(2):
+        if sizes[second] <= 6:
+            _write_part(g, i, j, k, cnt, second == 1, part, 0)
+            if _template(P, H, cnt + k, part[: sizes[second]], scratch, 0)[0] < 0:
+                return False
     return True
 
 
@@ -327,9 +356,10 @@ def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
     cj = np.empty(cap, dtype=np.int64)
     ck = np.empty(cap, dtype=np.int64)
     cs = np.empty(cap)
-    cb = np.empty(cap, dtype=np.bool_)
+    cb = np.empty(cap, dtype=np.int64)
     nc = 0
     quarter = m // 4
+    sixteenth = m // 16
     # A small part no near chord cuts tries every chord, as close_loop does.
     wide = reach if m > SMALL else np.inf
     for u in range(m):
@@ -369,35 +399,62 @@ def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
             cj[nc] = j
             ck[nc] = k
             cs[nc] = split - 45.0 * abs(length / ((k + 1) * h) - 1.0) - 15.0 * k
-            inner = j - i + 1 + k
-            cb[nc] = min(inner, m - (j - i) + 1 + k) >= quarter
+            inner = min(j - i + 1 + k, m - (j - i) + 1 + k)
+            cb[nc] = 0 if inner >= quarter else (1 if inner >= sixteenth else 2)
             nc += 1
     if nc == 0:
         return -1, -1, -1
     balanced = m > BALANCED
-    if balanced:
-        balanced = False
-        for c in range(nc):
-            if cb[c]:
-                balanced = True
-                break
     score = np.empty(nc)
     for c in range(nc):
-        score[c] = -cs[c] if (cb[c] or not balanced) else np.inf
+        score[c] = -cs[c]
     rank = np.argsort(score, kind="mergesort")
     scratch = np.empty((3, 4), dtype=np.int64)
-    for t in range(min(tries, nc)):
-        c = rank[t]
-        if score[c] == np.inf:
-            break
-        if _clear(P, g[ci[c]], g[cj[c]], g, other) and _parts_close(P, H, cnt, g, ci[c], cj[c], ck[c], scratch):
-            return ci[c], cj[c], ck[c]
+    # Balanced chords first; when the best of them all cross the boundary, those that
+    # leave a sixteenth of the nodes on each side, then (parts up to SHAVE_MAX nodes)
+    # the others.  A sliver folded into layers (a star squashed flat) has its balanced
+    # chords across two or more layers only, each crossing the layers between its ends.
+    # A large part with no near chord that leaves a sixteenth on each side is thick at
+    # its spacing (no chord reaches across): it is left to the void fill, which costs
+    # its area, where shaving a few nodes off per cut cost its length squared (20 s).
+    for stage in range((3 if m <= SHAVE_MAX else 2) if balanced else 1):
+        tried = 0
+        for t in range(nc):
+            c = rank[t]
+            if balanced and cb[c] != stage:
+                continue
+            if tried == tries:
+                break
+            tried += 1
+            if _clear(P, g[ci[c]], g[cj[c]], g, other) and _parts_close(P, H, cnt, g, ci[c], cj[c], ck[c], scratch):
+                return ci[c], cj[c], ck[c]
     return -1, -1, -1
+
+
+@njit
+def _keep_open(g, open_ids, open_ptr, n_open):
+    """Append part ``g`` to the open parts, the buffers doubled when full.  Returns
+    ``(open_ids, open_ptr, n_open)``."""
+    at = open_ptr[n_open]
+    if at + g.shape[0] > open_ids.shape[0]:
+        grown = np.empty(2 * open_ids.shape[0] + g.shape[0], dtype=np.int64)
+        grown[:at] = open_ids[:at]
+        open_ids = grown
+    if n_open + 2 > open_ptr.shape[0]:
+        grown_p = np.zeros(2 * open_ptr.shape[0], dtype=np.int64)
+        grown_p[: n_open + 1] = open_ptr[: n_open + 1]
+        open_ptr = grown_p
+    for t in range(g.shape[0]):
+        open_ids[at + t] = g[t]
+    open_ptr[n_open + 1] = at + g.shape[0]
+    return open_ids, open_ptr, n_open + 1
 
 
 @njit(cache=True)
 def close_long(P, H, n, other, min_angle, reach, tries, star_max, max_parts):
-    """Close the loop ``P[:n]`` (even, region on the left) by chords and templates.
+    """Close the loop ``P[:n]`` (even, region on the left) by chords and templates, as
+    far as they go: a part that no chord cuts and no template or centre node closes is
+    handed back open (for the caller's void fill), and the other parts still close.
 
     Parameters
     ----------
@@ -414,19 +471,23 @@ def close_long(P, H, n, other, min_angle, reach, tries, star_max, max_parts):
     reach : float
         Chords up to this many times the larger size at their ends are tried.
     tries : int
-        Best-scored chords tested for crossings per part.
+        Best-scored chords tested for crossings per part (balanced ones, then others).
     star_max : int
         Parts up to this many nodes that no chord cuts close around a centre node.
     max_parts : int
-        Cap on chords and closures.
+        Cap on chords and closures (the parts still to do when it is reached are
+        handed back open).
 
     Returns
     -------
-    ok : bool
     quads : (q, 4) int64
         Local ids (new nodes from ``n`` on).
     used : int
         Points used in ``P`` (new nodes are ``P[n:used]``).
+    open_ids : (r,) int64
+        The open parts' local ids, one after another (each region on its left).
+    open_ptr : (p + 1,) int64
+        Part ``t`` is ``open_ids[open_ptr[t]:open_ptr[t + 1]]``.
     """
     cnt = n
     c_pts = P.shape[0]
@@ -441,6 +502,9 @@ def close_long(P, H, n, other, min_angle, reach, tries, star_max, max_parts):
     st_s[0] = 0
     st_n[0] = n
     depth = 1
+    open_ids = np.empty(64, dtype=np.int64)
+    open_ptr = np.zeros(8, dtype=np.int64)
+    n_open = 0
     for _ in range(max_parts):
         if depth == 0:
             break
@@ -451,65 +515,39 @@ def close_long(P, H, n, other, min_angle, reach, tries, star_max, max_parts):
             grown = np.empty((2 * quads.shape[0] + m, 4), dtype=np.int64)
             grown[:nq] = quads[:nq]
             quads = grown
+        got = -1
         if m <= 6:
-            if m % 2 or cnt + 1 > c_pts:
-                return False, quads[:nq], cnt
-            got, cnt = _template(P, H, cnt, g, quads, nq)
-            if got < 0:
-                # Six nodes: a centre at the polygon's centroid may hold where the mean failed.
+            if m % 2 == 0 and cnt + 1 <= c_pts:
+                got, cnt = _template(P, H, cnt, g, quads, nq)
+                if got < 0:
+                    # Six nodes: a centre at the polygon's centroid may hold where the mean failed.
+                    got, cnt = _star(P, H, cnt, g, quads, nq)
+        elif cnt + 8 <= c_pts:
+            i, j, k = _best_cut(P, H, cnt, g, other, min_angle, reach, tries)
+            if i >= 0 and cnt + k <= c_pts and depth + 2 <= st_s.shape[0]:
+                _chord_nodes(P, H, cnt, g[i], g[j], k)
+                need = (j - i + 1 + k) + (m - (j - i) + 1 + k)
+                if top + need > buf.shape[0]:
+                    grown_b = np.empty(2 * buf.shape[0] + need, dtype=np.int64)
+                    grown_b[:top] = buf[:top]
+                    buf = grown_b
+                s2 = _write_part(g, i, j, k, cnt, False, buf, top)
+                end = _write_part(g, i, j, k, cnt, True, buf, s2)
+                cnt += k
+                st_s[depth] = top
+                st_n[depth] = s2 - top
+                st_s[depth + 1] = s2
+                st_n[depth + 1] = end - s2
+                top = end
+                depth += 2
+                continue
+            if i < 0 and m <= star_max and cnt + 1 <= c_pts:
                 got, cnt = _star(P, H, cnt, g, quads, nq)
-            if got < 0:
-                return False, quads[:nq], cnt
+        if got >= 0:
             nq += got
             continue
-        if cnt + 8 > c_pts:
-            return False, quads[:nq], cnt
-        i, j, k = _best_cut(P, H, cnt, g, other, min_angle, reach, tries)
-        if i < 0:
-            if m > star_max or cnt + 1 > c_pts:
-                return False, quads[:nq], cnt
-            got, cnt = _star(P, H, cnt, g, quads, nq)
-            if got < 0:
-                return False, quads[:nq], cnt
-            nq += got
-            continue
-        if cnt + k > c_pts or depth + 2 > st_s.shape[0]:
-            return False, quads[:nq], cnt
-        a = g[i]
-        b = g[j]
-        for t in range(k):
-            f = (t + 1) / (k + 1)
-            P[cnt + t, 0] = P[a, 0] + f * (P[b, 0] - P[a, 0])
-            P[cnt + t, 1] = P[a, 1] + f * (P[b, 1] - P[a, 1])
-            H[cnt + t] = H[a] + f * (H[b] - H[a])
-        need = (j - i + 1 + k) + (m - (j - i) + 1 + k)
-        if top + need > buf.shape[0]:
-            grown_b = np.empty(2 * buf.shape[0] + need, dtype=np.int64)
-            grown_b[:top] = buf[:top]
-            buf = grown_b
-        # Part one: g[i..j] and the chord back from b to a; part two: g[j..], g[..i]
-        # and the chord from a to b.
-        s1 = top
-        for t in range(i, j + 1):
-            buf[top] = g[t]
-            top += 1
-        for t in range(k - 1, -1, -1):
-            buf[top] = cnt + t
-            top += 1
-        s2 = top
-        for t in range(j, m):
-            buf[top] = g[t]
-            top += 1
-        for t in range(0, i + 1):
-            buf[top] = g[t]
-            top += 1
-        for t in range(k):
-            buf[top] = cnt + t
-            top += 1
-        cnt += k
-        st_s[depth] = s1
-        st_n[depth] = s2 - s1
-        st_s[depth + 1] = s2
-        st_n[depth + 1] = top - s2
-        depth += 2
-    return depth == 0 and nq > 0, quads[:nq], cnt
+        open_ids, open_ptr, n_open = _keep_open(g, open_ids, open_ptr, n_open)
+    # Parts still stacked when the cap ran out stay open too.
+    for d in range(depth):
+        open_ids, open_ptr, n_open = _keep_open(buf[st_s[d] : st_s[d] + st_n[d]], open_ids, open_ptr, n_open)
+    return quads[:nq], cnt, open_ids[: open_ptr[n_open]].copy(), open_ptr[: n_open + 1].copy()

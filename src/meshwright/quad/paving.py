@@ -240,6 +240,8 @@ class _Paver:
         self.tucks = self.wedges = self.seams = self.closures = self.rows = 0
         self.pending = (0, 0)
         self.joints = 0
+        # Parts of partly closed paving boundaries, left to the void fill.
+        self.open_parts: list[np.ndarray] = []
 
     def _reserve(self, k: int) -> None:
         """Room for ``k`` nodes beyond ``self.n`` (the arrays doubled when full)."""
@@ -486,17 +488,21 @@ class _Paver:
         """Close paving boundary ``f`` (step 2) by chords and templates
         (:func:`~meshwright.quad._paving_close.close_loop`) when it has at most ``limit``
         nodes and no other paving boundary inside; commits and returns True on success,
-        changes nothing otherwise."""
+        changes nothing otherwise.  A long boundary may close in part: the parts left
+        open join :attr:`open_parts` for the void fill (a sliver folded into layers
+        leaves a few small parts that no chord or template closes; the void fill of the
+        whole boundary cost a minute)."""
         if len(f) > limit or encloses(self.pts, f, others):
             return False
         oa, ob = edges_of(others)
-        done = close_loop(self.xy, f, self.field, oa, ob, 4 * len(f))
+        done = close_loop(self.xy, f, self.field, oa, ob, 4 * len(f), partial=True)
         if done is None:
             return False
-        extra, quads = done
+        extra, quads, open_parts = done
         if len(extra):
             self.add_points(extra, rnd)
         self.add_quads(quads, rnd)
+        self.open_parts += open_parts
         self.closures += 1
         return True
 
@@ -544,14 +550,17 @@ class _Paver:
     def thin(self, f) -> bool:
         """Whether the region left of paving boundary ``f`` is thin: its area positive
         (a boundary around its region, not a hole's) and below :data:`THIN` times its
-        perimeter times the mean size at its nodes (a strip thinner than about one and
-        a half sizes)."""
+        perimeter times the mean size along it (a strip thinner than about one and a
+        half sizes).  The mean is by length (each edge's mean end size times its
+        length): by node it was the size of the finely spaced stretches, and a sliver
+        whose stretches differ in spacing passed as thick, then spent minutes in rows."""
         p = self.pts[f]
         area = signed_area(p)
         if area <= 0.0:
             return False
-        perimeter = float(np.hypot(*(shift_next(p) - p).T).sum())
-        return area < THIN * perimeter * float(np.mean(self.size_at(f)))
+        h = self.size_at(f)
+        along = np.hypot(*(shift_next(p) - p).T) * (h + shift_next(h))
+        return area < THIN * 0.5 * float(along.sum())
 
     def _may_close(self, region) -> bool:
         """Whether the region bounded by ``region`` (a paving boundary and the holes'
@@ -720,7 +729,7 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
         for g in [g for g, _ in active] + stopped:
             on_front[g] = True
         pv.smooth_recent(rnd, on_front)
-    voids = pv.join_and_close([f for f in stopped if len(f) > 2], rounds)
+    voids = pv.join_and_close([f for f in stopped if len(f) > 2], rounds) + pv.open_parts
     xy = pv.xy.copy()
     quads = np.concatenate(pv.quads) if pv.quads else np.zeros((0, 4), dtype=np.int64)
     paved = len(quads)
