@@ -22,7 +22,7 @@ from meshwright.core.jit import inner
 from meshwright.core.predicates import orient2d
 from meshwright.tri import watson
 from meshwright.tri._kernel2d import (
-    BROKEN, DUP_BASE, M_LAST, M_NTRI, M_SHORT_WORK, NEED_SPACE, TriState, insert_arrays, walk,
+    BROKEN, DUP_BASE, M_LAST, M_NTRI, M_SHORT_WORK, NEED_SPACE, I_WALK, TriState, insert_arrays, walk,
 )
 
 __all__ = [
@@ -165,13 +165,14 @@ def insert_batch(order, start, stop, vbase, s, vmap):
     # The bundle's fields are read once (and after each growth), never per point: a field
     # read is an atomic reference-count pair (see insert_arrays).
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = borrowed(s)
+    mode = np.int64(I_WALK)  # a variable, not a literal: insert_arrays keeps one signature
     for i in range(start, stop):
         v = order[i] if order.shape[0] > 0 else i
-        st = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t)
+        st = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t, mode)
         while st == NEED_SPACE:
             s = make_room(s, rows)
             pts, tri, nbr, circ, rank, cons, meta, work, vmark = borrowed(s)
-            st = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t)
+            st = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t, mode)
         if st >= 0:
             vmap[v - vbase] = v
             t = st

@@ -51,10 +51,9 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.borrowed import borrowed
-from meshwright.core.expansion import diff_into, estimate, expansion_sum, mul_small
 from meshwright.core.flat import GHOST, grown_rows, index3, next3, prev3
 from meshwright.core.jit import inner
-from meshwright.core.predicates import CCW_ERRBOUND_A
+from meshwright.tri._diametral import encroaches
 from meshwright.tri._kernel2d import (
     BROKEN,
     DUP_BASE,
@@ -127,42 +126,6 @@ def room_of(s, c):
 def key_of(rank, v):
     """Symbolic-perturbation key of vertex v (as in :mod:`meshwright.tri.bowyer`); int64."""
     return np.int64(rank[v]) if v < rank.shape[0] else np.int64(v)
-
-
-@inner
-def _dot_exact(ax, ay, bx, by, px, py):
-    """``(a - p) . (b - p)`` rounded from its exact expansion (so its sign is exact)."""
-    # Regions: four differences at 0..8, the two products at 8 and 16, scratch at 24,
-    # the sum at 32 (each product has at most 8 components).
-    w = np.empty(48)
-    n1 = diff_into(ax, px, w, 0)
-    n2 = diff_into(ay, py, w, 2)
-    n3 = diff_into(bx, px, w, 4)
-    n4 = diff_into(by, py, w, 6)
-    m1 = mul_small(w, 0, n1, 4, n3, 1.0, 8, 24)
-    m2 = mul_small(w, 2, n2, 6, n4, 1.0, 16, 24)
-    n = expansion_sum(w, 8, m1, 16, m2, 1.0, 32)
-    return estimate(w, 32, n)
-
-
-@inner
-def encroaches(ax, ay, bx, by, px, py):
-    """Whether p lies strictly inside the diametral circle of ab (exact).
-
-    Returns
-    -------
-    bool
-        ``(a - p) . (b - p) < 0``.
-    """
-    l = (ax - px) * (bx - px)
-    r = (ay - py) * (by - py)
-    d = l + r
-    bound = CCW_ERRBOUND_A * (abs(l) + abs(r))
-    if d > bound:
-        return False
-    if d < -bound:
-        return True
-    return _dot_exact(ax, ay, bx, by, px, py) < 0.0
 
 
 @njit(cache=True)

@@ -66,6 +66,7 @@ from meshwright.tri import _encroach as enc
 from meshwright.tri._kernel2d import (
     BROKEN,
     DUP_BASE,
+    I_WALK,
     M_LAST,
     M_NTRI,
     M_NV,
@@ -314,7 +315,7 @@ def _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark,
     pts[row, 1] = py
     f0 = treg[host]
     meta[M_LAST] = host
-    tn = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, row, host)
+    tn = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, row, host, np.int64(I_WALK))
     if tn < 0:
         return tn
     if nfree > 0:

@@ -16,7 +16,7 @@ Every kernel entry takes the whole state as ONE argument, a :class:`TriState` (a
 codes, header slots, :func:`new_state` and :func:`grow` in :mod:`meshwright.tri._state2d` and
 re-exported here), and scalar header values live in its int64 ``meta`` array.  Each field
 read is an atomic reference-count pair, so the entries are thin wrappers over bodies taking
-the unpacked arrays (``_walk``, ``_cavity``, ``_fan``, :func:`insert_arrays`), which per-point
+the unpacked arrays (``_walk``, ``_grow``, ``_fan``, :func:`insert_arrays`), which per-point
 loops call with arrays read once (and borrowed, :mod:`meshwright.core.borrowed`).  A kernel
 that finds an array too small returns ``NEED_SPACE`` *before* modifying anything (the cavity scratch ``work`` is found short only while the cavity grows:
 then only ``work`` and ``meta[M_SHORT_WORK] = 1`` have been written), and :func:`grow`, on the
@@ -89,12 +89,16 @@ Insertion of vertex v
 
    A fan triangle touching GHOST is rotated so that GHOST is vertex 2 again.
 
-One inlined copy per hot loop: the walk, cavity and fan stay IR-inlined into the
-per-point loops (:func:`insert_arrays`, refinement's loop, :func:`split_edge`).  Compiled
-once and called instead (three calls per point, borrowed arrays), they cut the first
-refinement's compile by about a fifth but cost 12-30 % of the Delaunay, refinement and
-frontal run times (alternating processes, 2026-12-02), so each hot loop keeps its copy; the
-rare paths call: :func:`flip` (Sloan's recovery, the split's Lawson flips) and the split's
+One compiled copy of the insertion body: :func:`insert_arrays` holds the only inlined cavity
+growth and fan, and every single-point insertion calls it: the Delaunay build's loop,
+the frontal kernel, Delaunay refinement's new points (``I_SCREEN``: the cavity is screened
+for encroached subsegments before the fan) and :func:`split_edge` (``I_SPLIT``: both
+triangles of the edge seed the cavity).  Refinement's loop and the split had their own
+inlined copies, each typed and lowered again on the first run (about 4 s and 3 s of the
+first refinement's compile, 2026-12-03).  Walk, cavity and fan as three separate calls per
+point instead cost 12-30 % of the Delaunay, refinement and frontal run times (alternating
+processes, 2026-12-02), so they stay inlined inside :func:`insert_arrays`; the rare paths
+call: :func:`flip` (Sloan's recovery, the split's Lawson flips) and the split's
 conflict test.  Both algorithms share one inlined exact test (:func:`_conflict`: Watson's
 distance filter, then :func:`meshwright.tri.bowyer.conflict`).  Helpers only kernels call
 are compiled without Python wrappers (:mod:`meshwright.core.jit`).
@@ -118,6 +122,7 @@ from meshwright.core.jit import inner
 from meshwright.core.predicates import orient2d
 from meshwright.core.rng import xorshift32
 from meshwright.tri import bowyer, watson
+from meshwright.tri._diametral import encroaches
 from meshwright.tri._state2d import (
     BROKEN,
     DUP_BASE,
@@ -136,10 +141,18 @@ from meshwright.tri._state2d import (
 )
 
 __all__ = [
-    "GHOST", "NEED_SPACE", "BROKEN", "DUP_BASE", "M_NTRI", "M_LAST", "M_RNG", "M_SPLIT_A",
+    "GHOST", "NEED_SPACE", "BROKEN", "DUP_BASE", "REFUSED_BASE", "I_WALK", "I_SCREEN", "I_SPLIT", "M_NTRI", "M_LAST", "M_RNG", "M_SPLIT_A",
     "M_SPLIT_B", "M_SPLIT_C", "M_NV", "M_SHORT_WORK", "TriState", "new_state", "grow", "walk",
-    "cavity", "fan", "insert_vertex", "insert_arrays", "split_edge", "flip", "on_constraint",
+    "insert_vertex", "insert_arrays", "split_edge", "flip", "on_constraint",
 ]
+
+# insert_arrays' modes, and its refusals REFUSED_BASE - ncav: below every duplicate code
+# DUP_BASE - w (vertex ids are int32, cavities far smaller than 2**40).
+I_WALK = 0
+I_SCREEN = 1
+I_SPLIT = 2
+REFUSED_BASE = -(1 << 62)
+
 
 @njit(inline="always")
 def _vslot(u, vmark):
@@ -253,14 +266,8 @@ def _walk(pts, tri, nbr, cons, meta, t, px, py, blocked):
 
 
 @njit(inline="always")
-def _short_of_space(s):
-    """Whether one more insertion (two more slots) could overflow an array."""
-    return _short(s.pts, s.tri, s.nbr, s.circ, s.cons, s.meta, s.vmark)
-
-
-@njit(inline="always")
 def _short(pts, tri, nbr, circ, cons, meta, vmark):
-    """:func:`_short_of_space` over the unpacked bundle."""
+    """Whether one more insertion (two more slots) could overflow an array."""
     need = 3 * (meta[M_NTRI] + 2)
     return (
         need > tri.shape[0]
@@ -272,20 +279,14 @@ def _short(pts, tri, nbr, circ, cons, meta, vmark):
 
 
 @njit(inline="always")
-def _grow_cavity(v, seed0, seed1, s):
+def _grow(pts, tri, nbr, circ, rank, cons, meta, work, v, seed0, seed1):
     """Breadth-first cavity from ``seed0`` (and ``seed1`` across the split edge, if >= 0).
 
     A constrained edge (``cons`` non-zero) is never crossed: it always bounds the cavity, which
     makes the cavity the constrained-Delaunay one.  Returns the number of cavity triangles,
     ``NEED_SPACE`` (``meta[M_SHORT_WORK]`` set) or ``BROKEN``; ``work`` holds the cavity and
-    its boundary.
+    its boundary (module docstring).
     """
-    return _grow(s.pts, s.tri, s.nbr, s.circ, s.rank, s.cons, s.meta, s.work, v, seed0, seed1)
-
-
-@njit(inline="always")
-def _grow(pts, tri, nbr, circ, rank, cons, meta, work, v, seed0, seed1):
-    """:func:`_grow_cavity` over the unpacked bundle."""
     px = pts[v, 0]
     py = pts[v, 1]
     cap = work.shape[0] // 5
@@ -361,35 +362,16 @@ def _on_constraint(pts, tri, cons, t, px, py):
 
 
 @njit(inline="always")
-def cavity(v, t0, s):
-    """Cavity of vertex v (coordinates in ``s.pts[v]``) from triangle t0, which contains it.
+def _cavity_seed(pts, tri, nbr, cons, meta, v, t0):
+    """The second seed of v's cavity from triangle t0, which contains it: -1, or the triangle
+    across the constrained edge of t0 that v lies exactly on (the edge is then recorded as
+    the one the fan splits, its two halves keeping the constraint); or ``DUP_BASE - w`` when
+    v coincides with vertex w.
 
     t0 is a finite triangle whose closure holds v, or a ghost whose hull edge v sees (what
-    :func:`walk` returns).  When v lies exactly on a constrained edge of t0, the triangle
-    across is seeded too and the edge is split by the following :func:`fan` (the two halves
-    keep its constraint); any other constrained edge bounds the cavity.
-
-    Parameters
-    ----------
-    v, t0 : int
-    s : TriState
-        ``work`` receives the cavity triangles and boundary edges (module docstring).
-
-    Returns
-    -------
-    int
-        The number of cavity triangles (> 0); or ``NEED_SPACE``, ``BROKEN``, or
-        ``DUP_BASE - w`` when v coincides with vertex w.  Nothing is modified but ``work``
-        and ``meta``'s split record and flags.
+    :func:`walk` returns); any other constrained edge bounds the cavity.  Modifies only
+    ``meta``'s split record.
     """
-    if _short_of_space(s):
-        return NEED_SPACE
-    return _cavity(s.pts, s.tri, s.nbr, s.circ, s.rank, s.cons, s.meta, s.work, v, t0)
-
-
-@njit(inline="always")
-def _cavity(pts, tri, nbr, circ, rank, cons, meta, work, v, t0):
-    """:func:`cavity` once the room is known, over the unpacked bundle."""
     meta[M_SPLIT_C] = 0
     seed1 = -1
     if tri[3 * t0 + 2] != GHOST:
@@ -404,22 +386,30 @@ def _cavity(pts, tri, nbr, circ, rank, cons, meta, work, v, t0):
             if h >= 0:
                 _mark_split(h, tri, cons, meta)
                 seed1 = nbr[h]
-    return _grow(pts, tri, nbr, circ, rank, cons, meta, work, v, t0, seed1)
+    return seed1
 
 
 @njit(inline="always")
-def fan(v, ncav, s):
-    """Replace the cavity found by :func:`cavity` with the fan of v; returns a new triangle.
-
-    Each boundary edge keeps its constraint; the fan's inner edges are free, except the two
-    halves of a split constrained edge.  Returns a new finite triangle incident to v.
-    """
-    return _fan(s.pts, s.tri, s.nbr, s.circ, s.cons, s.meta, s.work, s.vmark, v, ncav)
+def _star_shaped(pts, work, v, ncav):
+    """Whether every finite boundary edge of the cavity in ``work`` sees v strictly on its left."""
+    bo = 2 * (work.shape[0] // 5)
+    px = pts[v, 0]
+    py = pts[v, 1]
+    for j in range(ncav + 2):
+        u = work[bo + 3 * j]
+        w = work[bo + 3 * j + 1]
+        if u != GHOST and w != GHOST and orient_filtered(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], px, py) <= 0.0:
+            return False
+    return True
 
 
 @njit(inline="always")
 def _fan(pts, tri, nbr, circ, cons, meta, work, vmark, v, ncav):
-    """:func:`fan` over the unpacked bundle."""
+    """Replace the cavity in ``work`` (ncav triangles) with the fan of v; returns a new triangle.
+
+    Each boundary edge keeps its constraint; the fan's inner edges are free, except the two
+    halves of a split constrained edge.  Returns a new finite triangle incident to v.
+    """
     ntri = meta[M_NTRI]
     cap = work.shape[0] // 5
     bo = 2 * cap
@@ -473,21 +463,68 @@ def _fan(pts, tri, nbr, circ, cons, meta, work, vmark, v, ncav):
 
 
 @inner
-def insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t):
+def insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t, mode):
     """:func:`insert_vertex` over the unpacked bundle, for per-point loops.
 
     A loop that inserts many points unpacks the bundle once (and again after growing it)
     and calls this: every field read of a bundle costs an atomic reference-count pair,
-    about 30 per point through the bundle entries.  A call, not inlined: one compiled copy
-    of the insertion body.  Same contract as :func:`insert_vertex`.
+    about 30 per point through the bundle entries.  A call, not inlined: the one compiled
+    copy of the cavity and the fan, which Delaunay refinement's loop and :func:`split_edge`
+    share through ``mode`` (inlined in each, they were about 4 s and 3 s of the first
+    refinement's compile).  Same contract as :func:`insert_vertex`, plus:
+
+    Parameters
+    ----------
+    mode : int64
+        ``I_WALK``: walk from t.  ``I_SCREEN``: t is a finite triangle that holds v off its
+        constrained edges (no walk), and v is refused when it encroaches a constrained edge
+        of its cavity's boundary (:func:`meshwright.tri._diametral.encroaches`).
+        ``I_SPLIT``: t is the half-edge h of a constrained edge that v splits (as
+        :func:`split_edge`: both triangles seed the cavity), refused when that cavity is
+        not star-shaped from v.  An int64 variable, never a literal (a literal argument
+        compiles the kernel once per value).
+
+    Returns
+    -------
+    int
+        As :func:`insert_vertex`; or, refused, ``REFUSED_BASE - ncav`` with the cavity of
+        ncav triangles in ``work`` (``REFUSED_BASE`` alone for an inconsistent split cavity)
+        and nothing else modified.
     """
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = borrowed((pts, tri, nbr, circ, rank, cons, meta, work, vmark))
     if _short(pts, tri, nbr, circ, cons, meta, vmark):
         return NEED_SPACE
-    t0, _ = _walk(pts, tri, nbr, cons, meta, t, pts[v, 0], pts[v, 1], False)
-    ncav = _cavity(pts, tri, nbr, circ, rank, cons, meta, work, v, t0)
-    if ncav < 0:
+    # One inlined cavity growth for every mode: the seeds first.
+    if mode == I_SPLIT:
+        _mark_split(t, tri, cons, meta)
+        seed0 = t // 3
+        seed1 = nbr[t]
+    else:
+        seed0 = t
+        if mode == I_WALK:
+            seed0, _ = _walk(pts, tri, nbr, cons, meta, t, pts[v, 0], pts[v, 1], False)
+        seed1 = _cavity_seed(pts, tri, nbr, cons, meta, v, seed0)
+        if seed1 <= DUP_BASE:
+            return seed1
+    ncav = _grow(pts, tri, nbr, circ, rank, cons, meta, work, v, seed0, seed1)
+    if mode == I_SPLIT:
+        if ncav == NEED_SPACE:
+            meta[M_SPLIT_C] = 0
+            return ncav
+        if ncav < 0 or not _star_shaped(pts, work, v, ncav):
+            meta[M_SPLIT_C] = 0
+            return REFUSED_BASE - max(ncav, 0)
+    elif ncav < 0:
         return ncav
+    elif mode == I_SCREEN:
+        bo = 2 * (work.shape[0] // 5)
+        for j in range(ncav + 2):
+            o = bo + 3 * j
+            if cons[work[o + 2]] != 0:
+                u = work[o]
+                w = work[o + 1]
+                if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], pts[v, 0], pts[v, 1]):
+                    return REFUSED_BASE - ncav
     return _fan(pts, tri, nbr, circ, cons, meta, work, vmark, v, ncav)
 
 
@@ -517,7 +554,7 @@ def insert_vertex(v, t, s):
         success modifies the triangulation.
     """
     pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
-    return insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t)
+    return insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, t, np.int64(I_WALK))
 
 
 @njit(cache=True, nogil=True)
@@ -539,29 +576,11 @@ def split_edge(v, h, s):
         and nothing was modified.
     """
     s = borrowed(s)
-    if _short_of_space(s):
-        return NEED_SPACE
-    _mark_split(h, s.tri, s.cons, s.meta)
-    ncav = _grow_cavity(v, h // 3, s.nbr[h], s)
-    if ncav == NEED_SPACE:
-        s.meta[M_SPLIT_C] = 0
-        return ncav
-    star = ncav > 0
-    if star:
-        pts, work = s.pts, s.work
-        bo = 2 * (work.shape[0] // 5)
-        px = pts[v, 0]
-        py = pts[v, 1]
-        for j in range(ncav + 2):
-            u = work[bo + 3 * j]
-            w = work[bo + 3 * j + 1]
-            if u != GHOST and w != GHOST and orient_filtered(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], px, py) <= 0.0:
-                star = False
-                break
-    if star:
-        return fan(v, ncav, s)
-    s.meta[M_SPLIT_C] = 0
-    return _split_by_flips(v, h, s)
+    pts, tri, nbr, circ, rank, cons, meta, work, vmark = s
+    tn = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, v, h, np.int64(I_SPLIT))
+    if tn <= REFUSED_BASE:
+        return _split_by_flips(v, h, s)
+    return tn
 
 
 @njit(inline="always")

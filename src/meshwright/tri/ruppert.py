@@ -72,8 +72,9 @@ from meshwright.core.errors import GeometryError, InputError, MeshingError
 from meshwright.core.flat import GHOST, grown_rows, next3, prev3
 from meshwright.sizing.field import as_size_field
 from meshwright.tri._encroach import R_BROKEN, R_DONE, R_ROOM, edge_of, encroaches, param_of, room_of, set_flags, split_point
-from meshwright.tri._kernel2d import BROKEN, DUP_BASE, M_NTRI, M_NV, NEED_SPACE, _cavity, _fan, _on_constraint, _walk, split_edge
-from meshwright.tri._kernel2d import _short as _no_room
+from meshwright.tri._kernel2d import (
+    BROKEN, DUP_BASE, I_SCREEN, M_NTRI, M_NV, NEED_SPACE, REFUSED_BASE, _on_constraint, _walk, insert_arrays, split_edge,
+)
 from meshwright.tri._refine_caps import Caps
 from meshwright.tri._refine_state import (
     EQUILATERAL, MODE_CONFORM, MODE_RUPPERT, P_AMAX, P_CT, P_CX, P_CY, P_LEN, P_OFF, P_SIN2, P_TA, P_TB, P_WX, P_WY, QB,
@@ -148,6 +149,7 @@ def refine_loop(s, c, r):
     qhead, qnext, qval, qhdr, sq, pend, _, st, prm, fz, held, _ = r
     rows, slots = room_of(s, c)
     wcap = work.shape[0] // 5
+    screen = np.int64(I_SCREEN)  # a variable, not a literal: insert_arrays keeps one signature
     while True:
         nv = meta[M_NV]
         if _short(rows, slots, wcap, meta, qnext, qhdr, sq, pend, held, st):
@@ -232,40 +234,36 @@ def refine_loop(s, c, r):
                 return R_CAP_POINTS
             pts[nv, 0] = x
             pts[nv, 1] = y
-            ncav = NEED_SPACE if _no_room(pts, tri, nbr, circ, cons, meta, vmark) else _cavity(
-                pts, tri, nbr, circ, rank, cons, meta, work, nv, t0
-            )
-            if ncav == NEED_SPACE:
+            f0 = treg[t0]
+            # The insertion kernel's compiled copy (shared with every per-point insertion:
+            # an inlined cavity and fan here took about 4 s of the first run's compile),
+            # which refuses a point inside the diametral circle of a subsegment on its
+            # cavity boundary (the only subsegments it can encroach).
+            tn = insert_arrays(pts, tri, nbr, circ, rank, cons, meta, work, vmark, nv, t0, screen)
+            if tn == NEED_SPACE:
                 requeue(t, pts, tri, qhead, qnext, qval, qhdr)
                 return R_ROOM
-            if ncav == BROKEN:
+            if tn == BROKEN:
                 return R_BROKEN
-            if ncav <= DUP_BASE:
+            if tn <= REFUSED_BASE:
+                # Refused: split the encroached subsegments instead (the cavity is in work).
+                bo = 2 * (work.shape[0] // 5)
+                enc = False
+                for j in range(REFUSED_BASE - tn + 2):
+                    o = bo + 3 * j
+                    if cons[work[o + 2]] != 0:
+                        u = work[o]
+                        w = work[o + 1]
+                        if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y):
+                            if not hold_subsegment(u, w, work[o + 2], cons, fz, held, st):
+                                push_seg(u, w, sq, st)
+                                enc = True
+                if enc:
+                    requeue(t, pts, tri, qhead, qnext, qval, qhdr)
+                continue
+            if tn <= DUP_BASE:
                 st[S_SKIPPED] += 1
                 continue
-            # Reject a point inside the diametral circle of a subsegment on its cavity
-            # boundary (the only subsegments it can encroach): split those instead.
-            bo = 2 * (work.shape[0] // 5)
-            enc = False
-            froze = False
-            for j in range(ncav + 2):
-                o = bo + 3 * j
-                if cons[work[o + 2]] != 0:
-                    u = work[o]
-                    w = work[o + 1]
-                    if encroaches(pts[u, 0], pts[u, 1], pts[w, 0], pts[w, 1], x, y):
-                        if hold_subsegment(u, w, work[o + 2], cons, fz, held, st):
-                            froze = True
-                        else:
-                            push_seg(u, w, sq, st)
-                            enc = True
-            if enc:
-                requeue(t, pts, tri, qhead, qnext, qval, qhdr)
-                continue
-            if froze:
-                continue
-            f0 = treg[t0]
-            tn = _fan(pts, tri, nbr, circ, cons, meta, work, vmark, nv, ncav)
             _new_vertex(nv, tn, -1, 0.0, -1, -1, 0, 0, f0, s, c, r)
             continue
         if st[S_PN] > 0:
