@@ -73,46 +73,103 @@ def _meet(pts, a, b, c, d):
     return o4 == 0 and _between(pts, c, d, b)
 
 
+@njit
+def _sweep_axis(pts, sa, sb):
+    """0 (x) or 1 (y): the longer side of the segments' bounding box, along which a sweep
+    separates them best (a sliver along y sorted by x put every segment in each query's
+    window)."""
+    x0 = np.inf
+    x1 = -np.inf
+    y0 = np.inf
+    y1 = -np.inf
+    for j in range(sa.shape[0]):
+        for v in (sa[j], sb[j]):
+            x0 = min(x0, pts[v, 0])
+            x1 = max(x1, pts[v, 0])
+            y0 = min(y0, pts[v, 1])
+            y1 = max(y1, pts[v, 1])
+    return 0 if x1 - x0 >= y1 - y0 else 1
+
+
 @njit(cache=True)
 def row_crossings(pts, na, nb, sa, sb):
     """(k,) bool: which new segments ``(na[i], nb[i])`` meet a segment of ``sa, sb``
     (closed segments, exact) other than at a shared end node.
 
-    ``sa, sb`` holds every paving-boundary edge and the new segments themselves.
+    ``sa, sb`` holds every paving-boundary edge and the new segments themselves.  The
+    segments are swept along the longer axis of their box in classes of extent (each
+    class up to twice its shortest, its own sorted list and window): with one window
+    as wide as the longest segment, a few long boundary edges beside a sliver's
+    200,000 short ones put thousands of segments in every query's window (a row's check
+    took 23 s).  The answer does not depend on the classes.
     """
     m = sa.shape[0]
-    xlo = np.empty(m)
-    span = 0.0
-    for j in range(m):
-        x0 = pts[sa[j], 0]
-        x1 = pts[sb[j], 0]
-        xlo[j] = min(x0, x1)
-        span = max(span, abs(x1 - x0))
-    order = np.argsort(xlo)
-    xs = xlo[order]
     bad = np.zeros(na.shape[0], dtype=np.bool_)
+    if m == 0:
+        return bad
+    ax = _sweep_axis(pts, sa, sb)
+    bx = 1 - ax
+    lo = np.empty(m)
+    ext = np.empty(m)
+    for j in range(m):
+        a0 = pts[sa[j], ax]
+        a1 = pts[sb[j], ax]
+        lo[j] = min(a0, a1)
+        ext[j] = abs(a1 - a0)
+    # Class 0: extent up to 8 times the mean; class c: up to 2**c times that (a
+    # handful of classes: a base at the smallest extent made thirty on a row, whose
+    # searches cost more than its windows; a median cost a sort).
+    base = 8.0 * ext.mean()
+    cls = np.zeros(m, dtype=np.int64)
+    nclass = 1
+    if base > 0.0:
+        for j in range(m):
+            if ext[j] > base:
+                cls[j] = min(int(np.ceil(np.log2(ext[j] / base))), 2000)
+                nclass = max(nclass, cls[j] + 1)
+    # Sorted by (class, low end): one sort by the low end, then a stable counting
+    # sort by class; each class's slice and widest extent (empty classes stay empty).
+    order0 = np.argsort(lo)
+    starts = np.zeros(nclass + 1, dtype=np.int64)
+    span = np.zeros(nclass)
+    for j in range(m):
+        starts[cls[j] + 1] += 1
+        span[cls[j]] = max(span[cls[j]], ext[j])
+    for c in range(nclass):
+        starts[c + 1] += starts[c]
+    fill = starts[:nclass].copy()
+    order = np.empty(m, dtype=np.int64)
+    key = np.empty(m)
+    for t in range(m):
+        j = order0[t]
+        order[fill[cls[j]]] = j
+        key[fill[cls[j]]] = lo[j]
+        fill[cls[j]] += 1
     for i in range(na.shape[0]):
         a = na[i]
         b = nb[i]
-        qx0 = min(pts[a, 0], pts[b, 0])
-        qx1 = max(pts[a, 0], pts[b, 0])
-        qy0 = min(pts[a, 1], pts[b, 1])
-        qy1 = max(pts[a, 1], pts[b, 1])
-        k = lower_bound(xs, np.int64(0), xs.shape[0], qx0 - span)
-        while k < m and xs[k] <= qx1:
-            j = order[k]
-            k += 1
-            c = sa[j]
-            d = sb[j]
-            if c == a or c == b or d == a or d == b:
-                continue
-            if max(pts[c, 0], pts[d, 0]) < qx0:
-                continue
-            if min(pts[c, 1], pts[d, 1]) > qy1 or max(pts[c, 1], pts[d, 1]) < qy0:
-                continue
-            if _meet(pts, a, b, c, d):
-                bad[i] = True
+        q0 = min(pts[a, ax], pts[b, ax])
+        q1 = max(pts[a, ax], pts[b, ax])
+        r0 = min(pts[a, bx], pts[b, bx])
+        r1 = max(pts[a, bx], pts[b, bx])
+        for c in range(nclass):
+            if bad[i]:
                 break
+            k = lower_bound(key, starts[c], starts[c + 1], q0 - span[c])
+            while k < starts[c + 1] and key[k] <= q1:
+                j = order[k]
+                k += 1
+                u = sa[j]
+                d = sb[j]
+                if u == a or u == b or d == a or d == b:
+                    continue
+                if max(pts[u, ax], pts[d, ax]) < q0:
+                    continue
+                if min(pts[u, bx], pts[d, bx]) > r1 or max(pts[u, bx], pts[d, bx]) < r0:
+                    continue
+                if _meet(pts, a, b, u, d):
+                    bad[i] = True
+                    break
     return bad
 
 
@@ -121,9 +178,12 @@ def nodes_in_quads(pts, quads, nodes):
     """(q,) bool: which quads (convex, counter-clockwise) hold one of ``nodes`` inside or
     on their boundary, the node not being one of their corners."""
     m = nodes.shape[0]
+    # Sorted along the longer side of the nodes' box (see row_crossings).
+    ax = _sweep_axis(pts, nodes, nodes)
+    bx = 1 - ax
     xs_all = np.empty(m)
     for j in range(m):
-        xs_all[j] = pts[nodes[j], 0]
+        xs_all[j] = pts[nodes[j], ax]
     order = np.argsort(xs_all)
     xs = xs_all[order]
     bad = np.zeros(quads.shape[0], dtype=np.bool_)
@@ -134,15 +194,15 @@ def nodes_in_quads(pts, quads, nodes):
         y1 = -np.inf
         for k in range(4):
             v = quads[q, k]
-            x0 = min(x0, pts[v, 0])
-            x1 = max(x1, pts[v, 0])
-            y0 = min(y0, pts[v, 1])
-            y1 = max(y1, pts[v, 1])
+            x0 = min(x0, pts[v, ax])
+            x1 = max(x1, pts[v, ax])
+            y0 = min(y0, pts[v, bx])
+            y1 = max(y1, pts[v, bx])
         k = lower_bound(xs, np.int64(0), xs.shape[0], x0)
         while k < m and xs[k] <= x1:
             v = nodes[order[k]]
             k += 1
-            if pts[v, 1] < y0 or pts[v, 1] > y1:
+            if pts[v, bx] < y0 or pts[v, bx] > y1:
                 continue
             if v == quads[q, 0] or v == quads[q, 1] or v == quads[q, 2] or v == quads[q, 3]:
                 continue
