@@ -96,13 +96,13 @@ from meshwright.tri._front_kernel import (
     V_FACE,
     _find_face,
     _gather,
-    _heap_pop,
     _make_triangle,
     _orient,
     _quality,
     _to_metric,
     _valid,
     heap_push,
+    pop_ready,
 )
 
 __all__ = ["FAR", "LEFT", "R_PAUSE", "SCRATCH", "colour_nodes", "new_scratch", "zhu_advance"]
@@ -485,6 +485,7 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
         if falive[wface[i]]:
             heap_push(hkey, hface, meta, wkey[i], wface[i])
     meta[M_NW] = 0
+    wmin = np.inf
     items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack = scratch
     depth = qmeta[Q_DEPTH]
     node_room = qmeta[Q_ROOM]
@@ -511,17 +512,7 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
             return R_STEPS
         if meta[M_NT] + 2 > max_tris:
             return R_PAUSE
-        f = -1
-        key = 0.0
-        while meta[M_NH] > 0:
-            key, f = _heap_pop(hkey, hface, meta)
-            if falive[f]:
-                if face[f, F_A] < meta[M_SYNC] and face[f, F_B] < meta[M_SYNC]:
-                    break
-                wkey[meta[M_NW]] = key
-                wface[meta[M_NW]] = f
-                meta[M_NW] += 1
-            f = -1
+        f, key, wmin = pop_ready(fs, wmin)
         if f < 0:
             return R_SYNC if meta[M_NW] > 0 else R_DONE
         meta[M_STEPS] += 1

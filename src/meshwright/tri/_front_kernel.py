@@ -74,6 +74,7 @@ F_A, F_B, F_NEXT, F_TRIES = range(4)
 ROOM_FACES = 512  # free face / heap slots required before each step (a back-off adds <= 3 * 96)
 BACKOFF_TRIS = 32  # triangles removed per ring of a back-off
 MAX_LEVEL = 3  # back-off rings before giving up on a face
+WAIT_RATIO = 4.0  # a ready face longer than this many times a waiting one waits for the field too
 _Q = 4.0 * np.sqrt(3.0)
 
 
@@ -120,6 +121,33 @@ def _heap_pop(hkey, hface, meta):
     core_heap_pop(hkey, hface, meta[M_NH])
     meta[M_NH] -= 1
     return top_key, top
+
+
+@njit(inline="always")
+def pop_ready(fs, wmin):
+    """The shortest face whose ends have their metric, or -1 for none (Python must evaluate
+    the size field if faces wait, ``meta[M_NW] > 0``); returns ``(f, key, wmin)``.
+
+    A face with a new end waits (``wkey`` / ``wface``); ``wmin`` is the smallest waiting
+    key so far in this kernel call (``inf`` at its start).  A ready face longer than
+    ``WAIT_RATIO`` times it is pushed back and -1 returned: advancing it first would lay
+    a large triangle beside small faces still to advance (at a size jump, a node far out
+    that the small faces then fan to, in slivers), as the shortest-first order forbids.
+    """
+    hkey, hface, wkey, wface, falive, face, meta = fs.hkey, fs.hface, fs.wkey, fs.wface, fs.falive, fs.face, fs.meta
+    while meta[M_NH] > 0:
+        key, f = _heap_pop(hkey, hface, meta)
+        if falive[f]:
+            if face[f, F_A] < meta[M_SYNC] and face[f, F_B] < meta[M_SYNC]:
+                if key > WAIT_RATIO * wmin:
+                    heap_push(hkey, hface, meta, key, f)
+                    return -1, key, wmin
+                return f, key, wmin
+            wkey[meta[M_NW]] = key
+            wface[meta[M_NW]] = f
+            meta[M_NW] += 1
+            wmin = min(wmin, key)
+    return -1, 0.0, wmin
 
 
 # ------------------------------------------------------------------------------- faces
@@ -676,6 +704,7 @@ def advance(fs, par):
         if falive[wface[i]]:
             heap_push(hkey, hface, meta, wkey[i], wface[i])
     meta[M_NW] = 0
+    wmin = np.inf
     items = np.empty(256, dtype=np.int32)
     nodes = np.empty(256, dtype=np.int32)
     cand = np.empty(256, dtype=np.int32)
@@ -706,17 +735,7 @@ def advance(fs, par):
             return R_POINTS
         if meta[M_STEPS] > 16 * meta[M_NF] + 100_000:
             return R_STEPS
-        f = -1
-        key = 0.0
-        while meta[M_NH] > 0:
-            key, f = _heap_pop(hkey, hface, meta)
-            if falive[f]:
-                if face[f, F_A] < meta[M_SYNC] and face[f, F_B] < meta[M_SYNC]:
-                    break
-                wkey[meta[M_NW]] = key
-                wface[meta[M_NW]] = f
-                meta[M_NW] += 1
-            f = -1
+        f, key, wmin = pop_ready(fs, wmin)
         if f < 0:
             return R_SYNC if meta[M_NW] > 0 else R_DONE
         meta[M_STEPS] += 1

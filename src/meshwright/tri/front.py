@@ -56,8 +56,12 @@ than ``max_backoff`` back-offs in all, raises :class:`MeshingError` naming the f
 
 Sizes: nodes carry their metric, evaluated in batches (the field is a Python callable): a
 face whose end is a node made since the last evaluation waits, and the field is evaluated
-when only waiting faces are left or ``SYNC_EVERY`` nodes are new.  Every face is thus
-advanced with the exact metric of its ends; a uniform metric needs no evaluation at all.
+when only waiting faces are left, ``SYNC_EVERY`` nodes are new, or the shortest ready face
+is more than ``WAIT_RATIO`` (:mod:`meshwright.tri._front_kernel`) times as long as a
+waiting one: the shortest-first order then holds across the waits too (without it, at a
+size jump, a coarse face advanced while the fine faces beside it waited and they closed on
+its far node in a fan of slivers).  Every face is thus advanced with the exact metric of
+its ends; a uniform metric needs no evaluation at all.
 
 Array layout: :mod:`meshwright.tri._front_kernel`.  Output: the constrained triangulation's
 vertices followed by the generated nodes (``points`` (n, 2) float64) and counter-clockwise
