@@ -53,6 +53,7 @@ import numpy as np
 
 from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.core.flat import grown_rows
+from meshwright.core.validate_input import check_flag
 from meshwright.quad import _zhu_kernel as zk
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
@@ -285,7 +286,7 @@ class PairFront:
         return fs.pts[:npts][keep].copy(), newid[tris], pairs, report
 
 
-def zhu_front(ct, size, *, max_points: int | None = None):
+def zhu_front(ct, size, *, max_points: int | None = None, grade: bool = False):
     """Quadrilateral pairs of the domain of a classified constrained triangulation, made two
     triangles at a time by the advancing front (module docstring).
 
@@ -293,11 +294,14 @@ def zhu_front(ct, size, *, max_points: int | None = None):
     ----------
     ct : ConstrainedTriangulation
         From :func:`meshwright.tri.cdt.cdt_build`, classified; its segments are the
-        initial front (never split).
+        initial front (never split unless ``grade``).
     size : number, callable, SizeField or BackgroundGrid
         Spacing; a background grid also gives stretching and direction.
     max_points : int, optional
         Cap on the number of nodes.
+    grade : bool
+        Split the subsegments much longer than the size at their finer end first, an even
+        number of times per segment (:func:`meshwright.tri.front.grade_segments`).
 
     Returns
     -------
@@ -317,6 +321,8 @@ def zhu_front(ct, size, *, max_points: int | None = None):
         The triangle front closing the faces left could not advance a face (named), or a
         cap was hit.
     """
+    if check_flag(grade, "grade"):
+        tf.grade_segments(ct, as_size_field(size))
     pf = PairFront(ct, size, max_points)
     pf.run()
     return pf.result()

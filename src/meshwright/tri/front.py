@@ -85,7 +85,7 @@ from meshwright.tri.smoothing import smooth
 __all__ = [
     "advancing_front", "metric_at", "area_cap", "split_long_segments",
     "CLOSE", "SEARCH", "GOOD", "LONG", "CLEAR_NODE", "CLEAR_FACE", "CLEAR_EDGE", "MAX_DEFER", "SYNC_EVERY",
-    "MAX_AREA_SIDE", "SWAP_PASSES", "SWAP_GAIN", "SMOOTH_PASSES",
+    "MAX_AREA_SIDE", "SWAP_PASSES", "SWAP_GAIN", "SMOOTH_PASSES", "GRADE", "grade_segments",
 ]
 
 CLOSE = 0.8  # nodes within CLOSE rho (metric) of the ideal point are preferred to it
@@ -101,6 +101,8 @@ MAX_AREA_SIDE = 0.8  # an area bound A caps the spacing at this fraction of sqrt
 SWAP_PASSES = 8  # passes of diagonal swapping over the finished mesh
 SWAP_GAIN = 1e-4  # radians a swap must add to the smallest angle of its two triangles
 SMOOTH_PASSES = 2  # guarded Laplacian passes over the generated nodes (isotropic sizes only)
+GRADE = 2.5  # grade=True: a subsegment longer than this many sizes of its finer end is halved
+MAX_GRADE_ROUNDS = 64  # halvings of one piece: a size ratio up to 2**64 along one segment
 
 
 def metric_at(field, xy, cap=None) -> np.ndarray:
@@ -300,9 +302,77 @@ def split_long_segments(ct, cap, max_rounds: int = 64) -> int:
     raise MeshingError(f"segments still longer than the area bound allows after {max_rounds} rounds of halving")
 
 
+def _too_long(pts, edges, field, cap):
+    """Whether each subsegment (k, 2) is longer than ``GRADE`` sizes of its finer end (its
+    metric length in either end's metric above ``GRADE``); returns (k,) bool."""
+    a, b = pts[edges[:, 0]], pts[edges[:, 1]]
+    m = metric_at(field, np.concatenate([a, b]), cap).reshape(2, -1, 3)
+    d = b - a
+    sq = d[:, 0] ** 2 * m[:, :, 0] + 2.0 * d[:, 0] * d[:, 1] * m[:, :, 1] + d[:, 1] ** 2 * m[:, :, 2]
+    return sq.max(axis=0) > GRADE * GRADE
+
+
+def grade_segments(ct, field, cap=None) -> int:
+    """Halve the subsegments of ``ct`` that are longer than ``GRADE`` sizes of their finer end.
+
+    Where the size jumps along the boundary (a small-size region, a size field's step), the
+    discretisation follows the field faithfully: one segment of the coarse size next to
+    the fine ones.  The front cannot lay a good triangle on it: the fine region's graded
+    layers put nodes all along it, so it closes on a node near its fine end, a sliver with
+    an angle of about fine / coarse radians, and the faces beside it fan in slivers.
+    Halving it towards its fine end (at the midpoint, on the true curve where ``ct`` knows
+    it) grades the boundary by 2 per piece, as the front grades the interior.
+
+    Every segment (id) receives an even number of new vertices, so every loop keeps the
+    parity of its node count (the quad pairing needs even loops): an odd count gets one
+    more split, at its longest piece.
+
+    Parameters
+    ----------
+    ct : ConstrainedTriangulation
+        Classified; split in place.
+    field : SizeField or BackgroundGrid
+    cap : callable, optional
+        The spacing bound of :func:`area_cap`.
+
+    Returns
+    -------
+    int
+        The number of splits.
+
+    Raises
+    ------
+    MeshingError
+        A piece still too long after ``MAX_GRADE_ROUNDS`` halvings (a size going to 0).
+    """
+    edges, ids = ct.segments()
+    added = np.zeros(int(ids.max()) + 1 if len(ids) else 0, dtype=np.int64)
+    for _ in range(MAX_GRADE_ROUNDS):
+        long = _too_long(np.asarray(ct.points), edges, field, cap)
+        if not long.any():
+            break
+        for u, w in edges[long].tolist():
+            ct.split_segment(u, w)
+        added += np.bincount(ids[long], minlength=len(added))
+        edges, ids = ct.segments()
+    else:
+        raise MeshingError(
+            f"boundary pieces still longer than {GRADE} sizes of their finer end after {MAX_GRADE_ROUNDS} halvings"
+        )
+    odd = np.flatnonzero(added % 2 == 1)
+    if len(odd):
+        p = np.asarray(ct.points)
+        length = np.hypot(*(p[edges[:, 1]] - p[edges[:, 0]]).T)
+        for sid in odd.tolist():
+            mine = np.flatnonzero(ids == sid)
+            u, w = edges[mine[np.argmax(length[mine])]].tolist()
+            ct.split_segment(u, w)
+    return int(added.sum()) + len(odd)
+
+
 def advancing_front(
     ct, size, *, max_area: float | None = None, max_points: int | None = None, max_backoff: int | None = None,
-    progress=None, finish: bool = True,
+    progress=None, finish: bool = True, grade: bool = False,
 ):
     """Mesh the inside of a classified constrained triangulation by the advancing front.
 
@@ -310,7 +380,7 @@ def advancing_front(
     ----------
     ct : ConstrainedTriangulation
         From :func:`meshwright.tri.cdt.cdt_build`, classified; its segments are the
-        initial front (they are never split).
+        initial front (split only by ``max_area`` and ``grade``).
     size : number, callable, SizeField or BackgroundGrid
         Spacing; a background grid also gives stretching and direction.
     max_area : float, optional
@@ -329,6 +399,10 @@ def advancing_front(
         Swap diagonals and smooth the nodes after closing (the default); False returns the
         triangles as the front closed them, for a caller that reshapes the mesh itself
         (the quad pairing combines them and smooths the quads).
+    grade : bool
+        Split the subsegments much longer than the size at their finer end first
+        (:func:`grade_segments`: a size jump along the boundary); False (the default)
+        keeps them, for a caller whose boundary must stay as given (paving's void fill).
 
     Returns
     -------
@@ -344,10 +418,13 @@ def advancing_front(
         was hit.
     """
     finish = check_flag(finish, "finish")
+    grade = check_flag(grade, "grade")
     field = as_size_field(size)
     cap = area_cap(ct, max_area)
     if cap is not None:
         split_long_segments(ct, cap)
+    if grade:
+        grade_segments(ct, field, cap)
     faces, free, used, inside_tris = _initial_front(ct)
     pts0 = np.ascontiguousarray(ct.points, dtype=np.float64)
     metric = np.zeros((len(pts0), 3))
