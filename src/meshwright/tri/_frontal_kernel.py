@@ -378,31 +378,37 @@ def seed_scaffold(xy, i0, s, c, f, bg):
 
 
 @njit(inline="always")
-def _star_update(v, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg):
-    """Classify the new star of vertex v, then queue it and its outer neighbours on the front."""
-    s0 = vtri[v]
-    sl = s0
-    for _ in range(1024):
-        k = 0
-        while tri[3 * sl + k] != v:
-            k += 1
-        if _inside(sl, tri, treg):
-            classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg, q)
-        sl = nbr[3 * sl + (k + 1) % 3]
-        if sl == s0 or sl < 0:
-            break
-    sl = s0
-    for _ in range(1024):
-        k = 0
-        while tri[3 * sl + k] != v:
-            k += 1
-        # One inlined copy for the slot and its outer neighbour (a copy per call site typed
-        # and lowered again on the first run).
-        for j in range(2):
-            _push_if_front(sl if j == 0 else nbr[3 * sl + k], pts, tri, nbr, treg, acc, ratio, q)
-        sl = nbr[3 * sl + (k + 1) % 3]
-        if sl == s0 or sl < 0:
-            break
+def _star_update(v, n, scr, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg):
+    """Classify, then queue on the front: with n > 0 the n new triangles of a scaffold
+    removal (slots ``scr[KMAX:KMAX + n]``, :func:`_drop`) and their three neighbours each;
+    else the star of vertex v, each slot and its outer neighbour.
+
+    One loop over both phases and both kinds, so that :func:`run` inlines one copy of
+    :func:`classify` and of :func:`_push_if_front` for all of them (a copy per call site is
+    typed and lowered again on the first run; issue 13)."""
+    for phase in range(2):
+        sl = scr[KMAX] if n > 0 else vtri[v]
+        s0 = sl
+        for i in range(n if n > 0 else 1024):
+            k = -1
+            if n > 0:
+                sl = scr[KMAX + i]
+            else:
+                k = 0
+                while tri[3 * sl + k] != v:
+                    k += 1
+            if phase == 0:
+                if n > 0 or _inside(sl, tri, treg):
+                    classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg, q)
+            else:
+                # The slot (j = -1), then its outer neighbour in a star or all three.
+                for j in range(-1, 3):
+                    if j < 0 or n > 0 or j == k:
+                        _push_if_front(sl if j < 0 else nbr[3 * sl + j], pts, tri, nbr, treg, acc, ratio, q)
+            if n == 0:
+                sl = nbr[3 * sl + (k + 1) % 3]
+                if sl == s0 or sl < 0:
+                    break
 
 
 @njit(cache=True)
@@ -415,9 +421,11 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, b
     methods cached); as a call, 39 s, and no measurable run time (one call per removed
     scaffold vertex; disk of 289k triangles, 2026-12-02).
 
-    Returns True when the removal was refused: v stays as an ordinary vertex (counted in
-    ``FM_KEPT``) whose star the caller updates with its own inlined :func:`_star_update`
-    (a copy here typed and lowered again on every first run: issue 13, about 3 s).
+    Returns the number n of new triangles, their slots in ``scr[KMAX:KMAX + n]``, which the
+    caller classifies and queues with its own inlined :func:`_star_update`; or 0 when the
+    removal was refused: v stays as an ordinary vertex (counted in ``FM_KEPT``) whose star
+    the caller updates the same way (copies here were typed and lowered again on every
+    first run: issue 13, about 3 s for the star's, 2 s for the new triangles').
     """
     vflag[v] = 0
     fmeta[FM_NSCAF] -= 1
@@ -445,14 +453,7 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, b
                     st[i] = fs
             _push_if_front(fs, pts, tri, nbr, treg, acc, ratio, q)
         meta[M_NTRI] = last
-    for i in range(k - 2):
-        classify(st[i], pts, tri, acc, ratio, par, bg, vflag, vbg, q)
-    for i in range(k - 2):
-        # Each new triangle (j = -1), then its three neighbours: one inlined copy.
-        t = st[i]
-        for j in range(-1, 3):
-            _push_if_front(t if j < 0 else nbr[3 * t + j], pts, tri, nbr, treg, acc, ratio, q)
-    return False
+    return k - 2
 
 
 @njit(cache=True)
@@ -472,14 +473,15 @@ def run(s, c, f, bg):
     q = (qhead, qnext, qprev, qbin, qhdr)
     rows, slots = enc.room_of(s, c)
     rows = min(rows, vflag.shape[0], free.shape[0], vbg.shape[0])
-    # The vertex whose new star the last step left to classify and queue: done here, at the
-    # top of the next step, so that the loop has one inlined copy of _star_update for
-    # insertions and refused removals alike (it changes no slot count, so the room check
-    # below holds after it as before).
+    # The vertex whose new star (or, nnew > 0, whose removal's new triangles) the last step
+    # left to classify and queue: done here, at the top of the next step, so that the loop
+    # has one inlined copy of _star_update for insertions and removals alike (it changes no
+    # slot count, so the room check below holds after it as before).
     pending = -1
+    nnew = 0  # with pending: the new triangles of a scaffold removal, or 0 for pending's star
     while True:
         if pending >= 0:
-            _star_update(pending, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg)
+            _star_update(pending, nnew, scr, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg)
             pending = -1
         ntri = meta[M_NTRI]
         if (
@@ -498,9 +500,9 @@ def run(s, c, f, bg):
             if v >= meta[M_NV]:
                 fmeta[FM_NSCAF] = 0
                 continue
-            if _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr, s,
-                     c):
-                pending = v
+            nnew = _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr,
+                         s, c)
+            pending = v
             continue
         if meta[M_NV] - fmeta[FM_NFREE] - fmeta[FM_NSCAF] >= par[P_MAX_POINTS]:
             return F_POINTS
@@ -538,18 +540,18 @@ def run(s, c, f, bg):
         if near >= 0:
             # A scaffold vertex in the way: remove it and try t again (if it survived).
             _push(t, ratio, q)
-            if _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free, scr,
-                     s, c):
-                pending = near
+            nnew = _drop(near, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free,
+                         scr, s, c)
+            pending = near
             continue
         if near == _NEAR_CROWDED:
             # No room for a point: the triangle stays as it is and joins the accepted ones,
             # unless it hangs on a scaffold vertex, which goes instead.
             sv = _scaffold_of(t, tri, vflag)
             if sv >= 0:
-                if _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free,
-                         scr, s, c):
-                    pending = sv
+                nnew = _drop(sv, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, bg, vflag, vbg, free,
+                             scr, s, c)
+                pending = sv
                 continue
             acc[t] = 1
             for k in range(3):
@@ -567,6 +569,7 @@ def run(s, c, f, bg):
         fmeta[FM_ADDED] += 1
         vbg[v] = near_bg  # the front edge's midpoint is within about h of v
         pending = v
+        nnew = 0
 
 
 @njit(cache=True)
