@@ -87,6 +87,7 @@ from meshwright.tri._front_kernel import (
     P_QMIN,
     P_SYNC_EVERY,
     P_UNIFORM,
+    P_WAIT,
     R_DONE,
     R_POINTS,
     R_ROOM,
@@ -512,7 +513,7 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
             return R_STEPS
         if meta[M_NT] + 2 > max_tris:
             return R_PAUSE
-        f, key, wmin = pop_ready(fs, wmin)
+        f, key, wmin = pop_ready(fs, wmin, par[P_WAIT])
         if f < 0:
             return R_SYNC if meta[M_NW] > 0 else R_DONE
         meta[M_STEPS] += 1

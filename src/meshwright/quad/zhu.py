@@ -301,7 +301,8 @@ def zhu_front(ct, size, *, max_points: int | None = None, grade: bool = False):
         Cap on the number of nodes.
     grade : bool
         Split the subsegments much longer than the size at their finer end first, an even
-        number of times per segment (:func:`meshwright.tri.front.grade_segments`).
+        number of times per segment (:func:`meshwright.tri.front.grade_segments`), and
+        keep the shortest-first order across the size field's waits (``WAIT_RATIO``).
 
     Returns
     -------
@@ -324,5 +325,8 @@ def zhu_front(ct, size, *, max_points: int | None = None, grade: bool = False):
     if check_flag(grade, "grade"):
         tf.grade_segments(ct, as_size_field(size))
     pf = PairFront(ct, size, max_points)
+    if grade:
+        # A graded boundary goes with the shortest-first order across the field's waits.
+        pf.par[fk.P_WAIT] = fk.WAIT_RATIO
     pf.run()
     return pf.result()

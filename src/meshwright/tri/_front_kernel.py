@@ -66,7 +66,7 @@ R_STEPS = 4  # the step cap was hit
 R_POINTS = 5  # the node cap par[P_MAX_POINTS] was passed
 
 M_NP, M_NF, M_NH, M_NT, M_STEPS, M_BACKOFF, M_SYNC, M_FAIL, M_NIN, M_STAMP, M_NW, M_LEN = range(12)
-P_CLOSE, P_SEARCH, P_CLEAR_N, P_CLEAR_F, P_DEFER, P_SYNC_EVERY, P_MAX_BACKOFF, P_MAX_DEFER, P_QMIN, P_CLEAR_E, P_LONG, P_UNIFORM, P_MAX_POINTS, P_LEN = range(14)
+P_CLOSE, P_SEARCH, P_CLEAR_N, P_CLEAR_F, P_DEFER, P_SYNC_EVERY, P_MAX_BACKOFF, P_MAX_DEFER, P_QMIN, P_CLEAR_E, P_LONG, P_UNIFORM, P_MAX_POINTS, P_WAIT, P_LEN = range(15)
 
 V_FACE, V_TRI, V_FREE, V_STAMP = range(4)
 F_A, F_B, F_NEXT, F_TRIES = range(4)
@@ -74,7 +74,7 @@ F_A, F_B, F_NEXT, F_TRIES = range(4)
 ROOM_FACES = 512  # free face / heap slots required before each step (a back-off adds <= 3 * 96)
 BACKOFF_TRIS = 32  # triangles removed per ring of a back-off
 MAX_LEVEL = 3  # back-off rings before giving up on a face
-WAIT_RATIO = 4.0  # a ready face longer than this many times a waiting one waits for the field too
+WAIT_RATIO = 4.0  # par[P_WAIT] of a graded front: a ready face this many times longer than a waiting one waits too
 _Q = 4.0 * np.sqrt(3.0)
 
 
@@ -124,13 +124,15 @@ def _heap_pop(hkey, hface, meta):
 
 
 @njit(inline="always")
-def pop_ready(fs, wmin):
+def pop_ready(fs, wmin, ratio):
     """The shortest face whose ends have their metric, or -1 for none (Python must evaluate
     the size field if faces wait, ``meta[M_NW] > 0``); returns ``(f, key, wmin)``.
 
     A face with a new end waits (``wkey`` / ``wface``); ``wmin`` is the smallest waiting
-    key so far in this kernel call (``inf`` at its start).  A ready face longer than
-    ``WAIT_RATIO`` times it is pushed back and -1 returned: advancing it first would lay
+    key so far in this kernel call (``inf`` at its start).  With ``ratio > 0``
+    (``par[P_WAIT]``, :data:`WAIT_RATIO` where the caller grades a size jump; 0 keeps the
+    earlier order) a ready face longer than ``ratio`` times it is pushed back and -1
+    returned: advancing it first would lay
     a large triangle beside small faces still to advance (at a size jump, a node far out
     that the small faces then fan to, in slivers), as the shortest-first order forbids.
     """
@@ -139,7 +141,7 @@ def pop_ready(fs, wmin):
         key, f = _heap_pop(hkey, hface, meta)
         if falive[f]:
             if face[f, F_A] < meta[M_SYNC] and face[f, F_B] < meta[M_SYNC]:
-                if key > WAIT_RATIO * wmin:
+                if ratio > 0.0 and key > ratio * wmin:
                     heap_push(hkey, hface, meta, key, f)
                     return -1, key, wmin
                 return f, key, wmin
@@ -735,7 +737,7 @@ def advance(fs, par):
             return R_POINTS
         if meta[M_STEPS] > 16 * meta[M_NF] + 100_000:
             return R_STEPS
-        f, key, wmin = pop_ready(fs, wmin)
+        f, key, wmin = pop_ready(fs, wmin, par[P_WAIT])
         if f < 0:
             return R_SYNC if meta[M_NW] > 0 else R_DONE
         meta[M_STEPS] += 1

@@ -56,9 +56,9 @@ than ``max_backoff`` back-offs in all, raises :class:`MeshingError` naming the f
 
 Sizes: nodes carry their metric, evaluated in batches (the field is a Python callable): a
 face whose end is a node made since the last evaluation waits, and the field is evaluated
-when only waiting faces are left, ``SYNC_EVERY`` nodes are new, or the shortest ready face
-is more than ``WAIT_RATIO`` (:mod:`meshwright.tri._front_kernel`) times as long as a
-waiting one: the shortest-first order then holds across the waits too (without it, at a
+when only waiting faces are left, ``SYNC_EVERY`` nodes are new, or (``grade=True``) the
+shortest ready face is more than ``WAIT_RATIO`` (:mod:`meshwright.tri._front_kernel`) times
+as long as a waiting one: the shortest-first order then holds across the waits too (without it, at a
 size jump, a coarse face advanced while the fine faces beside it waited and they closed on
 its far node in a fan of slivers).  Every face is thus advanced with the exact metric of
 its ends; a uniform metric needs no evaluation at all.
@@ -401,8 +401,10 @@ def advancing_front(
         (the quad pairing combines them and smooths the quads).
     grade : bool
         Split the subsegments much longer than the size at their finer end first
-        (:func:`grade_segments`: a size jump along the boundary); False (the default)
-        keeps them, for a caller whose boundary must stay as given (paving's void fill).
+        (:func:`grade_segments`: a size jump along the boundary), and keep the
+        shortest-first order across the size field's waits (``WAIT_RATIO``); False (the
+        default) keeps the boundary and the earlier order, for a caller whose boundary
+        must stay as given (paving's void fill, whose angles the new order lowered).
 
     Returns
     -------
@@ -446,6 +448,8 @@ def advancing_front(
     par[fk.P_LONG] = LONG
     par[fk.P_MAX_POINTS] = point_cap
     par[fk.P_UNIFORM] = float(np.all(metric[used] == metric[used][0]) and _is_uniform(field) and cap is None)
+    # A graded boundary goes with the shortest-first order across the field's waits.
+    par[fk.P_WAIT] = fk.WAIT_RATIO if grade else 0.0
     while True:
         code = fr.advance(par)
         fs = fr.fs
