@@ -160,7 +160,7 @@ def _register(points, segments):
         count = _supercover(x[a], y[a], x[b], y[b], xmin, ymin, w, nx, ny, empty, count)
     keys = np.empty(count, dtype=np.int64)
     owner = np.empty(count, dtype=np.int64)
-    pos = 0
+    pos = np.int64(0)
     for s in range(m):
         a, b = segments[s, 0], segments[s, 1]
         nxt = _supercover(x[a], y[a], x[b], y[b], xmin, ymin, w, nx, ny, keys, pos)

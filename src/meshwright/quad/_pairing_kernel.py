@@ -130,11 +130,11 @@ def pair_quad(tri, nbr, t, k):
     """
     s = nbr[3 * t + k]
     if s < 0:
-        return -1, -1, -1, -1
+        return np.int64(-1), np.int64(-1), np.int64(-1), np.int64(-1)
     a = tri[3 * t + k]
     b = tri[3 * t + (k + 1) % 3]
     c = tri[3 * t + (k + 2) % 3]
-    d = -1
+    d = np.int64(-1)
     for j in range(3):
         if nbr[3 * s + j] == t:
             d = tri[3 * s + j]

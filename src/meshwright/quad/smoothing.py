@@ -272,7 +272,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
     kept = 0
     cur = np.ones(n, np.int8)
     nxt = np.zeros(n, np.int8)
-    cs, cv = _corner_table(points, cells, False)
+    cs, cv = _corner_table(points, cells, np.bool_(False))
     most = 0
     for v in range(n):
         most = max(most, cell_ptr[v + 1] - cell_ptr[v])
@@ -292,7 +292,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
             for step in (1.0, 0.5):
                 points[v, 0] = x0 + step * (tx - x0)
                 points[v, 1] = y0 + step * (ty - y0)
-                if _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, before, worst, slot, old, False):
+                if _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, before, worst, slot, old, np.bool_(False)):
                     kept += 1
                     if settle > 0.0 and _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
                         woke = True
@@ -379,7 +379,7 @@ def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, worst, cs, c
     y0 = points[v, 1]
     points[v, 0] = tx
     points[v, 1] = ty
-    if _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, before, worst, slot, old, True):
+    if _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, before, worst, slot, old, np.bool_(True)):
         return True
     points[v, 0] = x0
     points[v, 1] = y0
@@ -437,7 +437,7 @@ def _kernel_target(points, cells, cell_ptr, cell_idx, v, px, py, qx, qy):
             hi_y = max(hi_y, dy)
     px[0], py[0], px[1], py[1] = lo_x, lo_y, hi_x, lo_y
     px[2], py[2], px[3], py[3] = hi_x, hi_y, lo_x, hi_y
-    n = 4
+    n = np.int64(4)
     for t in range(cell_ptr[v], cell_ptr[v + 1]):
         c = cell_idx[t]
         nv = 4 if cells[c, 3] >= 0 else 3
