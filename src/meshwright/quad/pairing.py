@@ -21,7 +21,11 @@ skipped: the enhancement and the quad smoothing below reshape the quads themselv
    segment's arc-length midpoint), and up to :data:`RESPACE` nodes on each side along the
    same curve piece are spaced evenly again, so the front meets no half-length segment
    (it would close a sliver there).  With ``fixed_boundary=True`` the discretisation is
-   kept and an odd loop raises :class:`ParityError` naming it.  Even loops make the
+   kept and an odd loop raises :class:`ParityError` naming it; without it the triangle
+   front grades the boundary first (``advancing_front(grade=True)``: a segment longer
+   than ``GRADE`` sizes of its finer end is halved towards it, an even number of new
+   nodes per segment, and faces keep shortest-first order while sizes are evaluated), so a
+   size jump along the boundary does not close in slivers.  Even loops make the
    triangle count of the domain even (``t = 2 n_inside + n_boundary - 2 + 2 holes``), the
    necessary condition for pairing every triangle.  Before pairing, an ear of the front
    (a triangle on two boundary sides) wider than :data:`FLAT_ANGLE` has its third side
@@ -618,7 +622,8 @@ def pair_domain(
     smooth_boundary : bool
         Boundary nodes slide on their curves while smoothing; False keeps them fixed.
     fixed_boundary : bool
-        Keep the discretisation's boundary nodes: an odd loop is an error.
+        Keep the discretisation's boundary nodes: an odd loop is an error, and the
+        front does not grade the boundary (``advancing_front(grade=...)``).
     seed : int or numpy.random.Generator
         Randomness of the constrained triangulation and of the left-over walks.
     max_points : int, optional
@@ -670,7 +675,7 @@ def pair_domain(
     if front == "pairs":
         pts, tris, zpairs, _ = zhu_front(ct, field, max_points=cap)
     else:
-        pts, tris, zpairs = *advancing_front(ct, field, max_points=cap, finish=False), np.zeros((0, 2), np.int64)
+        pts, tris, zpairs = *advancing_front(ct, field, max_points=cap, finish=False, grade=not fixed_boundary), np.zeros((0, 2), np.int64)
     base = ct.to_mesh(segment_markers=disc.segment_markers, fill=(pts, tris))
     # The mesh keeps the front's triangle order; recover each line's curve.
     used = np.zeros(len(pts), dtype=bool)
