@@ -282,24 +282,39 @@ def _adjacency(tris, n: int, segments):
     return nbr.reshape(-1, 3), locked.astype(np.int8).reshape(-1, 3)
 
 
+def _halve(ct, too_long, max_rounds: int, what: str):
+    """Halve the subsegments of ``ct`` that ``too_long(points, edges)`` ((k, 2) -> (k,) bool)
+    selects, round after round (split points on the true curve), until none is selected.
+
+    Returns the splits per segment id, (ids,) int64, and the final (edges, ids) of
+    ``ct.segments()``; raises :class:`MeshingError` naming ``what`` if ``max_rounds``
+    rounds do not suffice."""
+    edges, ids = ct.segments()
+    added = np.zeros(int(ids.max()) + 1 if len(ids) else 0, dtype=np.int64)
+    for _ in range(max_rounds):
+        long = too_long(np.asarray(ct.points), edges)
+        if not long.any():
+            return added, edges, ids
+        for u, w in edges[long].tolist():
+            ct.split_segment(u, w)
+        added += np.bincount(ids[long], minlength=len(added))
+        edges, ids = ct.segments()
+    raise MeshingError(f"{what} after {max_rounds} rounds of halving")
+
+
 def split_long_segments(ct, cap, max_rounds: int = 64) -> int:
     """Split every subsegment of ``ct`` longer than ``cap(midpoint)`` (split points on the true curve).
 
     Returns the number of splits; raises :class:`MeshingError` if ``max_rounds`` halvings
     do not suffice (a bound far below the geometry's scale).
     """
-    count = 0
-    for _ in range(max_rounds):
-        edges, _ = ct.segments()
-        p = ct.points
+
+    def too_long(p, edges):
         a, b = p[edges[:, 0]], p[edges[:, 1]]
-        long = edges[np.hypot(*(b - a).T) > cap(0.5 * (a + b))]
-        if not len(long):
-            return count
-        for u, w in long.tolist():
-            ct.split_segment(u, w)
-        count += len(long)
-    raise MeshingError(f"segments still longer than the area bound allows after {max_rounds} rounds of halving")
+        return np.hypot(*(b - a).T) > cap(0.5 * (a + b))
+
+    added, _, _ = _halve(ct, too_long, max_rounds, "segments still longer than the area bound allows")
+    return int(added.sum())
 
 
 def _too_long(pts, edges, field, cap):
@@ -345,20 +360,10 @@ def grade_segments(ct, field, cap=None) -> int:
     MeshingError
         A piece still too long after ``MAX_GRADE_ROUNDS`` halvings (a size going to 0).
     """
-    edges, ids = ct.segments()
-    added = np.zeros(int(ids.max()) + 1 if len(ids) else 0, dtype=np.int64)
-    for _ in range(MAX_GRADE_ROUNDS):
-        long = _too_long(np.asarray(ct.points), edges, field, cap)
-        if not long.any():
-            break
-        for u, w in edges[long].tolist():
-            ct.split_segment(u, w)
-        added += np.bincount(ids[long], minlength=len(added))
-        edges, ids = ct.segments()
-    else:
-        raise MeshingError(
-            f"boundary pieces still longer than {GRADE} sizes of their finer end after {MAX_GRADE_ROUNDS} halvings"
-        )
+    added, edges, ids = _halve(
+        ct, lambda p, e: _too_long(p, e, field, cap), MAX_GRADE_ROUNDS,
+        f"boundary pieces still longer than {GRADE} sizes of their finer end",
+    )
     odd = np.flatnonzero(added % 2 == 1)
     if len(odd):
         p = np.asarray(ct.points)
