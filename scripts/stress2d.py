@@ -66,6 +66,7 @@ AREA_RTOL = 1e-9
 KINDS = ("plain", "collinear", "cocircular", "tiny", "spike", "thin", "junction")
 GRID = 2.0**-20  # junction cases: every coordinate a multiple of this, so splits at k/8 are exact
 JIT_TIMEOUT = 1800.0  # seconds a fresh worker may take to compile every method
+SJ_FLOOR = 0.2  # issue 12: quad meshes below this min scaled Jacobian are listed (not failures)
 
 
 def _star(rng, n, r_lo, r_hi, max_gap=math.pi / 2):
@@ -311,7 +312,7 @@ def _shoelace(loop: np.ndarray) -> float:
     return abs(0.5 * math.fsum(d[:-1, 0] * d[1:, 1] - d[:-1, 1] * d[1:, 0]))
 
 
-def quad_oracle(points: np.ndarray, cells: dict, outer: np.ndarray, holes: list, inputs: np.ndarray) -> None:
+def quad_oracle(points: np.ndarray, cells: dict, outer: np.ndarray, holes: list, inputs: np.ndarray) -> float:
     """The quad mesh checks that do not use meshwright (raise AssertionError on a failure).
 
     Parameters
@@ -324,6 +325,11 @@ def quad_oracle(points: np.ndarray, cells: dict, outer: np.ndarray, holes: list,
         The domain's outer loop; ``holes`` are (q, 2) float64 loops.
     inputs : (r, 2) float64
         Every input vertex (loops, segments, points): each must be a mesh vertex exactly.
+
+    Returns
+    -------
+    float
+        The smallest scaled Jacobian over every quad corner (positive on a pass).
     """
     other = sorted(set(cells) - {"quad", "line"})
     if other:
@@ -353,9 +359,10 @@ def quad_oracle(points: np.ndarray, cells: dict, outer: np.ndarray, holes: list,
     missing = inputs[~np.isin(inputs[:, 0] + 1j * inputs[:, 1], pts)]
     if len(missing):
         raise AssertionError(f"{len(missing)} input vertices missing, e.g. {missing[0].tolist()}")
+    return float(sj.min())
 
 
-def _check_quad(case: dict, method: str) -> None:
+def _check_quad(case: dict, method: str) -> float:
     import meshwright as mw
 
     dom, size, kw, inputs = build(case, method)
@@ -375,12 +382,13 @@ def _check_quad(case: dict, method: str) -> None:
     s, sh = case["scale"], np.asarray(case["shift"])
     outer = np.asarray(case["outer"], dtype=np.float64) * s + sh
     holes = [np.asarray(h, dtype=np.float64) * s + sh for h in case["holes"]]
-    quad_oracle(mesh.points, mesh.cells, outer, holes, inputs)
+    return quad_oracle(mesh.points, mesh.cells, outer, holes, inputs)
 
 
-def check(case: dict, method: str) -> None:
+def check(case: dict, method: str) -> float | None:
     """Run one method on one case; raise on any failure (see the module docstring), or
-    :class:`Refused` where a quad method refuses the case at its door as documented."""
+    :class:`Refused` where a quad method refuses the case at its door as documented.
+    A quad method's pass returns its mesh's smallest scaled Jacobian (None for triangles)."""
     import meshwright as mw
 
     if method in mw.QUAD_METHODS:
@@ -417,8 +425,8 @@ def _worker(conn, methods) -> None:
         case, method = job
         t = time.perf_counter()
         try:
-            check(case, method)
-            conn.send(("ok", "", time.perf_counter() - t))
+            sj = check(case, method)
+            conn.send(("ok", "" if sj is None else repr(sj), time.perf_counter() - t))
         except Refused as e:
             conn.send(("refused", str(e)[:2000], time.perf_counter() - t))
         except BaseException as e:  # noqa: BLE001 - every failure is recorded
@@ -554,13 +562,16 @@ def main(argv=None) -> int:
         ap.error(f"--start must be in [0, --count], got {args.start}")
     rng = np.random.default_rng(args.seed)
     workers = [_Worker(args.methods) for _ in range(args.jobs)]
-    tally = {"runs": 0, "fails": 0, "domains": set()}
+    tally = {"runs": 0, "fails": 0, "domains": set(), "low": []}
     per = {m: {"ok": 0, "refused": 0, "fail": 0} for m in args.methods}
     t0 = time.perf_counter()
 
     def report(i, case, method, status, msg):
         tally["runs"] += 1
         per[method][status] += 1
+        if status == "ok" and msg and float(msg) < SJ_FLOOR:
+            tally["low"].append((float(msg), i, method))
+            print(f"[{i}] {method} ({case['kind']}, size {case['size']['kind']}): min SJ {float(msg):.3g}", flush=True)
         if status == "fail":
             tally["fails"] += 1
             where = "" if args.no_record else f" -> {record(case, method, msg).name}"
@@ -578,7 +589,9 @@ def main(argv=None) -> int:
     print(f"done: {args.count} domains drawn, {len(tally['domains'])} meshed, {tally['runs']} meshes, "
           f"{tally['fails']} failures in {time.perf_counter() - t0:.0f} s")
     for m, c in per.items():
-        print(f"  {m}: {c['ok']} meshed, {c['refused']} refused, {c['fail']} failed")
+        low = sorted(sj for sj, _, mm in tally["low"] if mm == m)
+        under = f", {len(low)} under min SJ {SJ_FLOOR} (lowest {low[0]:.3g})" if low else ""
+        print(f"  {m}: {c['ok']} meshed, {c['refused']} refused, {c['fail']} failed{under}")
     return 1 if tally["fails"] else 0
 
 

@@ -23,7 +23,12 @@ OUTER = SQ_POINTS[:4]
 
 
 def test_quad_oracle_accepts_a_good_mesh():
-    S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS, "line": np.zeros((0, 2), int)}, OUTER, [], OUTER)
+    sj = S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS, "line": np.zeros((0, 2), int)}, OUTER, [], OUTER)
+    assert sj == pytest.approx(1.0)  # four squares
+    kite = SQ_POINTS.copy()
+    kite[4] = [0.6, 0.6]  # quad 2's corner there: sides (0.1, -0.4) in, (0.4, -0.1) out, cross 0.15 / 0.17
+    sj = S.quad_oracle(kite, {"quad": SQ_QUADS}, OUTER, [], OUTER)
+    assert sj == pytest.approx(15 / 17)
 
 
 def test_quad_oracle_rejects_each_defect():
