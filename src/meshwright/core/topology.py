@@ -29,10 +29,23 @@ def directed_edges(triangles: np.ndarray) -> np.ndarray:
     return np.stack([t[:, [1, 2, 0]], t[:, [2, 0, 1]]], axis=-1).reshape(-1, 2)
 
 
+def _edge_keys(pairs: np.ndarray) -> tuple[np.ndarray, int]:
+    """One int64 key ``a * n + b`` per row of ``pairs`` (e, 2) int64 (non-negative), and n.
+
+    A 1-D sort of these keys orders the rows lexicographically, as ``np.unique(..., axis=0)``
+    does, 10-30x faster: that one sorts a void view of the rows (0.96 s of 1.01 s for the
+    boundary edges of 289,000 triangles).
+    """
+    n = int(pairs.max()) + 1 if len(pairs) else 1
+    return pairs[:, 0] * n + pairs[:, 1], n
+
+
 def edges_of(triangles: np.ndarray) -> np.ndarray:
-    """Return the unique undirected edges, shape (e, 2) int32, each row sorted."""
-    d = np.sort(directed_edges(triangles), axis=1)
-    return np.unique(d, axis=0).astype(np.int32)
+    """Return the unique undirected edges, shape (e, 2) int32, each row sorted, rows in
+    lexicographic order."""
+    key, n = _edge_keys(np.sort(directed_edges(triangles), axis=1))
+    u = np.unique(key)
+    return np.column_stack([u // n, u % n]).astype(np.int32)
 
 
 def boundary_edges_of(triangles: np.ndarray) -> np.ndarray:
@@ -42,6 +55,6 @@ def boundary_edges_of(triangles: np.ndarray) -> np.ndarray:
     boundary and clockwise around holes (the domain lies to their left).
     """
     d = directed_edges(triangles)
-    key = np.sort(d, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    return d[counts[inverse.ravel()] == 1].astype(np.int32)
+    key, _ = _edge_keys(np.sort(d, axis=1))
+    _, inverse, counts = np.unique(key, return_inverse=True, return_counts=True)
+    return d[counts[inverse] == 1].astype(np.int32)
