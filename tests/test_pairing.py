@@ -474,6 +474,46 @@ def test_one_augment_scratch_serves_many_rounds(seed):
     for k in (5, 6, 7):
         assert shared[k].tolist() == rest[k].tolist()
 
+@pytest.mark.parametrize("seed", [3, 81, 147, 208])
+def test_walk_rounds_refill_only_the_flipped_rows(seed):
+    """After walks (flips that pair two triangles and free a third), a chain round that
+    refills only the flipped triangles' rows of a table left by the previous round pairs
+    exactly as a round that fills every row of a fresh one, round after round; the table
+    has rows to spare (unused by either)."""
+    from meshwright.core.mesh import build_neighbors
+    from meshwright.quad.pairing import _walk_left_overs
+
+    rng = np.random.default_rng(seed)
+    xy = rng.random((int(rng.integers(60, 120)), 2))
+    tris = mw.delaunay(xy).triangles.astype(np.int32)
+    nbr = build_neighbors(tris).astype(np.int32)
+    nt = len(tris)
+    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
+    mate = np.full(nt, -1, dtype=np.int32)
+    shared = pk.augment_scratch(nt, 7)
+    pk.greedy_pairs(raw, nbr.ravel(), mate, 0.5)
+    pk.augment(raw, nbr.ravel(), mate, 0.5, 4, shared)
+    walk = np.random.default_rng(seed)
+    rounds = 0
+    for _ in range(6):
+        flipped = _walk_left_overs(xy, tris, nbr, mate, walk, 0.5)
+        if not len(flipped):
+            break
+        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
+        fresh = mate.copy()
+        got = pk.augment_changed(raw, nbr.ravel(), mate, 0.5, 4, shared, flipped)
+        want = pk.augment(raw, nbr.ravel(), fresh, 0.5, 4, pk.augment_scratch(nt))
+        assert (got, mate.tolist()) == (want, fresh.tolist())
+        rounds += 1
+    assert rounds >= 1
+    # Every pair is two neighbours across a side the bound allows, both ways.
+    for t in np.flatnonzero(mate >= 0):
+        s = mate[t]
+        assert mate[s] == t
+        k = int(np.flatnonzero(nbr[t] == s)[0])
+        assert pk.pair_score(xy, tris.ravel(), nbr.ravel(), t, k, 0.5) >= 0.5
+
+
 # ------------------------------------------------------------------ enhancement
 
 

@@ -41,6 +41,7 @@ __all__ = [
     "NO_PAIR",
     "REFLEX",
     "augment",
+    "augment_changed",
     "augment_scratch",
     "corner_flat",
     "corner_ok",
@@ -463,25 +464,27 @@ def _search(st, root, mark, stamp, vis, queue, max_visit, bstack, head, tail, li
     return -1, nv, stamp
 
 
-def augment_scratch(nt: int):
+def augment_scratch(nt: int, spare: int = 0):
     """Work arrays of :func:`augment` for ``nt`` triangles, in their rest state.
 
     One set serves every :func:`augment` call on the same triangles: each search puts back
     what it changed, and the blossom stamp (``stamp``) carries over, so a caller making
     several rounds allocates and fills the O(nt) arrays once (about 1 ms a call at 78,000
-    triangles, a dozen calls on the disk h=0.01).
+    triangles, a dozen calls on the disk h=0.01).  ``spare`` rows more let it serve the
+    same triangles with a few appended (centroid splits), since a call uses only the rows
+    of its ``mate``.
 
     Returns
     -------
     tuple
-        ``st`` (nt, 8) int32, the per-triangle table (columns ``_A0`` .. ``_FLAG``; at
-        rest ``_PRED`` -1, ``_BASE`` the row's own index, ``_FLAG`` 0, the sides and
-        partner filled by each call), ``mark`` (nt,) int64, ``vis`` and ``queue``
-        (2 nt + 2,) int32, ``bstack`` (nt + 1,) int32, ``head`` and ``tail`` (nt,) int32
-        (identity), ``link`` (nt,) int32 (-1), ``cand`` (nt + 1,) int32, ``stamp`` (1,)
-        int64.
+        ``st`` (nt + spare, 8) int32, the per-triangle table (columns ``_A0`` .. ``_FLAG``;
+        at rest ``_PRED`` -1, ``_BASE`` the row's own index, ``_FLAG`` 0, the sides and
+        partner filled by each call), ``mark`` (rows,) int64, ``vis`` and ``queue``
+        (2 rows + 2,) int32, ``bstack`` (rows + 1,) int32, ``head`` and ``tail`` (rows,)
+        int32 (identity), ``link`` (rows,) int32 (-1), ``cand`` (rows + 1,) int32,
+        ``stamp`` (1,) int64.
     """
-    nt = int(nt)
+    nt = int(nt) + int(spare)
     ident = np.arange(nt, dtype=np.int32)
     st = np.zeros((nt, 8), dtype=np.int32)
     st[:, _PRED] = -1
@@ -493,6 +496,16 @@ def augment_scratch(nt: int):
     )
 
 
+@njit(inline="always")
+def _fill_row(st, raw, nbr, mate, qmin, t):
+    """Copy triangle t's allowed sides (a neighbour, and a score of at least ``qmin``) and
+    its partner into its row of ``st``."""
+    for k in range(3):
+        i = 3 * t + k
+        st[t, _A0 + k] = nbr[i] if nbr[i] >= 0 and score_of(raw[i], qmin) >= 0.0 else -1
+    st[t, _MATE] = mate[t]
+
+
 @njit(cache=True)
 def augment(raw, nbr, mate, qmin, max_visit, scratch):
     """Pair left-over triangles along augmenting paths (Edmonds 1965, blossoms shrunk).
@@ -501,8 +514,8 @@ def augment(raw, nbr, mate, qmin, max_visit, scratch):
     another unpaired triangle v, the pairs along the path shift by one so that u and v
     are both paired.  Each search enters at most ``max_visit`` triangles (it then gives up
     on u), so the pass costs O(left-overs x max_visit) plus the blossoms' members.
-    ``raw`` is :func:`side_scores`' table; ``scratch`` is :func:`augment_scratch` of
-    ``len(mate)``, left in its rest state.  Returns the number of pairs gained.
+    ``raw`` is :func:`side_scores`' table; ``scratch`` is :func:`augment_scratch` of at
+    least ``len(mate)`` rows, left in its rest state.  Returns the number of pairs gained.
 
     The sides the round allows (a neighbour, and a score of at least ``qmin``,
     :func:`score_of`) and the partners are copied once per call into the rows of ``st``
@@ -510,13 +523,41 @@ def augment(raw, nbr, mate, qmin, max_visit, scratch):
     instead of one entry of each array.  A search
     that shrank no blossom changed only its triangles' ``_PRED`` and ``_FLAG``.
     """
+    st = scratch[0]
+    for t in range(mate.shape[0]):
+        _fill_row(st, raw, nbr, mate, qmin, t)
+    return _augment_rows(mate, max_visit, scratch)
+
+
+@njit(cache=True)
+def augment_changed(raw, nbr, mate, qmin, max_visit, scratch, changed):
+    """:func:`augment` after an :func:`augment` (or this) call on the same triangles at
+    the same ``qmin`` with the same ``scratch``, when since then only the triangles
+    ``changed`` (k,) int64 got new sides or partners, their neighbours new sides (the
+    twins :func:`rescore` writes, or sides pointing back at them) and their former
+    partners new partners, these being neighbours of the changed triangles too: the
+    walks' flips (:func:`meshwright.quad.pairing._walk_left_overs`; a flip's two
+    triangles keep the outer sides of their union, and the freed partner of one lay
+    across such a side).  Only the rows of ``changed`` and of their neighbours are copied
+    again (the rest of the table still holds what the last call left), so a walk round
+    does not refill every triangle's row.  Same results as :func:`augment`.
+    """
+    st = scratch[0]
+    for i in range(changed.shape[0]):
+        t = changed[i]
+        _fill_row(st, raw, nbr, mate, qmin, t)
+        for k in range(3):
+            s = nbr[3 * t + k]
+            if s >= 0:
+                _fill_row(st, raw, nbr, mate, qmin, s)
+    return _augment_rows(mate, max_visit, scratch)
+
+
+@njit(cache=True)
+def _augment_rows(mate, max_visit, scratch):
+    """The searches of :func:`augment` from every unpaired triangle, on rows already filled."""
     nt = mate.shape[0]
     st, mark, vis, queue, bstack, head, tail, link, cand, stamps = scratch
-    for t in range(nt):
-        for k in range(3):
-            i = 3 * t + k
-            st[t, _A0 + k] = nbr[i] if nbr[i] >= 0 and score_of(raw[i], qmin) >= 0.0 else -1
-        st[t, _MATE] = mate[t]
     # Blossom stamps go on from the last call: marks it left must not match new ones.
     stamp = stamps[0]
     gained = 0

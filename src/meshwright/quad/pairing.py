@@ -504,8 +504,10 @@ def pair_triangles(
 
 
 class _PairState(NamedTuple):
-    """Where a pairing stands: points, triangles, neighbours, partners, chain gains, and
-    the raw side scores of the triangles (:func:`~meshwright.quad._pairing_kernel.side_scores`)."""
+    """Where a pairing stands: points, triangles, neighbours, partners, chain gains, the
+    raw side scores of the triangles (:func:`~meshwright.quad._pairing_kernel.side_scores`)
+    and the chain searches' work arrays (:func:`~meshwright.quad._pairing_kernel.augment_scratch`,
+    at rest, with rows to spare for the centroid splits)."""
 
     xy: np.ndarray
     tris: np.ndarray
@@ -513,6 +515,7 @@ class _PairState(NamedTuple):
     mate: np.ndarray
     chains: int
     raw: np.ndarray
+    scratch: tuple | None
 
 
 def _pair_rounds(
@@ -525,7 +528,7 @@ def _pair_rounds(
     nbr = _neighbours(tris, bkey, n)
     mate = np.full(len(tris), -1, dtype=np.int32) if mate is None else mate
     if (mate >= 0).all():
-        return _PairState(xy, tris, nbr, mate, 0, None)
+        return _PairState(xy, tris, nbr, mate, 0, None, None)
     xy, tris, changed = _open_ears(xy, tris, nbr, mate)
     if changed:
         nbr = _neighbours(tris, bkey, n)
@@ -533,7 +536,9 @@ def _pair_rounds(
         mate = np.concatenate([mate, np.full(len(tris) - len(mate), -1, dtype=np.int32)])
     chains = 0
     raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
-    scratch = pk.augment_scratch(len(tris))
+    # Rows to spare for the centroid splits' new triangles (two per left-over and round),
+    # so _centre_rounds need not allocate and fill the O(triangles) arrays again.
+    scratch = pk.augment_scratch(len(tris), 64 + len(tris) // 256)
     for i, q in enumerate(bounds):
         pk.greedy_pairs(raw, nbr.ravel(), mate, float(q))
         # Early rounds only mend locally: a triangle with no partner at a high bound would
@@ -549,16 +554,18 @@ def _pair_rounds(
         if not len(flipped):
             break
         pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
-        chains += int(pk.augment(raw, nbr.ravel(), mate, float(bounds[-1]), int(max_visit), scratch))
+        # Every chain round since the last bound's was at bounds[-1], and only the flips
+        # changed sides and partners: the search table is refilled around them alone.
+        chains += int(pk.augment_changed(raw, nbr.ravel(), mate, float(bounds[-1]), int(max_visit), scratch, flipped))
         left = int((mate < 0).sum())
         best, stale = (left, 0) if left < best else (best, stale + 1)
-    return _PairState(xy, tris, nbr, mate, chains, raw)
+    return _PairState(xy, tris, nbr, mate, chains, raw, scratch)
 
 
 def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairState:
     """Up to ``centres`` rounds of centroid splits of the unpaired triangles, each followed
     by a greedy and a chain round at ``qmin``; ``st`` itself is not modified."""
-    xy, tris, nbr, mate, chains, raw = st
+    xy, tris, nbr, mate, chains, raw, scratch = st
     for _ in range(centres):
         if not (mate < 0).any():
             break
@@ -573,13 +580,15 @@ def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairSt
         parts = np.concatenate([cut, nt + np.arange(len(tris) - nt, dtype=np.int64)])
         pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), parts)
         pk.greedy_pairs(raw, nbr.ravel(), mate, float(qmin))
-        chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit), pk.augment_scratch(len(tris))))
-    return _PairState(xy, tris, nbr, mate, chains, raw)
+        if scratch is None or len(scratch[0]) < len(tris):
+            scratch = pk.augment_scratch(len(tris), 64 + len(tris) // 256)
+        chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit), scratch))
+    return _PairState(xy, tris, nbr, mate, chains, raw, scratch)
 
 
 def _quads_of(st: _PairState):
     """:func:`pair_triangles`'s results from a pairing state."""
-    xy, tris, nbr, mate, chains, _ = st
+    xy, tris, nbr, mate, chains = st[:5]
     # Quad (a, b, d, c): t = (a, b, c) with a opposite the shared side, d the partner's third vertex.
     quads, first = pk.pair_quads(np.ascontiguousarray(tris).ravel(), np.ascontiguousarray(nbr).ravel(), mate)
     return quads, first, np.flatnonzero(mate < 0), tris, chains, xy
