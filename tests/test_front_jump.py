@@ -117,3 +117,26 @@ def test_pair_front_on_a_stress_domain_with_a_jump():
     assert _min_angles(p, t).min() > 10.0  # measured 11.5
     p, t, pairs, _ = zhu_front(_ct(dom, size, even=True), size, grade=True)
     assert _min_angles(p, t).min() > 1.0  # measured 3.84
+
+
+def _flattest_angle(p, t):
+    """Smallest corner angle over the triangles, degrees, by atan2 of the sides' cross and
+    dot products (exact enough at 1e-12 degrees, where the law of cosines rounds to 0)."""
+    x = p[t]
+    out = []
+    for k in range(3):
+        u = x[:, (k + 1) % 3] - x[:, k]
+        v = x[:, (k + 2) % 3] - x[:, k]
+        out.append(np.degrees(np.arctan2(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), (u * v).sum(axis=1))))
+    return float(np.min(out))
+
+
+def test_pairs_take_no_apex_on_the_line_of_their_base():
+    """stress-zhu-6fde022a69d2 graded: pairs fanned from one node over a row of nodes on a
+    line (triangles of 1e-9 .. 1e-12 degrees, flat to round-off, each paired into a quad
+    with a straight corner).  The pairs' flattest triangle now comes from the domain's tiny
+    feature (measured 2.4e-4 degrees), not from a node on the base's line."""
+    body = json.loads((ROOT / "tests/regressions/stress-zhu-6fde022a69d2.json").read_text())
+    dom, size, _, _ = build(body["case"], "zhu")
+    p, t, pairs, _ = zhu_front(_ct(dom, size, even=True), size, grade=True)
+    assert _flattest_angle(p, t[pairs.ravel()]) > 1e-5

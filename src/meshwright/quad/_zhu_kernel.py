@@ -106,10 +106,11 @@ from meshwright.tri._front_kernel import (
     pop_ready,
 )
 
-__all__ = ["FAR", "LEFT", "R_PAUSE", "SCRATCH", "colour_nodes", "new_scratch", "zhu_advance"]
+__all__ = ["FAR", "FLAT", "LEFT", "R_PAUSE", "SCRATCH", "colour_nodes", "new_scratch", "zhu_advance"]
 
 LEFT = -1  # F_TRIES of a face the pair front left to the triangle front
 FAR = 2.5  # no apex farther than FAR rho (metric) from a base end
+FLAT = 1e-6  # no existing apex whose triangle's quality (metric) is below this: flat to round-off
 R_PAUSE = 6  # the triangle count reached the caller's max_tris (R_* codes of the front kernel otherwise)
 SCRATCH = 256  # initial room of the candidate search's scratch arrays
 
@@ -174,6 +175,12 @@ def _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, 
     qx, qy = _to_metric(l11, l21, l22, pts[c, 0] - pts[a, 0], pts[c, 1] - pts[a, 1])
     reach = FAR * rho
     if max(qx * qx + qy * qy, (qx - u0) ** 2 + (qy - u1) ** 2) > reach * reach:
+        return np.int64(-1), clear
+    # Validity alone admits a node on the base's line up to round-off: the next node of a
+    # straight boundary whose split points lie a few ulps inside it.  Such a triangle pairs
+    # into a quad with a straight corner (stress-zhu-6fde022a69d2 graded: fans of 1e-9 ..
+    # 1e-12 degree triangles from one boundary node, min SJ 0.003).
+    if _quality(0.0, 0.0, u0, u1, qx, qy) < FLAT:
         return np.int64(-1), clear
     return c, clear
 
