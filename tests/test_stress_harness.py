@@ -93,6 +93,11 @@ def _fake_check(case, method):
         os.kill(os.getpid(), signal.SIGSEGV)
     if case == "hang":
         time.sleep(60)
+    if isinstance(case, tuple):  # ("slow once", marker): a first run slowed by compiling
+        marker = Path(case[1])
+        if not marker.exists():
+            marker.touch()
+            time.sleep(60)
 
 
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGSEGV by os.kill")
@@ -103,6 +108,12 @@ def test_a_crash_or_a_hang_is_one_failure_and_the_run_goes_on(monkeypatch):
     assert [(i, st) for i, st, _ in out] == [(0, "ok"), (1, "fail"), (2, "ok"), (3, "fail"), (4, "ok")]
     assert out[1][2].startswith("Crash: the worker died (exit code -11)")
     assert out[3][2].startswith("Timeout")
+
+
+def test_a_job_that_times_out_once_runs_again(monkeypatch, tmp_path):
+    monkeypatch.setattr(S, "check", _fake_check)
+    out = _run([(0, ("slow once", str(tmp_path / "compiled")), "m"), (1, "ok", "m")], 3.0)
+    assert sorted((i, st) for i, st, _ in out) == [(0, "ok"), (1, "ok")]
 
 
 def test_a_crash_reproducer_is_marked(tmp_path, monkeypatch):
