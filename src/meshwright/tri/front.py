@@ -319,16 +319,25 @@ def split_long_segments(ct, cap, max_rounds: int = 64) -> int:
 
 def _too_long(pts, edges, field, cap):
     """Whether each subsegment (k, 2) is longer than ``GRADE`` sizes of its finer end (its
-    metric length in either end's metric above ``GRADE``); returns (k,) bool."""
+    metric length in either end's metric above ``GRADE``) or than ``GRADE`` times a
+    subsegment it shares an end with; returns (k,) bool."""
     a, b = pts[edges[:, 0]], pts[edges[:, 1]]
     m = metric_at(field, np.concatenate([a, b]), cap).reshape(2, -1, 3)
     d = b - a
     sq = d[:, 0] ** 2 * m[:, :, 0] + 2.0 * d[:, 0] * d[:, 1] * m[:, :, 1] + d[:, 1] ** 2 * m[:, :, 2]
-    return sq.max(axis=0) > GRADE * GRADE
+    long = sq.max(axis=0) > GRADE * GRADE
+    # A piece much longer than a piece it meets (a tiny input feature beside long sides)
+    # grades the same way, the discretisation's own lengths standing for the size.
+    length = np.hypot(d[:, 0], d[:, 1])
+    shortest = np.full(len(pts), np.inf)
+    np.minimum.at(shortest, edges[:, 0], length)
+    np.minimum.at(shortest, edges[:, 1], length)
+    return long | (length > GRADE * np.minimum(shortest[edges[:, 0]], shortest[edges[:, 1]]))
 
 
 def grade_segments(ct, field, cap=None) -> int:
-    """Halve the subsegments of ``ct`` that are longer than ``GRADE`` sizes of their finer end.
+    """Halve the subsegments of ``ct`` that are longer than ``GRADE`` sizes of their finer
+    end, or than ``GRADE`` times a subsegment they meet.
 
     Where the size jumps along the boundary (a small-size region, a size field's step), the
     discretisation follows the field faithfully: one segment of the coarse size next to
@@ -336,7 +345,10 @@ def grade_segments(ct, field, cap=None) -> int:
     layers put nodes all along it, so it closes on a node near its fine end, a sliver with
     an angle of about fine / coarse radians, and the faces beside it fan in slivers.
     Halving it towards its fine end (at the midpoint, on the true curve where ``ct`` knows
-    it) grades the boundary by 2 per piece, as the front grades the interior.
+    it) grades the boundary by 2 per piece, as the front grades the interior.  A tiny
+    input feature (two vertices 1e-6 of the extent apart) is the same jump with the size
+    uniform: the piece beside it is halved towards it until the two are within ``GRADE``
+    (2 ``GRADE`` where the parity split below halves a longest piece once more).
 
     Every segment (id) receives an even number of new vertices, so every loop keeps the
     parity of its node count (the quad pairing needs even loops): an odd count gets one
