@@ -314,22 +314,29 @@ def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> np.ndarray:
     free s's old partner; ``tris`` and ``nbr`` are updated in place.  Returns the
     triangles flipped, (2 flips,) int64."""
     flipped = []
-    touched = np.zeros(len(tris), dtype=bool)
+    touched = set()
+    # Flat views for the kernel's score (the flips below write through them), and rows
+    # read as Python lists: a walk handles one triangle at a time, where NumPy's per-call
+    # overhead is most of the cost.
+    flat_t, flat_n = tris.ravel(), nbr.ravel()
     for t in np.flatnonzero(mate < 0).tolist():
-        if touched[t]:
+        if t in touched:
             continue
         for k in rng.permutation(3).tolist():
             s = int(nbr[t, k])
-            if s < 0 or mate[s] < 0 or touched[s] or touched[mate[s]]:
+            if s < 0 or s in touched:
                 continue
-            if pk.pair_score(xy, tris.ravel(), nbr.ravel(), t, k, qmin) < 0.0:
-                continue  # the union is not an allowed quad (not strictly convex, or flat at the boundary)
-            a, b, c = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
-            d = tris[s][nbr[s] == t][0]
             old = int(mate[s])
-            jb, jc = int(np.flatnonzero(tris[s] == b)[0]), int(np.flatnonzero(tris[s] == c)[0])
+            if old < 0 or old in touched:
+                continue
+            if pk.pair_score(xy, flat_t, flat_n, t, k, qmin) < 0.0:
+                continue  # the union is not an allowed quad (not strictly convex, or flat at the boundary)
+            rt, rs, ns = tris[t].tolist(), tris[s].tolist(), nbr[s].tolist()
+            a, b, c = rt[k], rt[(k + 1) % 3], rt[(k + 2) % 3]
+            d = rs[ns.index(t)]
+            jb, jc = rs.index(b), rs.index(c)
             n_ca, n_ab = int(nbr[t, (k + 1) % 3]), int(nbr[t, (k + 2) % 3])
-            n_bd, n_dc = int(nbr[s, jc]), int(nbr[s, jb])
+            n_bd, n_dc = ns[jc], ns[jb]
             tris[t] = (a, b, d)
             tris[s] = (a, d, c)
             # Only the two triangles and the back-pointers of two outer neighbours change.
@@ -341,7 +348,7 @@ def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> np.ndarray:
                 nbr[n_ca][nbr[n_ca] == t] = s
             mate[old] = -1
             mate[t], mate[s] = s, t
-            touched[[t, s, old]] = True
+            touched.update((t, s, old))
             flipped += [t, s]
             break
     return np.array(flipped, dtype=np.int64)
