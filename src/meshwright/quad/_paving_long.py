@@ -102,27 +102,6 @@ def _convex(P, a, b, c, d):
 
 
 @njit
-def _angles(P, g):
-    """Interior angle (degrees, (0, 360]) and direction of the edge to the next node
-    (degrees) at every node of part ``g``."""
-    m = g.shape[0]
-    ang = np.empty(m)
-    th = np.empty(m)
-    for i in range(m):
-        a = g[i]
-        nx_ = P[g[(i + 1) % m], 0] - P[a, 0]
-        ny_ = P[g[(i + 1) % m], 1] - P[a, 1]
-        px = P[g[(i - 1) % m], 0] - P[a, 0]
-        py = P[g[(i - 1) % m], 1] - P[a, 1]
-        t = np.arctan2(nx_ * py - ny_ * px, nx_ * px + ny_ * py)
-        if t <= 0.0:
-            t += 2.0 * np.pi
-        ang[i] = np.degrees(t)
-        th[i] = np.degrees(np.arctan2(ny_, nx_))
-    return ang, th
-
-
-@njit
 def _distinct(g):
     """No node twice in the small part ``g`` (a part pinched at a joint's node is no
     polygon a template or a star may close)."""
@@ -332,49 +311,97 @@ def _parts_close(P, H, cnt, g, i, j, k, scratch):
 
 
 @njit
-def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
-    """The chord of part ``g`` to cut along: (i, j, k) positions in ``g`` (i < j) and
-    nodes on the chord, or (-1, -1, -1).  ``P[cnt:]`` is scratch room."""
+def _angles(P, g):
+    """Interior angle (degrees, (0, 360]) and direction of the edge to the next node
+    (degrees) at every node of part ``g``."""
     m = g.shape[0]
-    ang, th = _angles(P, g)
-    x0 = np.inf
-    x1 = -np.inf
-    y0 = np.inf
-    y1 = -np.inf
+    ang = np.empty(m)
+    th = np.empty(m)
     for i in range(m):
-        x0 = min(x0, P[g[i], 0])
-        x1 = max(x1, P[g[i], 0])
-        y0 = min(y0, P[g[i], 1])
-        y1 = max(y1, P[g[i], 1])
-    axis = 0 if x1 - x0 >= y1 - y0 else 1
-    key = np.empty(m)
-    for i in range(m):
-        key[i] = P[g[i], axis]
-    order = np.argsort(key)
-    cap = 64 * m
-    ci = np.empty(cap, dtype=np.int64)
-    cj = np.empty(cap, dtype=np.int64)
-    ck = np.empty(cap, dtype=np.int64)
-    cs = np.empty(cap)
-    cb = np.empty(cap, dtype=np.int64)
-    nc = 0
+        a = g[i]
+        nx_ = P[g[(i + 1) % m], 0] - P[a, 0]
+        ny_ = P[g[(i + 1) % m], 1] - P[a, 1]
+        px = P[g[(i - 1) % m], 0] - P[a, 0]
+        py = P[g[(i - 1) % m], 1] - P[a, 1]
+        t = np.arctan2(nx_ * py - ny_ * px, nx_ * px + ny_ * py)
+        if t <= 0.0:
+            t += 2.0 * np.pi
+        ang[i] = np.degrees(t)
+        th[i] = np.degrees(np.arctan2(ny_, nx_))
+    return ang, th
+
+
+@njit
+def _end_split(dx, dy, th, ang):
+    """The smaller angle beside a chord leaving in direction dx, dy at a node whose
+    next edge points at ``th`` degrees and whose interior angle is ``ang``."""
+    a = np.degrees(np.arctan2(dy, dx)) - th
+    # a % 360.0 (Python's sign rule) without the library call on the usual range.
+    if -360.0 < a < 360.0:
+        a = a + 360.0 if a < 0.0 else a + 0.0
+    else:
+        a = a % 360.0
+    return min(a, ang - a)
+
+
+@njit
+def _split(dx, dy, th_i, ang_i, th_j, ang_j, min_angle):
+    """The smaller angle that a chord in direction dx, dy leaves beside it at either
+    end; the far end is not measured when the near one already leaves less than
+    ``min_angle`` (the chord fails either way).  Scalars only: an array argument
+    costs two atomic reference counts per call, and this runs for every near pair."""
+    si = _end_split(dx, dy, th_i, ang_i)
+    if si < min_angle:
+        return si
+    return min(si, _end_split(-dx, -dy, th_j, ang_j))
+
+
+@njit(inline="always")
+def _score(split, length, h, k):
+    return split - 45.0 * abs(length / ((k + 1) * h) - 1.0) - 15.0 * k
+
+
+@njit
+def _pairs(P, H, g, key, order, hs, wide, min_angle, defer, ang, th, ci, cj, ck, cs, cb, dl, dh):
+    """Enumerate the chords of part ``g`` no longer than ``wide`` times the larger
+    size at their ends, by a window sweep along ``key``.  A chord that leaves at
+    least ``min_angle`` beside it is written to ``ci, cj, ck, cs, cb`` (positions,
+    nodes on it, score, balance class); with ``defer``, a chord outside class 0 is
+    written unmeasured (``cs`` unset, its length and size in ``dl, dh``) after the
+    measured ones' room, from the end of the buffers backwards.  Returns (measured,
+    deferred, full): full when the buffers filled (with ``defer`` the enumeration is
+    then incomplete and must be redone without it)."""
+    m = g.shape[0]
+    cap = ci.shape[0]
     quarter = m // 4
     sixteenth = m // 16
-    # A small part no near chord cuts tries every chord, as close_loop does.
-    wide = reach if m > SMALL else np.inf
+    nc = 0
+    nd = 0
     for u in range(m):
         i0 = order[u]
         # A pair is found from its end with the larger size (the smaller position on a
         # tie), whose reach bounds the window both ways.
-        r0 = wide * H[g[i0]]
-        w = u - 1
-        while w >= 0 and key[order[w]] >= key[i0] - r0:
-            w -= 1
-        w += 1
-        while w < m and key[order[w]] <= key[i0] + r0 and nc < cap:
+        h0 = hs[u]
+        r0 = wide * h0
+        lo = key[u] - r0
+        hi = key[u] + r0
+        # The window's first slot by bisection over the sorted keys: a walk back over
+        # the window cost as much as the window itself.
+        w = 0
+        e = u
+        while w < e:
+            mid = (w + e) >> 1
+            if key[mid] < lo:
+                w = mid + 1
+            else:
+                e = mid
+        while w < m and key[w] <= hi:
+            if nc + nd >= cap:
+                return nc, nd, True
             j0 = order[w]
+            hj = hs[w]
             w += 1
-            if j0 == i0 or H[g[j0]] > H[g[i0]] or (H[g[j0]] == H[g[i0]] and j0 < i0):
+            if j0 == i0 or hj > h0 or (hj == h0 and j0 < i0):
                 continue
             i = min(i0, j0)
             j = max(i0, j0)
@@ -386,29 +413,70 @@ def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
             h = 0.5 * (H[g[i]] + H[g[j]])
             if length > wide * max(H[g[i]], H[g[j]]):
                 continue
-            ai = (np.degrees(np.arctan2(dy, dx)) - th[i]) % 360.0
-            aj = (np.degrees(np.arctan2(-dy, -dx)) - th[j]) % 360.0
-            split = min(min(ai, ang[i] - ai), min(aj, ang[j] - aj))
-            if split < min_angle:
-                continue
             ideal = length / h - 1.0
             k = max(0, int(np.rint(ideal)))
             if (k % 2) != ((j - i + 1) % 2):
                 k = k + 1 if (ideal >= k or k == 0) else k - 1
-            ci[nc] = i
-            cj[nc] = j
-            ck[nc] = k
-            cs[nc] = split - 45.0 * abs(length / ((k + 1) * h) - 1.0) - 15.0 * k
             inner = min(j - i + 1 + k, m - (j - i) + 1 + k)
-            cb[nc] = 0 if inner >= quarter else (1 if inner >= sixteenth else 2)
+            cls = 0 if inner >= quarter else (1 if inner >= sixteenth else 2)
+            if defer and cls != 0:
+                d = cap - 1 - nd
+                ci[d], cj[d], ck[d], cb[d], dl[d], dh[d] = i, j, k, cls, length, h
+                nd += 1
+                continue
+            split = _split(dx, dy, th[i], ang[i], th[j], ang[j], min_angle)
+            if split < min_angle:
+                continue
+            ci[nc], cj[nc], ck[nc], cb[nc] = i, j, k, cls
+            cs[nc] = _score(split, length, h, k)
             nc += 1
-    if nc == 0:
-        return -1, -1, -1
+    return nc, nd, nc + nd >= cap
+
+
+@njit
+def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
+    """The chord of part ``g`` to cut along: (i, j, k) positions in ``g`` (i < j) and
+    nodes on the chord, or (-1, -1, -1).  ``P[cnt:]`` is scratch room."""
+    m = g.shape[0]
+    x0 = np.inf
+    x1 = -np.inf
+    y0 = np.inf
+    y1 = -np.inf
+    for i in range(m):
+        x0 = min(x0, P[g[i], 0])
+        x1 = max(x1, P[g[i], 0])
+        y0 = min(y0, P[g[i], 1])
+        y1 = max(y1, P[g[i], 1])
+    axis = 0 if x1 - x0 >= y1 - y0 else 1
+    raw = np.empty(m)
+    for i in range(m):
+        raw[i] = P[g[i], axis]
+    order = np.argsort(raw)
+    # Keys and sizes in sweep order, read in sequence by the window.
+    key = raw[order]
+    hs = np.empty(m)
+    for u in range(m):
+        hs[u] = H[g[order[u]]]
+    ang, th = _angles(P, g)
+    cap = 64 * m
+    ci = np.empty(cap, dtype=np.int64)
+    cj = np.empty(cap, dtype=np.int64)
+    ck = np.empty(cap, dtype=np.int64)
+    cs = np.empty(cap)
+    cb = np.empty(cap, dtype=np.int64)
+    dl = np.empty(cap)
+    dh = np.empty(cap)
+    # A small part no near chord cuts tries every chord, as close_loop does.
+    wide = reach if m > SMALL else np.inf
     balanced = m > BALANCED
-    score = np.empty(nc)
-    for c in range(nc):
-        score[c] = -cs[c]
-    rank = np.argsort(score, kind="mergesort")
+    # Class 0 (balanced) chords are measured first; the others only when no balanced
+    # one holds (most of a sliver's near pairs run along one side and fail the angle
+    # test: measuring them was most of the closure's time).  The candidates, their
+    # order and the cap are those of measuring every pair: a deferred enumeration that
+    # reaches the cap is redone in full.
+    nc, nd, full = _pairs(P, H, g, key, order, hs, wide, min_angle, balanced, ang, th, ci, cj, ck, cs, cb, dl, dh)
+    if full and nd:
+        nc, nd, full = _pairs(P, H, g, key, order, hs, wide, min_angle, False, ang, th, ci, cj, ck, cs, cb, dl, dh)
     scratch = np.empty((3, 4), dtype=np.int64)
     # Balanced chords first; when the best of them all cross the boundary, those that
     # leave a sixteenth of the nodes on each side, then (parts up to SHAVE_MAX nodes)
@@ -417,15 +485,39 @@ def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
     # A large part with no near chord that leaves a sixteenth on each side is thick at
     # its spacing (no chord reaches across): it is left to the void fill, which costs
     # its area, where shaving a few nodes off per cut cost its length squared (20 s).
+    sel = np.empty(cap, dtype=np.int64)
     for stage in range((3 if m <= SHAVE_MAX else 2) if balanced else 1):
-        tried = 0
-        for t in range(nc):
-            c = rank[t]
-            if balanced and cb[c] != stage:
-                continue
-            if tried == tries:
-                break
-            tried += 1
+        ns = 0
+        if stage == 0 or not nd:
+            for c in range(nc):
+                if not balanced or cb[c] == stage:
+                    sel[ns] = c
+                    ns += 1
+        else:
+            # The deferred chords of this class, measured now, in enumeration order.
+            for t in range(nd):
+                d = cap - 1 - t
+                if cb[d] != stage:
+                    continue
+                i, j = ci[d], cj[d]
+                dx = P[g[j], 0] - P[g[i], 0]
+                dy = P[g[j], 1] - P[g[i], 1]
+                split = _split(dx, dy, th[i], ang[i], th[j], ang[j], min_angle)
+                if split < min_angle:
+                    continue
+                cs[d] = _score(split, dl[d], dh[d], ck[d])
+                sel[ns] = d
+                ns += 1
+        # Best score first, the earlier chord on a tie (a stable sort's order), picked
+        # one at a time: the first pick usually holds, and sorting every candidate of
+        # every part was most of the closure's time.
+        for _ in range(min(ns, tries)):
+            top = -1
+            for t in range(ns):
+                if sel[t] >= 0 and (top < 0 or cs[sel[t]] > cs[sel[top]]):
+                    top = t
+            c = sel[top]
+            sel[top] = -1
             if _clear(P, g[ci[c]], g[cj[c]], g, other) and _parts_close(P, H, cnt, g, ci[c], cj[c], ck[c], scratch):
                 return ci[c], cj[c], ck[c]
     return -1, -1, -1
