@@ -317,15 +317,17 @@ def split_long_segments(ct, cap, max_rounds: int = 64) -> int:
     return int(added.sum())
 
 
-def _too_long(pts, edges, field, cap):
+def _too_long(pts, edges, field, cap, neighbours):
     """Whether each subsegment (k, 2) is longer than ``GRADE`` sizes of its finer end (its
-    metric length in either end's metric above ``GRADE``) or than ``GRADE`` times a
-    subsegment it shares an end with; returns (k,) bool."""
+    metric length in either end's metric above ``GRADE``) or, with ``neighbours``, than
+    ``GRADE`` times a subsegment it shares an end with; returns (k,) bool."""
     a, b = pts[edges[:, 0]], pts[edges[:, 1]]
     m = metric_at(field, np.concatenate([a, b]), cap).reshape(2, -1, 3)
     d = b - a
     sq = d[:, 0] ** 2 * m[:, :, 0] + 2.0 * d[:, 0] * d[:, 1] * m[:, :, 1] + d[:, 1] ** 2 * m[:, :, 2]
     long = sq.max(axis=0) > GRADE * GRADE
+    if not neighbours:
+        return long
     # A piece much longer than a piece it meets (a tiny input feature beside long sides)
     # grades the same way, the discretisation's own lengths standing for the size.
     length = np.hypot(d[:, 0], d[:, 1])
@@ -335,7 +337,7 @@ def _too_long(pts, edges, field, cap):
     return long | (length > GRADE * np.minimum(shortest[edges[:, 0]], shortest[edges[:, 1]]))
 
 
-def grade_segments(ct, field, cap=None) -> int:
+def grade_segments(ct, field, cap=None, neighbours: bool = True) -> int:
     """Halve the subsegments of ``ct`` that are longer than ``GRADE`` sizes of their finer
     end, or than ``GRADE`` times a subsegment they meet.
 
@@ -361,6 +363,8 @@ def grade_segments(ct, field, cap=None) -> int:
     field : SizeField or BackgroundGrid
     cap : callable, optional
         The spacing bound of :func:`area_cap`.
+    neighbours : bool
+        Also grade by the lengths of meeting pieces (a tiny feature under a uniform size).
 
     Returns
     -------
@@ -373,7 +377,7 @@ def grade_segments(ct, field, cap=None) -> int:
         A piece still too long after ``MAX_GRADE_ROUNDS`` halvings (a size going to 0).
     """
     added, edges, ids = _halve(
-        ct, lambda p, e: _too_long(p, e, field, cap), MAX_GRADE_ROUNDS,
+        ct, lambda p, e: _too_long(p, e, field, cap, neighbours), MAX_GRADE_ROUNDS,
         f"boundary pieces still longer than {GRADE} sizes of their finer end",
     )
     odd = np.flatnonzero(added % 2 == 1)
