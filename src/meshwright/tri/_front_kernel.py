@@ -194,13 +194,21 @@ def add_item(u, v, fs):
 
 
 @njit(inline="always")
-def add_face(u, v, fs):
-    """New front face u -> v: quadtree, u's out-list and the heap (key: its length)."""
+def _enter(f, fs):
+    """Make item f (u -> v, u != v) a front face: u's out-list and the heap (key: its length)."""
     pts, vint, face, hkey, hface, meta = fs.pts, fs.vint, fs.face, fs.hkey, fs.hface, fs.meta
-    f = add_item(u, v, fs)
+    u = face[f, F_A]
+    v = face[f, F_B]
     face[f, F_NEXT] = vint[u, V_FACE]
     vint[u, V_FACE] = f
     heap_push(hkey, hface, meta, np.hypot(pts[v, 0] - pts[u, 0], pts[v, 1] - pts[u, 1]), f)
+
+
+@njit(inline="always")
+def add_face(u, v, fs):
+    """New front face u -> v: quadtree, u's out-list and the heap (key: its length)."""
+    f = add_item(u, v, fs)
+    _enter(f, fs)
     return f
 
 
@@ -208,13 +216,22 @@ def add_face(u, v, fs):
 def seed_front(faces, free, fs):
     """The initial front: faces (k, 2) int32 ``u -> v`` (:func:`add_face`, in order) and free
     points (j,) int32 (:func:`add_item`); room for all of them is the caller's.  One call
-    instead of one per face from Python, each of which unboxed the whole bundle."""
+    instead of one per face from Python, each of which unboxed the whole bundle.  One loop
+    over both, so that the quadtree insertion is inlined once (issue 13, first-run compile)."""
     fs = borrowed(fs)
-    for i in range(faces.shape[0]):
-        add_face(faces[i, 0], faces[i, 1], fs)
-    for i in range(free.shape[0]):
-        v = free[i]
-        fs.vint[v, V_FREE] = add_item(v, v, fs)
+    nf = faces.shape[0]
+    for i in range(nf + free.shape[0]):
+        if i < nf:
+            u = np.int64(faces[i, 0])
+            v = np.int64(faces[i, 1])
+        else:
+            u = np.int64(free[i - nf])
+            v = u
+        g = add_item(u, v, fs)
+        if i < nf:
+            _enter(g, fs)
+        else:
+            fs.vint[v, V_FREE] = g
 
 
 # ------------------------------------------------------------------------------- geometry
@@ -466,22 +483,29 @@ def _backoff(f, level, fs, tbuf, vbuf):
                             nv += 1
                 slot = tnext[t, slot % 3]
         lo = hi
-    for i in range(nt):
-        t = tbuf[i]
-        for k in range(3):
-            u = tri[t, k]
-            v = tri[t, (k + 1) % 3]
+    # The removed triangles' edges, then the orphaned input vertices, in one loop: one
+    # inlined quadtree insertion for faces and free points (issue 13, first-run compile).
+    for j in range(3 * nt + nv):
+        if j < 3 * nt:
+            t = tbuf[j // 3]
+            u = np.int64(tri[t, j % 3])
+            v = np.int64(tri[t, (j % 3 + 1) % 3])
             g = _find_face(v, u, vint, face, falive)
             if g >= 0:
                 falive[g] = 0
-            else:
-                add_face(u, v, fs)
-    for i in range(nv):
-        v = vbuf[i]
-        if v >= meta[M_NIN] or vint[v, V_FREE] >= 0 or _has_live_triangle(v, vint, tnext, talive):
-            continue
-        if not _has_live_face(v, vint, face, falive):
-            vint[v, V_FREE] = add_item(v, v, fs)
+                continue
+        else:
+            v = np.int64(vbuf[j - 3 * nt])
+            u = v
+            if v >= meta[M_NIN] or vint[v, V_FREE] >= 0 or _has_live_triangle(v, vint, tnext, talive):
+                continue
+            if _has_live_face(v, vint, face, falive):
+                continue
+        g = add_item(u, v, fs)
+        if u != v:
+            _enter(g, fs)
+        else:
+            vint[v, V_FREE] = g
     return nt
 
 
@@ -545,22 +569,30 @@ def _gather(a, b, fid, p, o, wide, grow, fs, par, col, want, items, nodes, cand,
     x1 = max(px + wx, ax, bx)
     y0 = min(py - wy, ay, by)
     y1 = max(py + wy, ay, by)
-    for rnd in range(2 if grow else 1):
+    # One inlined copy of the query for every round and the retry with a larger ``items``
+    # (each copy is typed and lowered again in every kernel that inlines this one: issue 13).
+    # A retry asks the same box again and finds the same ni, so it fits: at most two
+    # queries per round.
+    rnd = 0
+    ni = 0
+    for _ in range(4 if grow else 2):
         ni = ct_query(x0, y0, x1, y1, qgeo, qmeta, qchild, qhead, qnext, qcell, qbox, falive, items, stack, fstack)
         if ni > items.shape[0]:
             items = np.empty(2 * ni, dtype=np.int32)
-            ni = ct_query(x0, y0, x1, y1, qgeo, qmeta, qchild, qhead, qnext, qcell, qbox, falive, items, stack, fstack)
-        if grow and rnd == 0:
-            # A gap narrower than the spacing, or a front loop of three faces, closes with
-            # nodes however far they lie (the pair front does not grow: a colour-restricted
-            # face took far nodes there).
-            for i in range(ni):
-                g = items[i]
-                for v in (face[g, F_A], face[g, F_B]):
-                    x0 = min(x0, pts[v, 0])
-                    x1 = max(x1, pts[v, 0])
-                    y0 = min(y0, pts[v, 1])
-                    y1 = max(y1, pts[v, 1])
+            continue
+        if not grow or rnd == 1:
+            break
+        rnd = 1
+        # A gap narrower than the spacing, or a front loop of three faces, closes with
+        # nodes however far they lie (the pair front does not grow: a colour-restricted
+        # face took far nodes there).
+        for i in range(ni):
+            g = items[i]
+            for v in (face[g, F_A], face[g, F_B]):
+                x0 = min(x0, pts[v, 0])
+                x1 = max(x1, pts[v, 0])
+                y0 = min(y0, pts[v, 1])
+                y1 = max(y1, pts[v, 1])
     meta[M_STAMP] += 1
     stamp = meta[M_STAMP]
     vint[a, V_STAMP] = stamp
@@ -748,14 +780,16 @@ def advance(fs, par):
         face[f, F_TRIES] = tries
         if tries <= max_defer:
             # Postponed behind every ordinary face: the front around it moves on first.
-            heap_push(hkey, hface, meta, key + par[P_DEFER], f)
-            continue
-        level = tries - max_defer
-        if level > MAX_LEVEL or meta[M_BACKOFF] >= par[P_MAX_BACKOFF]:
-            meta[M_FAIL] = f
-            return R_STUCK
-        meta[M_BACKOFF] += 1
-        _backoff(f, level, fs, tbuf, vbuf)
-        if falive[f]:
-            heap_push(hkey, hface, meta, np.hypot(pts[face[f, F_B], 0] - pts[face[f, F_A], 0],
-                                                  pts[face[f, F_B], 1] - pts[face[f, F_A], 1]), f)
+            key += par[P_DEFER]
+        else:
+            level = tries - max_defer
+            if level > MAX_LEVEL or meta[M_BACKOFF] >= par[P_MAX_BACKOFF]:
+                meta[M_FAIL] = f
+                return R_STUCK
+            meta[M_BACKOFF] += 1
+            _backoff(f, level, fs, tbuf, vbuf)
+            if not falive[f]:
+                continue
+            key = np.hypot(pts[face[f, F_B], 0] - pts[face[f, F_A], 0], pts[face[f, F_B], 1] - pts[face[f, F_A], 1])
+        # One inlined heap push for both (issue 13, first-run compile).
+        heap_push(hkey, hface, meta, key, f)
