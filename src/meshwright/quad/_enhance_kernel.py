@@ -111,11 +111,13 @@ def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, wake):
         if count != 2:
             continue
         i = _position(quad, q1, v)
-        a, b, c = quad[q1, (i + 1) % 4], quad[q1, (i + 2) % 4], quad[q1, (i + 3) % 4]
+        # int64 corners, as every other caller passes them: an int32 quad would compile
+        # quad_ok, quad_sj and corner_flat once more each (issue 13, first-run compile).
+        a, b, c = np.int64(quad[q1, (i + 1) % 4]), np.int64(quad[q1, (i + 2) % 4]), np.int64(quad[q1, (i + 3) % 4])
         j = _position(quad, q2, v)
         if quad[q2, (j + 1) % 4] != c or quad[q2, (j + 3) % 4] != a:
             continue
-        d = quad[q2, (j + 2) % 4]
+        d = np.int64(quad[q2, (j + 2) % 4])
         if not quad_ok(xy, a, b, c, d) or _flat_boundary_corner(xy, bnd, a, b, c, d):
             continue
         _lock_star(off, idx, lock, v)
@@ -188,7 +190,7 @@ def _flat_boundary_corner(xy, bnd, a, b, c, d):
 def _sj_of(xy, quad, sjt, q):
     """Scaled Jacobian of quad q, computed once per swap stage (``sjt``: NaN = not yet)."""
     if np.isnan(sjt[q]):
-        sjt[q] = quad_sj(xy, quad[q, 0], quad[q, 1], quad[q, 2], quad[q, 3])
+        sjt[q] = quad_sj(xy, np.int64(quad[q, 0]), np.int64(quad[q, 1]), np.int64(quad[q, 2]), np.int64(quad[q, 3]))
     return sjt[q]
 
 
@@ -395,7 +397,7 @@ def balance_corners(xy, quad, alive, bnd, tri_node, off, idx):
             continue
         a = quad[q1, (i1 + 1) % 4]
         b = quad[q2, (i2 + 3) % 4]
-        if not (corner_flat(xy, m, v, a) or corner_flat(xy, b, v, m)):
+        if not (corner_flat(xy, np.int64(m), v, np.int64(a)) or corner_flat(xy, np.int64(b), v, np.int64(m))):
             continue
         # Angles at v counter-clockwise from its side to a: m at t1, b at t1 + t2.
         ax = xy[a, 0] - xy[v, 0]
