@@ -381,29 +381,31 @@ def seed_scaffold(xy, i0, s, c, f, bg):
 def _star_update(v, n, scr, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg):
     """Classify, then queue on the front: with n > 0 the n new triangles of a scaffold
     removal (slots ``scr[KMAX:KMAX + n]``, :func:`_drop`) and their three neighbours each;
-    else the star of vertex v, each slot and its outer neighbour.
+    with n < 0 only the three neighbours of slot ``scr[KMAX]`` (a triangle accepted as it is,
+    not classified again); else the star of vertex v, each slot and its outer neighbour.
 
-    One loop over both phases and both kinds, so that :func:`run` inlines one copy of
+    One loop over both phases and all kinds, so that :func:`run` inlines one copy of
     :func:`classify` and of :func:`_push_if_front` for all of them (a copy per call site is
     typed and lowered again on the first run; issue 13)."""
     for phase in range(2):
-        sl = scr[KMAX] if n > 0 else vtri[v]
+        sl = scr[KMAX] if n != 0 else vtri[v]
         s0 = sl
-        for i in range(n if n > 0 else 1024):
+        for i in range(n if n > 0 else (1 if n < 0 else 1024)):
             k = -1
-            if n > 0:
+            if n != 0:
                 sl = scr[KMAX + i]
             else:
                 k = 0
                 while tri[3 * sl + k] != v:
                     k += 1
             if phase == 0:
-                if n > 0 or _inside(sl, tri, treg):
+                if n > 0 or (n == 0 and _inside(sl, tri, treg)):
                     classify(sl, pts, tri, acc, ratio, par, bg, vflag, vbg, q)
             else:
-                # The slot (j = -1), then its outer neighbour in a star or all three.
+                # The slot (j = -1; an accepted one is not queued), then its outer
+                # neighbour in a star or all three.
                 for j in range(-1, 3):
-                    if j < 0 or n > 0 or j == k:
+                    if j < 0 or n != 0 or j == k:
                         _push_if_front(sl if j < 0 else nbr[3 * sl + j], pts, tri, nbr, treg, acc, ratio, q)
             if n == 0:
                 sl = nbr[3 * sl + (k + 1) % 3]
@@ -432,7 +434,7 @@ def _drop(v, pts, tri, nbr, cons, treg, vtri, meta, acc, ratio, q, fmeta, par, b
     k = remove_vertex(v, s, c, scr)
     if k < 0:
         fmeta[FM_KEPT] += 1
-        return True
+        return 0
     fmeta[FM_REMOVED] += 1
     free[fmeta[FM_NFREE]] = v
     fmeta[FM_NFREE] += 1
@@ -473,12 +475,13 @@ def run(s, c, f, bg):
     q = (qhead, qnext, qprev, qbin, qhdr)
     rows, slots = enc.room_of(s, c)
     rows = min(rows, vflag.shape[0], free.shape[0], vbg.shape[0])
-    # The vertex whose new star (or, nnew > 0, whose removal's new triangles) the last step
+    # The vertex whose new star (or, nnew > 0, whose removal's new triangles; nnew < 0: the
+    # neighbours of the triangle in scr[KMAX], accepted without a point) the last step
     # left to classify and queue: done here, at the top of the next step, so that the loop
     # has one inlined copy of _star_update for insertions and removals alike (it changes no
     # slot count, so the room check below holds after it as before).
     pending = -1
-    nnew = 0  # with pending: the new triangles of a scaffold removal, or 0 for pending's star
+    nnew = 0  # with pending: a removal's new triangles, 0 for pending's star, -1 for an accepted slot
     while True:
         if pending >= 0:
             _star_update(pending, nnew, scr, pts, tri, nbr, treg, vtri, acc, ratio, q, par, bg, vflag, vbg)
@@ -554,8 +557,10 @@ def run(s, c, f, bg):
                 pending = sv
                 continue
             acc[t] = 1
-            for k in range(3):
-                _push_if_front(nbr[3 * t + k], pts, tri, nbr, treg, acc, ratio, q)
+            # Its neighbours are queued by the next step's _star_update (one inlined copy).
+            scr[KMAX] = t
+            pending = t
+            nnew = -1
             continue
         v = _insert_at(px, py, host, pts, tri, nbr, circ, rank, cons, meta, work, vmark, vtri, treg, vseg, vpar,
                        vacute, free, fmeta, vflag, rows)
