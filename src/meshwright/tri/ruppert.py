@@ -197,9 +197,8 @@ def refine_loop(s, c, r):
                 return R_OFF_CURVE
             st[S_CREADY] = 0
             st[S_QN] = q
-            _new_vertex(nv, tn, p, tpar, a, b, fl, fr, 0, s, c, r)
-            continue
-        if qhdr[Q_N] > 0:
+            f0 = 0
+        elif qhdr[Q_N] > 0:
             e = bq_pop(qhead, qnext, qhdr)
             t = qval[e, 0]
             stale = t >= meta[M_NTRI] or tri[3 * t] != qval[e, 1] or tri[3 * t + 1] != qval[e, 2]
@@ -264,11 +263,14 @@ def refine_loop(s, c, r):
             if tn <= DUP_BASE:
                 st[S_SKIPPED] += 1
                 continue
-            _new_vertex(nv, tn, -1, 0.0, -1, -1, 0, 0, f0, s, c, r)
-            continue
-        if st[S_PN] > 0:
+            p, tpar, a, b, fl, fr = -1, 0.0, -1, -1, 0, 0
+        elif st[S_PN] > 0:
             return R_SIZES
-        return R_DONE
+        else:
+            return R_DONE
+        # One inlined copy for a subsegment's split point and an off-centre (each copy is
+        # typed and lowered again on the first run: issue 13).
+        _new_vertex(nv, tn, p, tpar, a, b, fl, fr, f0, s, c, r)
 
 
 @njit(cache=True, nogil=True)
