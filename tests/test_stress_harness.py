@@ -4,6 +4,7 @@ refusal rule of the quad methods and the worker's isolation of crashes and hangs
 from __future__ import annotations
 
 import faulthandler
+import math
 import os
 import signal
 import sys
@@ -49,6 +50,16 @@ def test_quad_oracle_rejects_each_defect():
         S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS}, OUTER, [hole], OUTER)
     with pytest.raises(AssertionError, match="1 input vertices missing"):
         S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS}, OUTER, [], np.vstack([OUTER, [[0.25, 0.25]]]))
+
+
+def test_sharpest_corner_of_the_loops():
+    assert S.sharpest_corner(_case()) == pytest.approx(90.0)
+    # A hole with a 5-degree corner at (0.2, 0.2): its sides leave along 0 and 5 degrees.
+    t = math.radians(5.0)
+    hole = [[0.2, 0.2], [0.4, 0.2], [0.2 + 0.2 * math.cos(t), 0.2 + 0.2 * math.sin(t)]]
+    assert S.sharpest_corner(_case(holes=[hole])) == pytest.approx(5.0)
+    # A straight vertex is not sharp (180 degrees between its sides).
+    assert S.sharpest_corner(_case(outer=[[0, 0], [1, 0], [1, 1], [0.5, 1], [0, 1]])) == pytest.approx(90.0)
 
 
 def _case(**over):
