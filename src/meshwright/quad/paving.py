@@ -101,6 +101,7 @@ from meshwright.geometry.domain import Domain
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad import _paving_row as pr
 from meshwright.quad._paving_close import (
+    LONG_LOOP,
     area_kept,
     boundary_loops,
     bridge,
@@ -495,7 +496,8 @@ class _Paver:
         if len(f) > limit or encloses(self.pts, f, others):
             return False
         oa, ob = edges_of(others)
-        done = close_loop(self.xy, f, self.field, oa, ob, 4 * len(f), partial=True)
+        sizes = self.size_at(np.asarray(f, dtype=np.int64)) if len(f) > LONG_LOOP else None
+        done = close_loop(self.xy, f, self.field, oa, ob, 4 * len(f), partial=True, sizes=sizes)
         if done is None:
             return False
         extra, quads, open_parts = done
