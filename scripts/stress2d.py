@@ -460,8 +460,18 @@ class _Worker:
         self.conn = a
         self.proc = mp.Process(target=_worker, args=(b, self.methods), daemon=True)
         self.proc.start()
-        if not self.conn.poll(JIT_TIMEOUT) or self.conn.recv() != "ready":
+        # The child holds its own end; with ours closed, a child that dies reads as EOF
+        # here at once (an error in the warm-up waited JIT_TIMEOUT before).
+        b.close()
+        if not self.conn.poll(JIT_TIMEOUT):
             raise RuntimeError(f"the worker did not compile the kernels in {JIT_TIMEOUT} s")
+        try:
+            ready = self.conn.recv()
+        except EOFError:
+            self.proc.join()
+            raise RuntimeError(f"the worker died while compiling the kernels (exit code {self.proc.exitcode})") from None
+        if ready != "ready":
+            raise RuntimeError(f"the worker answered {ready!r} instead of 'ready'")
 
     def send(self, i, case, method, timeout):
         if self.proc is None or not self.proc.is_alive():

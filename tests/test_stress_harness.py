@@ -127,6 +127,14 @@ def test_a_job_that_times_out_once_runs_again(monkeypatch, tmp_path):
     assert sorted((i, st) for i, st, _ in out) == [(0, "ok"), (1, "ok")]
 
 
+def test_a_worker_that_fails_its_warm_up_is_an_error_at_once(monkeypatch):
+    # Without the EOF the parent would wait out the warm-up limit: "did not compile".
+    monkeypatch.setattr(S, "JIT_TIMEOUT", 60.0)
+    w = S._Worker(["no such method"])  # triangulate refuses it in the worker's warm-up
+    with pytest.raises(RuntimeError, match="died while compiling"):
+        w.start()
+
+
 def test_a_crash_reproducer_is_marked(tmp_path, monkeypatch):
     monkeypatch.setattr(S, "REGRESSIONS", tmp_path)
     path = S.record(_case(), "paving", "Crash: the worker died (exit code -11)")
