@@ -5,12 +5,13 @@
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
 
 from meshwright.core.errors import InputError
-from meshwright.geometry import circle
+from meshwright.geometry import circle, polygon
 from meshwright.quad.chords import chord_split
 from meshwright.quad.mesher import QuadFill
 
@@ -51,3 +52,67 @@ def test_line_params_are_checked_at_the_door():
     for bad in (np.zeros((1, 2)), np.zeros((2, 3)), np.array([[0.0, 0.5], [0.5, np.nan]])):
         with pytest.raises(InputError, match="line_params"):
             chord_split(fill, circle(), 100, line_params=bad)
+
+
+def _orient(p, q, r) -> Fraction:
+    """Exact orientation of three float points (rational arithmetic)."""
+    (px, py), (qx, qy), (rx, ry) = ([Fraction(float(c)) for c in v] for v in (p, q, r))
+    return (qx - px) * (ry - py) - (qy - py) * (rx - px)
+
+
+def _assert_convex_and_conforming(out, fill):
+    """Every quad strictly convex (exact), no triangle, every quad side shared by exactly two
+    quads or lying on exactly one line, and the lines' chain covering the old lines."""
+    assert len(out.triangles) == 0
+    xy = out.points
+    sides = {}
+    for q in out.quads.tolist():
+        for k in range(4):
+            assert _orient(xy[q[k - 1]], xy[q[k]], xy[q[(k + 1) % 4]]) > 0, f"quad {q} bent at {q[k]}"
+            sides[(q[k], q[(k + 1) % 4])] = sides.get((q[k], q[(k + 1) % 4]), 0) + 1
+    lines = {tuple(sorted(e)) for e in out.lines.tolist()}
+    for (a, b), count in sides.items():
+        assert count == 1
+        assert ((b, a) in sides) != ((min(a, b), max(a, b)) in lines), f"side {a}-{b}"
+    assert len(lines) == len(out.lines) >= len(fill.lines)
+
+
+def _flat_ear():
+    """A pentagon whose bottom vertex 1 lies one float step below the line of its
+    neighbours: the triangle (0, 1, 2) is counter-clockwise with a height under the
+    coordinates' spacing, so its centroid rounds onto its long side."""
+    xy = np.array([[0.0, 3.0], [0.5, np.nextafter(3.0, 0.0)], [1.0, 3.0], [1.0, 4.0], [0.0, 4.0]])
+    tris = np.array([[0, 1, 2], [0, 2, 4], [2, 3, 4]], np.int32)
+    lines = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [4, 0]], np.int32)
+    return QuadFill(xy, np.zeros((0, 4), np.int32), tris, lines, np.ones(5, np.int32), np.zeros(5, np.int32))
+
+
+def _flat_quad():
+    """A quad (0, 1, 2, 4) whose corner 1 is the float point nearest the midpoint of 0 and 2
+    with a strictly convex turn (orient2d ~1.5e-23 against sides of ~1e-3), between two
+    triangles that make both its chords cross it (found by a search: the vertex-mean split
+    of this quad comes out non-convex at 1)."""
+    p0 = np.array([0.003511821624700257, 0.005950463696325936])
+    p2 = np.array([0.00552623758597222, 0.00644532864103966])
+    mid = 0.5 * (p0 + p2)
+    cands = [
+        np.array([mid[0] + i * np.spacing(mid[0]), mid[1] + j * np.spacing(mid[1])])
+        for i in range(-3, 4)
+        for j in range(-3, 4)
+    ]
+    p1 = min((c for c in cands if _orient(p0, c, p2) > 0), key=lambda c: _orient(p0, c, p2))
+    d = p2 - p0
+    nrm = np.array([-d[1], d[0]])
+    xy = np.array([p0, p1, p2, p2 + 0.5 * nrm + 0.5 * d, mid + 0.5 * nrm, p0 + 0.5 * nrm - 0.5 * d])
+    quads = np.array([[0, 1, 2, 4]], np.int32)
+    tris = np.array([[2, 3, 4], [0, 4, 5]], np.int32)
+    lines = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0]], np.int32)
+    return QuadFill(xy, quads, tris, lines, np.ones(6, np.int32), np.zeros(6, np.int32))
+
+
+@pytest.mark.parametrize("make", [_flat_ear, _flat_quad])
+def test_cells_too_flat_to_split_are_recut_into_convex_quads(make):
+    fill = make()
+    out = chord_split(fill, polygon(fill.points[: len(fill.lines)].tolist()), 1000)
+    _assert_convex_and_conforming(out, fill)
+

@@ -25,10 +25,13 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import InputError, MeshingError
+from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import check_count
 from meshwright.geometry.domain import Domain
 
 __all__ = ["chord_split"]
+
+MEND_ROUNDS = 8  # rounds of re-cuts of the cells whose split came out non-convex
 
 
 def chord_split(fill, domain: Domain, max_points: int, line_params=None):
@@ -41,6 +44,17 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
     crossed both ways four (around its vertex mean), a triangle three (around its
     centroid).  Every split side is split in both its elements, so the result conforms;
     only the quads on the chords change, unlike the global midpoint split.
+
+    Every new quad is checked exactly (``orient2d`` at each corner, on the rounded
+    coordinates).  A cell too flat for its split to survive rounding (a quad with a corner
+    of almost 180 degrees, a sliver triangle whose height is below the coordinates' spacing)
+    is re-cut and the split redone (:func:`_mend`): such a quad becomes two triangles along
+    the diagonal through its widest corner, such a triangle is flipped with the cell
+    beyond the side facing its widest corner.  Meshes whose split is convex at once are
+    unchanged, and so is one that no re-cut makes convex within ``MEND_ROUNDS`` (a node
+    next to a line, the line facing its straight angle): its bent quads are returned as
+    they came, for the caller's smoothing, which may still open them (a free node moves),
+    and its exact check.
 
     Parameters
     ----------
@@ -67,7 +81,6 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
         The refinement would exceed ``max_points``.
     """
     from meshwright.quad.mesher import QuadFill
-    from meshwright.quad.subdivide import curve_midpoints
 
     if not isinstance(fill, QuadFill):
         raise InputError(f"fill must be a meshwright.quad.QuadFill, got {type(fill).__name__}")
@@ -81,6 +94,25 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
                 f"line_params must be finite with shape ({len(fill.lines)}, 2), one row per line; "
                 f"got shape {line_params.shape}"
             )
+    first = None
+    for _ in range(MEND_ROUNDS):
+        out, parent = _split(fill, domain, max_points, line_params)
+        bad = _nonconvex(out.points, out.quads)
+        if not len(bad):
+            return out
+        first = out if first is None else first
+        mended = _mend(fill, np.unique(parent[bad]))
+        if mended is None:
+            break
+        fill = fill._replace(quads=mended[0], triangles=mended[1])
+    return first
+
+
+def _split(fill, domain: Domain, max_points: int, line_params):
+    """One chord refinement of a checked fill: (QuadFill, parent) with ``parent`` (q,) int64
+    the cell each new quad came from (``i < m`` quad ``i``, ``m + j`` triangle ``j``)."""
+    from meshwright.quad.subdivide import curve_midpoints
+
     xy = fill.points
     n = len(xy)
     quads = fill.quads.astype(np.int64)
@@ -117,8 +149,10 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
     cq = n + len(uniq) + np.arange(len(both))
     ct = n + len(uniq) + len(both) + np.arange(len(tris))
     out = [quads[crossed == 0]]
+    parent = [np.flatnonzero(crossed == 0)]
     for bit in (1, 2):
         sel = np.flatnonzero(crossed == bit)
+        parent += [sel, sel]
         v, h = quads[sel], hq[sel]
         if bit == 1:  # (v0, m0, m2, v3) and (m0, v1, v2, m2)
             out += [
@@ -130,10 +164,11 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
                 np.column_stack([v[:, 0], v[:, 1], h[:, 1], h[:, 3]]),
                 np.column_stack([h[:, 3], h[:, 1], v[:, 2], v[:, 3]]),
             ]
-    for cells, h, c in ((quads[both], hq[both], cq), (tris, ht, ct)):
+    for cells, h, c, ids in ((quads[both], hq[both], cq, both), (tris, ht, ct, m + np.arange(len(tris)))):
         p = cells.shape[1]
         for k in range(p):
             out.append(np.column_stack([cells[:, k], h[:, k], c, h[:, (k - 1) % p]]))
+            parent.append(ids)
     # Each split line becomes (u, mid) and (mid, w), in the lines' order.
     reps = np.where(lsplit, 2, 1)
     at = np.cumsum(reps) - reps
@@ -143,13 +178,114 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
     new_lines[at[lsplit], 1] = n + lmid
     new_lines[at[lsplit] + 1, 0] = n + lmid
     new_lines[at[lsplit] + 1, 1] = lines[lsplit, 1]
-    return fill._replace(
+    split_fill = fill._replace(
         points=np.ascontiguousarray(np.concatenate([xy, mid, centres])),
         quads=np.ascontiguousarray(np.concatenate(out)).astype(np.int32),
         triangles=np.zeros((0, 3), dtype=np.int32),
         lines=new_lines.astype(np.int32),
         line_markers=np.repeat(fill.line_markers, reps).astype(np.int32),
         line_curves=np.repeat(fill.line_curves, reps).astype(np.int32),
+    )
+    return split_fill, np.concatenate(parent).astype(np.int64)
+
+
+def _nonconvex(xy, quads) -> np.ndarray:
+    """Indices of quads with a corner that is not strictly convex (exact orient2d)."""
+    q = np.asarray(quads, dtype=np.int64)
+    bad = np.zeros(len(q), dtype=bool)
+    for k in range(4):
+        bad |= orient2d_batch(xy, q[:, [(k + 3) % 4, k, (k + 1) % 4]]) <= 0.0
+    return np.flatnonzero(bad)
+
+
+def _corners(xy, cell):
+    """(sine, cosine) of each corner of a polygon (quality rules, floating point): the
+    widest corner (smallest cosine) is the re-cut's choice, the smallest sine (the scaled
+    Jacobian) ranks the options; the exact checks decide whether a cut is valid."""
+    p = xy[cell]
+    u = np.roll(p, -1, axis=0) - p
+    w = np.roll(p, 1, axis=0) - p
+    norm = np.hypot(*u.T) * np.hypot(*w.T)
+    return (u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / norm, (u * w).sum(axis=1) / norm
+
+
+def _mend(fill, parents):
+    """Re-cut the cells (``parents``, :func:`_split` numbering) whose split was non-convex.
+
+    A quad becomes two triangles along the diagonal through its widest corner (the
+    diagonal that halves the almost straight angle; the other one would leave it in a
+    sliver).  A triangle is flipped with the cell beyond the side facing its widest
+    corner, unless that side is a line: with a triangle into two triangles across the
+    other diagonal, with a quad (a pentagon) into a quad and a triangle by a diagonal
+    from that corner, the better shaped of the two.  Every new cell is checked exactly
+    (strictly convex quads, counter-clockwise triangles); a cell touched already this
+    round waits for the next.  Rare, so plain Python over the few cells.  Returns
+    (quads, triangles) int32, or None when no cell could be re-cut.
+    """
+    xy = fill.points
+    quads = [list(map(int, q)) for q in fill.quads]
+    tris = [list(map(int, t)) for t in fill.triangles]
+    m = len(quads)
+    side = {}
+    for i, q in enumerate(quads):
+        for k in range(4):
+            side[(q[k], q[(k + 1) % 4])] = i
+    for j, t in enumerate(tris):
+        for k in range(3):
+            side[(t[k], t[(k + 1) % 3])] = m + j
+    lines = {(int(a), int(b)) for a, b in fill.lines} | {(int(b), int(a)) for a, b in fill.lines}
+    gone = set()
+    new_quads, new_tris = [], []
+
+    def ccw(*cells):
+        o = orient2d_batch(xy, np.array(cells, dtype=np.int64))
+        return bool((o > 0.0).all())
+
+    def convex(q):
+        return ccw(*([q[(k + 3) % 4], q[k], q[(k + 1) % 4]] for k in range(4)))
+
+    for p in map(int, parents):
+        if p in gone:
+            continue
+        if p < m:
+            q = quads[p]
+            k = int(np.argmin(_corners(xy, q)[1]))
+            for d in (k, (k + 1) % 4):
+                a, b, c, e = (q[(d + i) % 4] for i in range(4))
+                if ccw([a, b, c], [a, c, e]):
+                    gone.add(p)
+                    new_tris += [[a, b, c], [a, c, e]]
+                    break
+            continue
+        t = tris[p - m]
+        k = int(np.argmin(_corners(xy, t)[1]))
+        c, a, b = t[k], t[(k + 1) % 3], t[(k + 2) % 3]
+        o = side.get((b, a), -1)
+        if (a, b) in lines or o < 0 or o in gone:
+            continue
+        if o >= m:
+            x = next(v for v in tris[o - m] if v != a and v != b)
+            if ccw([c, a, x], [c, x, b]):
+                gone |= {p, o}
+                new_tris += [[c, a, x], [c, x, b]]
+            continue
+        r = quads[o]
+        s = r.index(b)
+        x, y = r[(s + 2) % 4], r[(s + 3) % 4]
+        options = [([c, x, y, b], [c, a, x]), ([c, a, x, y], [c, y, b])]
+        options = [(qq, tt) for qq, tt in options if convex(qq) and ccw(tt)]
+        if options:
+            qq, tt = max(options, key=lambda ct: min(_corners(xy, ct[0])[0].min(), _corners(xy, ct[1])[0].min()))
+            gone |= {p, o}
+            new_quads.append(qq)
+            new_tris.append(tt)
+    if not gone:
+        return None
+    keep_q = [q for i, q in enumerate(quads) if i not in gone] + new_quads
+    keep_t = [t for j, t in enumerate(tris) if m + j not in gone] + new_tris
+    return (
+        np.array(keep_q, dtype=np.int32).reshape(-1, 4),
+        np.array(keep_t, dtype=np.int32).reshape(-1, 3),
     )
 
 
