@@ -377,6 +377,14 @@ def _pairs(P, H, g, key, order, hs, wide, min_angle, defer, ang, th, ci, cj, ck,
     sixteenth = m // 16
     nc = 0
     nd = 0
+    # A part above SHAVE_MAX nodes never takes a chord outside classes 0 and 1, and a
+    # pair whose ends are fewer than a sixteenth of the nodes apart along the part, less
+    # the most nodes a chord no longer than ``wide`` sizes gets (k <= 2 wide, h being at
+    # least half the larger end size), is of class 2 whatever its length: with
+    # ``defer`` it is only counted (``skip``, towards the cap, as it would have been
+    # at most once).
+    kmax = 2.0 * wide + 1.0
+    skip = 0
     for u in range(m):
         i0 = order[u]
         # A pair is found from its end with the larger size (the smaller position on a
@@ -396,7 +404,7 @@ def _pairs(P, H, g, key, order, hs, wide, min_angle, defer, ang, th, ci, cj, ck,
             else:
                 e = mid
         while w < m and key[w] <= hi:
-            if nc + nd >= cap:
+            if nc + nd + skip >= cap:
                 return nc, nd, True
             j0 = order[w]
             hj = hs[w]
@@ -406,6 +414,9 @@ def _pairs(P, H, g, key, order, hs, wide, min_angle, defer, ang, th, ci, cj, ck,
             i = min(i0, j0)
             j = max(i0, j0)
             if j - i < 2 or (i == 0 and j == m - 1) or g[i] == g[j]:
+                continue
+            if defer and m > SHAVE_MAX and min(j - i + 1, m - (j - i) + 1) + kmax < sixteenth:
+                skip += 1
                 continue
             dx = P[g[j], 0] - P[g[i], 0]
             dy = P[g[j], 1] - P[g[i], 1]
@@ -430,7 +441,7 @@ def _pairs(P, H, g, key, order, hs, wide, min_angle, defer, ang, th, ci, cj, ck,
             ci[nc], cj[nc], ck[nc], cb[nc] = i, j, k, cls
             cs[nc] = _score(split, length, h, k)
             nc += 1
-    return nc, nd, nc + nd >= cap
+    return nc, nd, nc + nd + skip >= cap
 
 
 @njit
@@ -475,7 +486,7 @@ def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
     # order and the cap are those of measuring every pair: a deferred enumeration that
     # reaches the cap is redone in full.
     nc, nd, full = _pairs(P, H, g, key, order, hs, wide, min_angle, balanced, ang, th, ci, cj, ck, cs, cb, dl, dh)
-    if full and nd:
+    if full and balanced:
         nc, nd, full = _pairs(P, H, g, key, order, hs, wide, min_angle, False, ang, th, ci, cj, ck, cs, cb, dl, dh)
     scratch = np.empty((3, 4), dtype=np.int64)
     # Balanced chords first; when the best of them all cross the boundary, those that
@@ -485,7 +496,7 @@ def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
     # A large part with no near chord that leaves a sixteenth on each side is thick at
     # its spacing (no chord reaches across): it is left to the void fill, which costs
     # its area, where shaving a few nodes off per cut cost its length squared (20 s).
-    sel = np.empty(cap, dtype=np.int64)
+    sel = np.empty(max(nc, nd), dtype=np.int64)
     for stage in range((3 if m <= SHAVE_MAX else 2) if balanced else 1):
         ns = 0
         if stage == 0 or not nd:
