@@ -87,6 +87,13 @@ def _flat_ear():
     return QuadFill(xy, np.zeros((0, 4), np.int32), tris, lines, np.ones(5, np.int32), np.zeros(5, np.int32))
 
 
+def _flat_ear_under_a_quad():
+    """The same sliver ear with a quad beyond its long side: the flip re-cuts the pentagon
+    into a quad and a triangle."""
+    ear = _flat_ear()
+    return ear._replace(quads=np.array([[0, 2, 3, 4]], np.int32), triangles=ear.triangles[:1])
+
+
 def _flat_quad():
     """A quad (0, 1, 2, 4) whose corner 1 is the float point nearest the midpoint of 0 and 2
     with a strictly convex turn (orient2d ~1.5e-23 against sides of ~1e-3), between two
@@ -110,7 +117,7 @@ def _flat_quad():
     return QuadFill(xy, quads, tris, lines, np.ones(6, np.int32), np.zeros(6, np.int32))
 
 
-@pytest.mark.parametrize("make", [_flat_ear, _flat_quad])
+@pytest.mark.parametrize("make", [_flat_ear, _flat_ear_under_a_quad, _flat_quad])
 def test_cells_too_flat_to_split_are_recut_into_convex_quads(make):
     fill = make()
     out = chord_split(fill, polygon(fill.points[: len(fill.lines)].tolist()), 1000)
