@@ -219,23 +219,30 @@ def _mend(fill, parents):
     other diagonal, with a quad (a pentagon) into a quad and a triangle by a diagonal
     from that corner, the better shaped of the two.  Every new cell is checked exactly
     (strictly convex quads, counter-clockwise triangles); a cell touched already this
-    round waits for the next.  Rare, so plain Python over the few cells.  Returns
+    round waits for the next.  Rare: a Python loop over the few cells, each neighbour
+    found by a scan of the arrays.  Returns
     (quads, triangles) int32, or None when no cell could be re-cut.
     """
     xy = fill.points
-    quads = [list(map(int, q)) for q in fill.quads]
-    tris = [list(map(int, t)) for t in fill.triangles]
+    quads = fill.quads.astype(np.int64)
+    tris = fill.triangles.astype(np.int64)
     m = len(quads)
-    side = {}
-    for i, q in enumerate(quads):
-        for k in range(4):
-            side[(q[k], q[(k + 1) % 4])] = i
-    for j, t in enumerate(tris):
-        for k in range(3):
-            side[(t[k], t[(k + 1) % 3])] = m + j
-    lines = {(int(a), int(b)) for a, b in fill.lines} | {(int(b), int(a)) for a, b in fill.lines}
-    gone = set()
+    lines = fill.lines.astype(np.int64)
+    q_next = quads[:, [1, 2, 3, 0]]
+    t_next = tris[:, [1, 2, 0]]
+    gone = np.zeros(m + len(tris), dtype=bool)
     new_quads, new_tris = [], []
+
+    def beyond(a, b):
+        """The cell whose side runs from b to a (the twin of a -> b), -1 if none."""
+        hit = np.flatnonzero(((quads == b) & (q_next == a)).any(axis=1))
+        if len(hit):
+            return int(hit[0])
+        hit = np.flatnonzero(((tris == b) & (t_next == a)).any(axis=1))
+        return m + int(hit[0]) if len(hit) else -1
+
+    def is_line(a, b):
+        return bool((((lines[:, 0] == a) & (lines[:, 1] == b)) | ((lines[:, 0] == b) & (lines[:, 1] == a))).any())
 
     def ccw(*cells):
         o = orient2d_batch(xy, np.array(cells, dtype=np.int64))
@@ -245,47 +252,45 @@ def _mend(fill, parents):
         return ccw(*([q[(k + 3) % 4], q[k], q[(k + 1) % 4]] for k in range(4)))
 
     for p in map(int, parents):
-        if p in gone:
+        if gone[p]:
             continue
         if p < m:
-            q = quads[p]
+            q = quads[p].tolist()
             k = int(np.argmin(_corners(xy, q)[1]))
             for d in (k, (k + 1) % 4):
                 a, b, c, e = (q[(d + i) % 4] for i in range(4))
                 if ccw([a, b, c], [a, c, e]):
-                    gone.add(p)
+                    gone[p] = True
                     new_tris += [[a, b, c], [a, c, e]]
                     break
             continue
-        t = tris[p - m]
+        t = tris[p - m].tolist()
         k = int(np.argmin(_corners(xy, t)[1]))
         c, a, b = t[k], t[(k + 1) % 3], t[(k + 2) % 3]
-        o = side.get((b, a), -1)
-        if (a, b) in lines or o < 0 or o in gone:
+        o = beyond(a, b)
+        if o < 0 or gone[o] or is_line(a, b):
             continue
         if o >= m:
-            x = next(v for v in tris[o - m] if v != a and v != b)
+            x = next(v for v in tris[o - m].tolist() if v != a and v != b)
             if ccw([c, a, x], [c, x, b]):
-                gone |= {p, o}
+                gone[[p, o]] = True
                 new_tris += [[c, a, x], [c, x, b]]
             continue
-        r = quads[o]
+        r = quads[o].tolist()
         s = r.index(b)
         x, y = r[(s + 2) % 4], r[(s + 3) % 4]
         options = [([c, x, y, b], [c, a, x]), ([c, a, x, y], [c, y, b])]
         options = [(qq, tt) for qq, tt in options if convex(qq) and ccw(tt)]
         if options:
             qq, tt = max(options, key=lambda ct: min(_corners(xy, ct[0])[0].min(), _corners(xy, ct[1])[0].min()))
-            gone |= {p, o}
+            gone[[p, o]] = True
             new_quads.append(qq)
             new_tris.append(tt)
-    if not gone:
+    if not gone.any():
         return None
-    keep_q = [q for i, q in enumerate(quads) if i not in gone] + new_quads
-    keep_t = [t for j, t in enumerate(tris) if m + j not in gone] + new_tris
     return (
-        np.array(keep_q, dtype=np.int32).reshape(-1, 4),
-        np.array(keep_t, dtype=np.int32).reshape(-1, 3),
+        np.concatenate([quads[~gone[:m]], np.array(new_quads, dtype=np.int64).reshape(-1, 4)]).astype(np.int32),
+        np.concatenate([tris[~gone[m:]], np.array(new_tris, dtype=np.int64).reshape(-1, 3)]).astype(np.int32),
     )
 
 
