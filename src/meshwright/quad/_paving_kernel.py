@@ -457,11 +457,16 @@ def _moving_min_sine(p, q, cell_ptr, cell_idx, v, x, y, best):
 
 
 @njit(cache=True)
-def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
+def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps, settled):
     """One pass of the max-min pattern search over ``nodes`` in place (see
     :func:`meshwright.quad._paving_close.polish`): each node takes the move, among
     ``steps`` times its shortest edge along each of ``dirs``, that raises the smallest
     corner sine of its quads most, or stays.  Returns the number of nodes moved.
+
+    ``settled`` (n,) bool, updated: a node whose last visit left it in place, no node
+    of its quads having moved since.  Its visit would read the same coordinates and
+    stay again, so it is skipped (on a sliver's closure most marked nodes cannot
+    improve, and every pass searched them again).
 
     The corners opposite the node in its quads do not move: while their smallest sine
     is not above the star's, no move can raise the star's minimum and the node is
@@ -471,6 +476,9 @@ def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
     moved = 0
     for i in range(nodes.shape[0]):
         v = nodes[i]
+        if settled[v]:
+            continue
+        settled[v] = True
         x0 = p[v, 0]
         y0 = p[v, 1]
         reach = np.inf
@@ -506,6 +514,9 @@ def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps):
             p[v, 0] = bx
             p[v, 1] = by
             moved += 1
+            for t in range(cell_ptr[v], cell_ptr[v + 1]):
+                for k in range(4):
+                    settled[q[cell_idx[t], k]] = False
     return moved
 
 
@@ -545,6 +556,7 @@ def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
     for c in range(nq):
         worst[c] = _quad_min_sine(p, q, c)
     mark = np.zeros(n, dtype=np.bool_)
+    settled = np.zeros(n, dtype=np.bool_)
     nodes = np.empty(n, dtype=np.int64)
     before = np.empty((n, 2))
     for _ in range(rounds):
@@ -563,7 +575,7 @@ def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
                     m += 1
         if m == 0:
             break
-        if polish_nodes(p, q, cell_ptr, cell_idx, nodes[:m], dirs, steps) == 0:
+        if polish_nodes(p, q, cell_ptr, cell_idx, nodes[:m], dirs, steps, settled) == 0:
             break
         for i in range(m):
             v = nodes[i]
