@@ -407,13 +407,15 @@ def test_cli_quad(tmp_path, capsys):
 
 def test_cover_check_edges_match_a_set_oracle():
     """one_sided_edges (the cover check's kernel) against Python sets of directed edges, on
-    a quad mesh with cells removed (voids) and a triangle beside a quad."""
+    a quad mesh with cells removed (voids) and a triangle beside a quad; with ``lines``, the
+    lines that are no cell's edge either way against the same sets."""
     from meshwright.core.validate_quad import one_sided_edges
 
     mesh = quadrangulate(circle(), 0.2, method="quadtree")
-    quads = np.asarray(mesh.cells["quad"], dtype=np.int64)
+    full = np.asarray(mesh.cells["quad"], dtype=np.int64)
     rng = np.random.default_rng(5)
-    quads = np.delete(quads, rng.choice(len(quads), 7, replace=False), axis=0)
+    removed = rng.choice(len(full), 7, replace=False)
+    quads = np.delete(full, removed, axis=0)
     # One quad split into two triangles: its edges pair with the neighbours' either way.
     a, b, c, d = quads[0]
     tris = np.array([[a, b, c], [a, c, d]], dtype=np.int64)
@@ -425,6 +427,19 @@ def test_cover_check_edges_match_a_set_oracle():
     assert got.dtype == np.int64 and got.shape[1] == 2
     assert {tuple(e) for e in got.tolist()} == expect and len(got) == len(expect)
     assert (a, c) not in expect and len(expect) > 7 * 4
+    # The mesh's lines reversed, the split quad's diagonal (an edge now), a kept quad's
+    # diagonal and every side of the removed quads (some are no cell's edge any more).
+    gone = full[removed]
+    sides = np.stack([gone, np.roll(gone, -1, axis=1)], axis=2).reshape(-1, 2)
+    probe = np.vstack([np.asarray(mesh.cells["line"], dtype=np.int64)[:, ::-1], [[a, c]],
+                       [[quads[1, 0], quads[1, 2]]], sides])
+    either = directed | {(w, u) for u, w in directed}
+    expect_orphan = [i for i, (u, w) in enumerate(probe.tolist()) if (u, w) not in either]
+    edges, orphan = one_sided_edges(len(mesh.points), quads, tris, probe)
+    assert (edges == got).all() and orphan.dtype == np.int64
+    assert orphan.tolist() == expect_orphan
+    n_lines = len(mesh.cells["line"])
+    assert n_lines not in expect_orphan and n_lines + 1 in expect_orphan and expect_orphan[-1] > n_lines + 1
 
 
 @settings(max_examples=10, deadline=None)

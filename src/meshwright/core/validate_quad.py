@@ -13,9 +13,9 @@ triangle clockwise or flat).  Triangles of the mesh must still be strictly
 counter-clockwise.  Every sign is exact (:mod:`meshwright.core.predicates`).
 
 :func:`one_sided_edges` is the cover check's search (``quadrangulate``'s door out): the
-directed cell edges with no cell on their other side, found in O(cells) through a
-vertex-to-outgoing-edge table in CSR form (a sort of all edge keys cost a tenth of a
-paving run on the disk).
+directed cell edges with no cell on their other side, and the line cells that are no cell's
+edge, found in O(cells) through a vertex-to-outgoing-edge table in CSR form (a sort of all
+edge keys cost a tenth of a paving run on the disk).
 
 Array layout: points (n, 2) float64; quads (m, 4) and triangles (t, 3) int32,
 counter-clockwise.
@@ -37,9 +37,9 @@ def _fmt(points: np.ndarray, cell: np.ndarray) -> str:
 
 
 @njit(cache=True)
-def _lone(n, ea, eb):
+def _cover(n, ea, eb, la, lb):
     """Flags of the directed edges ``ea[e] -> eb[e]`` (ids below ``n``) whose reverse is
-    not among them."""
+    not among them, and of the lines ``la[i] - lb[i]`` that are no such edge either way."""
     m = ea.shape[0]
     ptr = np.zeros(n + 1, dtype=np.int64)
     for e in range(m):
@@ -58,11 +58,19 @@ def _lone(n, ea, eb):
             if head[j] == u:
                 lone[e] = False
                 break
-    return lone
+    orphan = np.ones(la.shape[0], dtype=np.bool_)
+    for i in range(la.shape[0]):
+        for u, w in ((la[i], lb[i]), (lb[i], la[i])):
+            for j in range(ptr[u], ptr[u + 1]):
+                if head[j] == w:
+                    orphan[i] = False
+                    break
+    return lone, orphan
 
 
-def one_sided_edges(n_points: int, quads: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Directed cell edges with no cell on their other side.
+def one_sided_edges(n_points: int, quads: np.ndarray, triangles: np.ndarray, lines=None):
+    """Directed cell edges with no cell on their other side (and, given ``lines``, the
+    lines that are no cell's edge).
 
     Parameters
     ----------
@@ -71,19 +79,25 @@ def one_sided_edges(n_points: int, quads: np.ndarray, triangles: np.ndarray) -> 
     quads : (m, 4) int
     triangles : (t, 3) int
         Counter-clockwise cells.
+    lines : (k, 2) int, optional
+        Line cells to look up among the cell edges (either direction).
 
     Returns
     -------
-    (k, 2) int64
+    (e, 2) int64
         Each edge ``(u, v)`` of a cell (the cell on its left) whose reverse ``(v, u)``
         belongs to no cell, quads' edges first.
+    (j,) int64
+        Only with ``lines``: the rows of ``lines`` that are no cell's edge.
     """
     q = np.asarray(quads, dtype=np.int64).reshape(-1, 4)
     t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
     ea = np.concatenate([q.ravel(), t.ravel()])
     eb = np.concatenate([q[:, [1, 2, 3, 0]].ravel(), t[:, [1, 2, 0]].ravel()])
-    lone = _lone(np.int64(n_points), ea, eb)
-    return np.stack([ea[lone], eb[lone]], axis=1)
+    ln = np.zeros((0, 2), dtype=np.int64) if lines is None else np.asarray(lines, dtype=np.int64).reshape(-1, 2)
+    lone, orphan = _cover(np.int64(n_points), ea, eb, np.ascontiguousarray(ln[:, 0]), np.ascontiguousarray(ln[:, 1]))
+    edges = np.stack([ea[lone], eb[lone]], axis=1)
+    return edges if lines is None else (edges, np.flatnonzero(orphan))
 
 
 def simple_ccw_quads(points: np.ndarray, quads: np.ndarray) -> np.ndarray:

@@ -248,13 +248,21 @@ def _close_voids(method: str, points: np.ndarray, quads: np.ndarray, triangles: 
     A method may leave a void inside the domain (paving's closure missed a four-node loop);
     a four-node void that is a strictly convex quad gets that quad (the paving closure
     template for four nodes), any other raises :class:`MeshingError` naming the loop, so no
-    mesh with a hole the domain does not have leaves :func:`quadrangulate`.  Returns
+    mesh with a hole the domain does not have leaves :func:`quadrangulate`.  A line cell that
+    is no cell's edge (a boundary or segment piece the cells cut across) raises too.  Returns
     ``quads``, with the closing quads appended.
     """
     from meshwright.core.validate_quad import one_sided_edges, simple_ccw_quads
 
     n = np.int64(len(points))
-    one_sided = one_sided_edges(len(points), quads, triangles)
+    one_sided, orphan = one_sided_edges(len(points), quads, triangles, lines)
+    if len(orphan):
+        u, v = lines[orphan[0]]
+        raise MeshingError(
+            f"method {method!r} left the line ({points[u, 0]:.17g}, {points[u, 1]:.17g}) - "
+            f"({points[v, 0]:.17g}, {points[v, 1]:.17g}) off every cell ({len(orphan)} such lines); "
+            "please report it with the domain and size"
+        )
     ln = lines.astype(np.int64)
     line_keys = np.concatenate([ln[:, 0] * n + ln[:, 1], ln[:, 1] * n + ln[:, 0]])
     extra = one_sided[~np.isin(one_sided[:, 0] * n + one_sided[:, 1], line_keys)]
