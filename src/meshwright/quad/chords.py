@@ -29,7 +29,7 @@ from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import check_count
 from meshwright.geometry.domain import Domain
 
-__all__ = ["chord_split"]
+__all__ = ["chord_split", "chord_split_candidates"]
 
 MEND_ROUNDS = 8  # rounds of re-cuts of the cells whose split came out non-convex
 
@@ -80,6 +80,19 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
     MeshingError
         The refinement would exceed ``max_points``.
     """
+    first, mended = chord_split_candidates(fill, domain, max_points, line_params)
+    return first if mended is None else mended
+
+
+def chord_split_candidates(fill, domain: Domain, max_points: int, line_params=None):
+    """:func:`chord_split`'s two results: (the plain split, the re-cut one or None).
+
+    The re-cut split is None when the plain one is convex already or no re-cut made it
+    convex.  A caller that smooths afterwards can keep whichever smooths better: the
+    smoother may open a bent quad by moving a free node (a better shape than a re-cut
+    that leaves a sliver), or not.  Same parameters and errors as :func:`chord_split`
+    (its arguments checked here).
+    """
     from meshwright.quad.mesher import QuadFill
 
     if not isinstance(fill, QuadFill):
@@ -99,13 +112,13 @@ def chord_split(fill, domain: Domain, max_points: int, line_params=None):
         out, parent = _split(fill, domain, max_points, line_params)
         bad = _nonconvex(out.points, out.quads)
         if not len(bad):
-            return out
+            return (out, None) if first is None else (first, out)
         first = out if first is None else first
         mended = _mend(fill, np.unique(parent[bad]))
         if mended is None:
             break
         fill = fill._replace(quads=mended[0], triangles=mended[1])
-    return first
+    return first, None
 
 
 def _split(fill, domain: Domain, max_points: int, line_params):

@@ -111,7 +111,7 @@ from meshwright.core.validate_input import (
 from meshwright.geometry.curves import Parametric, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.quad import _pairing_kernel as pk
-from meshwright.quad.chords import chord_split
+from meshwright.quad.chords import chord_split_candidates
 from meshwright.quad.zhu import zhu_front
 from meshwright.quad.enhancement import (
     ENHANCE_SMOOTH,
@@ -777,20 +777,36 @@ def pair_domain(
     split = bool(all_quad and len(lt))
     if split:
         n_before = len(fill.points)
-        fill = chord_split(fill, domain, cap)
-        # The refinement appends its nodes: the old indices, interior points included, stay
-        # valid.  Only the quads on the chords changed; the rest was smoothed already, so
-        # the new nodes and two rings of nodes around them move, the others stay.
-        near = np.zeros(len(fill.points), dtype=bool)
-        near[n_before:] = True
-        for _ in range(CHORD_RINGS):
-            near[fill.quads[near[fill.quads].any(axis=1)].ravel()] = True
-        moved = smooth_quads(
-            fill.points, fill.quads, fill.triangles, fill.lines, fill.line_curves, domain,
-            np.concatenate([fixed_pts, np.flatnonzero(~near)]), passes, smooth_boundary,
-            np.concatenate([node_t, np.full(len(fill.points) - n_before, np.nan)]),
-        )
-        fill = fill._replace(points=np.ascontiguousarray(moved))
+
+        def settle(f):
+            """Smooth a chord refinement around its new nodes.
+
+            The refinement appends its nodes: the old indices, interior points included,
+            stay valid.  Only the quads on the chords changed; the rest was smoothed
+            already, so the new nodes and two rings of nodes around them move."""
+            near = np.zeros(len(f.points), dtype=bool)
+            near[n_before:] = True
+            for _ in range(CHORD_RINGS):
+                near[f.quads[near[f.quads].any(axis=1)].ravel()] = True
+            moved = smooth_quads(
+                f.points, f.quads, f.triangles, f.lines, f.line_curves, domain,
+                np.concatenate([fixed_pts, np.flatnonzero(~near)]), passes, smooth_boundary,
+                np.concatenate([node_t, np.full(len(f.points) - n_before, np.nan)]),
+            )
+            return f._replace(points=np.ascontiguousarray(moved))
+
+        # A bent plain split is often opened by the smoothing (a free node moves); the
+        # re-cut one (cells too flat to split cut otherwise) is kept where the plain one
+        # stays bent or smooths to a worse shape.
+        plain, recut = chord_split_candidates(fill, domain, cap)
+        fill = settle(plain)
+        if recut is not None:
+            other = settle(recut)
+            if not len(nonconvex(other.points, other.quads)) and (
+                len(nonconvex(fill.points, fill.quads))
+                or min_scaled_jacobian(other.points, other.quads) > min_scaled_jacobian(fill.points, fill.quads)
+            ):
+                fill = other
     _check(fill.points, fill.quads, fill.triangles)
     n_tri, n_pairs, chains, n_left, reverted, counts = stats
     report = PairingReport(added, n_tri, n_pairs, chains, n_left, reverted, counts, split, len(fill.triangles))
