@@ -12,7 +12,7 @@ import pytest
 
 from meshwright.core.errors import InputError
 from meshwright.geometry import circle, polygon
-from meshwright.quad.chords import chord_split
+from meshwright.quad.chords import chord_split, chord_split_candidates
 from meshwright.quad.mesher import QuadFill
 
 
@@ -123,3 +123,21 @@ def test_cells_too_flat_to_split_are_recut_into_convex_quads(make):
     out = chord_split(fill, polygon(fill.points[: len(fill.lines)].tolist()), 1000)
     _assert_convex_and_conforming(out, fill)
 
+
+
+def test_candidates_are_the_bent_plain_split_and_the_recut_one():
+    fill = _flat_ear()
+    plain, recut = chord_split_candidates(fill, polygon(fill.points.tolist()), 1000)
+    xy = plain.points
+    bent = [
+        q for q in plain.quads.tolist() if any(_orient(xy[q[k - 1]], xy[q[k]], xy[q[(k + 1) % 4]]) <= 0 for k in range(4))
+    ]
+    assert bent
+    _assert_convex_and_conforming(recut, fill)
+    # The same ear half a unit deep splits convex at once: no re-cut.
+    xy = fill.points.copy()
+    xy[1, 1] = 2.5
+    deep = fill._replace(points=xy)
+    plain, recut = chord_split_candidates(deep, polygon(xy.tolist()), 1000)
+    assert recut is None
+    _assert_convex_and_conforming(plain, deep)
