@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from meshwright import geometry as g
-from meshwright.quad.pairing import make_loops_even
+from meshwright.quad.parity import make_loops_even
 from meshwright.quad.zhu import zhu_front
 from meshwright.tri import front as F
 from meshwright.tri.cdt import SegmentCurves, cdt_build

@@ -22,12 +22,8 @@ from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.quad import _enhance_kernel as ek
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.quad.enhancement import enhance
-from meshwright.quad.pairing import (
-    ParityError,
-    make_loops_even,
-    pair_domain,
-    pair_triangles,
-)
+from meshwright.quad.pairing import pair_domain, pair_triangles
+from meshwright.quad.parity import ParityError, make_loops_even
 from meshwright.sizing import BackgroundGrid, gradation
 from meshwright.sizing.field import as_size_field
 

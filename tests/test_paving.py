@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from meshwright.core.errors import InputError, MeshingError
 from meshwright.geometry import annulus, circle, circles, polygon, rectangle
 from meshwright.quad import QUAD_METHODS, quadrangulate
-from meshwright.quad.pairing import ParityError
+from meshwright.quad.parity import ParityError
 from meshwright.quad.paving import closure_quads, node_classes, pave_domain
 from meshwright.sizing import BackgroundGrid
 from meshwright.sizing.field import as_size_field

@@ -18,7 +18,8 @@ import pytest
 from meshwright.core.errors import InputError
 from meshwright.geometry import airfoil_in_farfield, circle, circles, naca_loop, polygon
 from meshwright.quad import QUAD_METHODS, quadrangulate
-from meshwright.quad.pairing import ParityError, _open_ears, make_loops_even, pair_domain
+from meshwright.quad.pairing import _open_ears, pair_domain
+from meshwright.quad.parity import ParityError, make_loops_even
 from meshwright.quad.zhu import PairFront, two_colour, zhu_front
 from meshwright.sizing import gradation
 from meshwright.sizing.field import as_size_field

@@ -11,9 +11,9 @@ FASTQ in ``design-notes-quads.md`` (section 3); nothing is copied from it.
 Steps, as the chapter numbers them
 ----------------------------------
 0. **Even boundaries.**  Every loop of the discretised domain gets an even node count
-   (:func:`meshwright.quad.pairing.make_loops_even`: one node on the longest segment, on
+   (:func:`meshwright.quad.parity.make_loops_even`: one node on the longest segment, on
    the true curve); with ``fixed_boundary=True`` an odd loop raises
-   :class:`~meshwright.quad.pairing.ParityError` naming the loop.  Rows, tucks, wedges,
+   :class:`~meshwright.quad.parity.ParityError` naming the loop.  Rows, tucks, wedges,
    seams, joints and closures change counts by even numbers: no triangle is needed.
 1. **Row choice.**  Each paving node gets its interior angle (from the edge to the next
    node, counter-clockwise to the edge to the previous one) and a class: *row end*
@@ -120,7 +120,7 @@ from meshwright.quad._paving_close import (
     shift_next,
     signed_area,
 )
-from meshwright.quad.pairing import make_loops_even
+from meshwright.quad.parity import make_loops_even
 from meshwright.quad.smoothing import smooth_cells
 from meshwright.sizing.field import as_size_field
 
