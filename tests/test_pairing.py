@@ -436,19 +436,25 @@ def test_augmenting_paths_reach_a_maximum_pairing_through_blossoms(seed, qmin):
 
 
 
+def _random_delaunay(seed, lo, hi):
+    """The seeded generator, lo..hi random points, their Delaunay triangles and neighbours
+    (t, 3) int32 and the pairing's side scores: the chain-search tests' input."""
+    from meshwright.core.mesh import build_neighbors
+
+    rng = np.random.default_rng(seed)
+    xy = rng.random((int(rng.integers(lo, hi)), 2))
+    tris = mw.delaunay(xy).triangles.astype(np.int32)
+    nbr = build_neighbors(tris).astype(np.int32)
+    return rng, xy, tris, nbr, pk.side_scores(xy, tris.ravel(), nbr.ravel())
+
+
 @pytest.mark.parametrize("seed", [81, 104, 147, 208])
 def test_one_augment_scratch_serves_many_rounds(seed):
     """Rounds at falling bounds sharing one scratch set (left with blossom stamps and
     reset entries by the earlier rounds) pair exactly as rounds with fresh sets, and the
     last round (any pair, unbounded search) reaches the maximum (Tutte-rank oracle)."""
-    from meshwright.core.mesh import build_neighbors
-
-    rng = np.random.default_rng(seed)
-    xy = rng.random((int(rng.integers(25, 60)), 2))
-    tris = mw.delaunay(xy).triangles.astype(np.int32)
-    nbr = build_neighbors(tris).astype(np.int32)
+    rng, xy, tris, nbr, raw = _random_delaunay(seed, 25, 60)
     nt = len(tris)
-    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
     shared = pk.augment_scratch(nt)
     mate_shared = np.full(nt, -1, dtype=np.int32)
     mate_fresh = mate_shared.copy()
@@ -470,21 +476,17 @@ def test_one_augment_scratch_serves_many_rounds(seed):
     for k in (5, 6, 7):
         assert shared[k].tolist() == rest[k].tolist()
 
+
 @pytest.mark.parametrize("seed", [3, 81, 147, 208])
 def test_walk_rounds_refill_only_the_flipped_rows(seed):
     """After walks (flips that pair two triangles and free a third), a chain round that
     refills only the flipped triangles' rows of a table left by the previous round pairs
     exactly as a round that fills every row of a fresh one, round after round; the table
     has rows to spare (unused by either)."""
-    from meshwright.core.mesh import build_neighbors
     from meshwright.quad.pairing import _walk_left_overs
 
-    rng = np.random.default_rng(seed)
-    xy = rng.random((int(rng.integers(60, 120)), 2))
-    tris = mw.delaunay(xy).triangles.astype(np.int32)
-    nbr = build_neighbors(tris).astype(np.int32)
+    rng, xy, tris, nbr, raw = _random_delaunay(seed, 60, 120)
     nt = len(tris)
-    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
     mate = np.full(nt, -1, dtype=np.int32)
     shared = pk.augment_scratch(nt, 7)
     pk.greedy_pairs(raw, nbr.ravel(), mate, 0.5)
