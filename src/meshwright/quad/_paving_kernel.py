@@ -30,7 +30,7 @@ from meshwright.sizing.background import interpolate_walk
 
 __all__ = [
     "adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "polish_rounds", "row_crossings",
-    "row_nodes", "vertex_cells", "walk_spacing",
+    "row_nodes", "sweep_axis", "vertex_cells", "walk_spacing",
 ]
 
 
@@ -74,10 +74,10 @@ def _meet(pts, a, b, c, d):
 
 
 @njit
-def _sweep_axis(pts, sa, sb):
-    """0 (x) or 1 (y): the longer side of the segments' bounding box, along which a sweep
-    separates them best (a sliver along y sorted by x put every segment in each query's
-    window)."""
+def sweep_axis(pts, sa, sb):
+    """0 (x) or 1 (y): the longer side of the bounding box of the segments ``sa[j] - sb[j]``
+    (or of nodes, ``sa`` = ``sb``), along which a sweep separates them best (a sliver
+    along y sorted by x put every segment in each query's window)."""
     x0 = np.inf
     x1 = -np.inf
     y0 = np.inf
@@ -107,7 +107,7 @@ def row_crossings(pts, na, nb, sa, sb):
     bad = np.zeros(na.shape[0], dtype=np.bool_)
     if m == 0:
         return bad
-    ax = _sweep_axis(pts, sa, sb)
+    ax = sweep_axis(pts, sa, sb)
     bx = 1 - ax
     lo = np.empty(m)
     ext = np.empty(m)
@@ -179,7 +179,7 @@ def nodes_in_quads(pts, quads, nodes):
     on their boundary, the node not being one of their corners."""
     m = nodes.shape[0]
     # Sorted along the longer side of the nodes' box (see row_crossings).
-    ax = _sweep_axis(pts, nodes, nodes)
+    ax = sweep_axis(pts, nodes, nodes)
     bx = 1 - ax
     xs_all = np.empty(m)
     for j in range(m):

@@ -44,7 +44,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.predicates import orient2d
-from meshwright.quad._paving_kernel import corner_min_sine
+from meshwright.quad._paving_kernel import corner_min_sine, sweep_axis
 
 __all__ = ["BALANCED", "close_long"]
 
@@ -449,16 +449,7 @@ def _best_cut(P, H, cnt, g, other, min_angle, reach, tries):
     """The chord of part ``g`` to cut along: (i, j, k) positions in ``g`` (i < j) and
     nodes on the chord, or (-1, -1, -1).  ``P[cnt:]`` is scratch room."""
     m = g.shape[0]
-    x0 = np.inf
-    x1 = -np.inf
-    y0 = np.inf
-    y1 = -np.inf
-    for i in range(m):
-        x0 = min(x0, P[g[i], 0])
-        x1 = max(x1, P[g[i], 0])
-        y0 = min(y0, P[g[i], 1])
-        y1 = max(y1, P[g[i], 1])
-    axis = 0 if x1 - x0 >= y1 - y0 else 1
+    axis = sweep_axis(P, g, g)
     raw = np.empty(m)
     for i in range(m):
         raw[i] = P[g[i], axis]

@@ -101,6 +101,7 @@ import numpy as np
 
 from meshwright.core.errors import InputError, MeshingError, fmt_point
 from meshwright.core.predicates import orient2d_batch
+from meshwright.core.quality import triangle_quality
 from meshwright.core.validate_input import (
     as_cells,
     as_points,
@@ -150,7 +151,7 @@ DOMAIN_STALE_WALKS = 2
 CENTRE_ROUNDS = 2  # rounds of splitting the still unpaired triangles at their centroids (second attempt)
 CENTRE_KEEP = 0.3  # ... kept only if it pairs everything with a scaled Jacobian of at least this
 FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped open before pairing
-EAR_FLOOR = 1e-6  # ... or split open, unless a triangle of the split is flatter than this (quality)
+EAR_FLOOR = 1e-6  # ... or split open, unless a triangle of the split is flatter than this (radius ratio 2r/R)
 FRONTS = ("pairs", "triangles")  # pair_domain's fronts: Zhu's pair by pair, or triangles then matching
 CHORD_RINGS = 2  # rings of nodes around a chord refinement's new nodes smoothed again
 
@@ -290,7 +291,9 @@ def _open_ears(xy, tris, nbr, mate):
             trial = np.vstack([xy[[a, b, c, d]], 0.5 * (xy[b] + xy[c])])
             # Local indices: a 0, b 1, c 2, d 3, m 4.
             parts = np.array([[0, 1, 4], [0, 4, 2], [2, 4, 3], [4, 1, 3]])
-            if (orient2d_batch(trial, parts) <= 0.0).any() or _min_quality(trial, parts) < EAR_FLOOR:
+            if (orient2d_batch(trial, parts) <= 0.0).any():
+                continue
+            if triangle_quality(trial, parts)["radius_ratio"].min() < EAR_FLOOR:
                 continue
             new_xy.append(trial[4])
             tris[t] = (a, b, m)
@@ -303,15 +306,6 @@ def _open_ears(xy, tris, nbr, mate):
         xy = np.ascontiguousarray(np.vstack([xy, np.asarray(new_xy)]))
         tris = np.ascontiguousarray(np.vstack([tris, np.asarray(new_tris, dtype=np.int32)]))
     return xy, tris, changed
-
-
-def _min_quality(xy, tris) -> float:
-    """Smallest ``4 sqrt(3) area / sum of squared sides`` (1 equilateral) of ``tris`` (t, 3)."""
-    p = xy[tris]
-    u, w = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    area = 0.5 * (u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
-    sides = (u * u).sum(axis=1) + (w * w).sum(axis=1) + ((p[:, 2] - p[:, 1]) ** 2).sum(axis=1)
-    return float((4.0 * np.sqrt(3.0) * area / sides).min())
 
 
 def _split_left_overs(xy, tris, mate):
