@@ -5,6 +5,7 @@ Usage::
     python benchmarks/grading2d.py             # every case, every method, Gmsh both ways
     python benchmarks/grading2d.py --quick     # the 30 holes only
     python benchmarks/grading2d.py --no-grading  # meshwright with grading=None as well
+    python benchmarks/grading2d.py --no-relax    # the relaxing methods with relax=False as well
 
 Cases (domains whose given boundary points lie closer than the size; every method and Gmsh
 get the same boundary points, the domain discretised at that size):
@@ -20,7 +21,8 @@ get the same boundary points, the domain discretised at that size):
   the slit's sides split every 0.01, size 0.05.
 
 meshwright runs ``triangulate(domain, size, method=m)`` with the default grading
-(``grading=1.2``) and, with ``--no-grading``, also ``grading=None``.  Gmsh 4 runs
+(``grading=1.2``) and, with ``--no-grading``, also ``grading=None``; with ``--no-relax``,
+the methods that relax by default (:mod:`meshwright.tri.relax`) also with ``relax=False``.  Gmsh 4 runs
 Frontal-Delaunay (``Mesh.Algorithm`` 6, one thread) on the same boundary points (one
 Gmsh line per segment, mesh size ``size`` at every point, ``Mesh.MeshSizeMax`` = size), with
 ``Mesh.MeshSizeExtendFromBoundary`` 1 (its default: sizes interpolated from the boundary
@@ -138,22 +140,25 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--no-grading", action="store_true", help="also run meshwright with grading=None")
+    ap.add_argument("--no-relax", action="store_true", help="also run the relaxing methods with relax=False")
     ap.add_argument("--methods", default="front,frontal-delaunay,delaunay,weatherill")
     args = ap.parse_args()
     import os
 
-    from meshwright import triangulate
+    from meshwright import MESH_METHODS, triangulate
 
     load = os.getloadavg()[0]
     runs = []
     for m in args.methods.split(","):
-        runs.append((f"meshwright {m}", m, 1.2))
+        runs.append((f"meshwright {m}", m, 1.2, None))
         if args.no_grading:
-            runs.append((f"meshwright {m} grading=None", m, None))
+            runs.append((f"meshwright {m} grading=None", m, None, None))
+        if args.no_relax and MESH_METHODS[m].relaxes:
+            runs.append((f"meshwright {m} relax=False", m, 1.2, False))
     # JIT warm-up (not timed).
     warm, hw = case("holes30")
-    for _, m, g in runs:
-        triangulate(warm, hw, method=m, grading=g)
+    for _, m, g, rl in runs:
+        triangulate(warm, hw, method=m, grading=g, relax=rl)
     try:
         import gmsh  # noqa: F401
 
@@ -164,8 +169,10 @@ def main() -> None:
     for name in ("holes30",) if args.quick else CASES:
         dom, size = case(name)
         disc = dom.discretize(size)
-        for label, m, g in runs:
-            t, mesh = best_time(lambda d=dom, s=size, m=m, g=g: triangulate(d, s, method=m, grading=g), args.repeat)
+        for label, m, g, rl in runs:
+            t, mesh = best_time(
+                lambda d=dom, s=size, m=m, g=g, rl=rl: triangulate(d, s, method=m, grading=g, relax=rl), args.repeat
+            )
             r = measure(mesh.points, mesh.cells["triangle"])
             rows.append([name, label, f"{r['under20']:.2f}", f"{r['min_angle']:.1f}", f"{r['rr_mean']:.4f}",
                          f"{r['n']:,}", f"{t:.3f}"])

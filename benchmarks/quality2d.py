@@ -116,19 +116,21 @@ def methods(gmsh_too: bool) -> dict:
     """Name -> callable(domain, size, max_area, boundary) -> (points, triangles)."""
     from meshwright.tri import MESH_METHODS, triangulate
 
-    def mw(method):
+    def mw(method, relax=None):
         # Delaunay refinement gets Triangle's area bound; the frontal and Weatherill methods,
         # like Gmsh, only the size h (an area bound would re-refine their regular layers).
         def go(domain, size, max_area, boundary):
             area = max_area if method == "delaunay" else None
             # min_angle only where it was always honoured (the others would add a refinement pass).
             angle = 30.0 if method == "delaunay" else None
-            m = triangulate(domain, size, method=method, max_area=area, min_angle=angle)
+            m = triangulate(domain, size, method=method, max_area=area, min_angle=angle, relax=relax)
             return m.points, m.cells["triangle"]
 
         return go
 
     found = {f"meshwright {name}": mw(name) for name in MESH_METHODS}
+    # The relaxing methods as made, too: relaxation's cost and gain (meshwright.tri.relax).
+    found.update({f"meshwright {name} relax=False": mw(name, False) for name, m in MESH_METHODS.items() if m.relaxes})
     try:
         import triangle  # noqa: F401
 

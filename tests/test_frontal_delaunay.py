@@ -116,7 +116,7 @@ def _frontal(dom, size, scaffold):
 
     mesher.frontal_delaunay = spy
     try:
-        mesh = mw.triangulate(dom, size=size, method="frontal-delaunay")
+        mesh = mw.triangulate(dom, size=size, method="frontal-delaunay", relax=False)
     finally:
         mesher.frontal_delaunay = orig
     return mesh, counts

@@ -84,6 +84,12 @@ def add_arguments(parser) -> None:
         "--no-grading", dest="grading", action="store_const", const=None,
         help="follow --size exactly as given, not graded from the boundary (needs --size)",
     )
+    relax = parser.add_mutually_exclusive_group()
+    relax.add_argument(
+        "--relax", dest="relax", action="store_const", const=True, default=None,
+        help="valence swaps and smoothing afterwards (default: on for the methods that relax, when no bound is given)",
+    )
+    relax.add_argument("--no-relax", dest="relax", action="store_const", const=False, help="the method's mesh as made")
     parser.add_argument("--smooth", type=int, default=0, metavar="N", help="spring-analogy smoothing passes")
     parser.add_argument("--max-area", type=float, metavar="A", help="largest triangle area")
     add_max_points_argument(parser)
@@ -219,6 +225,7 @@ def _run_distributed(args, domain, size) -> int:
             ("--smooth", args.smooth), ("--max-area", args.max_area is not None), ("--conforming", args.conforming),
             ("--convex-hull", args.convex_hull), ("--alpha", args.alpha is not None), ("--plot", args.plot),
             ("--quality", args.quality), ("--grading", args.grading not in (GRADING_AUTO, None)),
+            ("--relax", args.relax),
         ) if on
     ]
     if unsupported:
@@ -268,6 +275,7 @@ def run(args) -> int:
             max_points=args.max_points,
             alpha=args.alpha,
             grading=args.grading,
+            relax=args.relax,
             # A bar only helps a person watching a terminal; logs stay clean.  Methods that
             # report no progress would refuse progress=True.
             progress=sys.stderr.isatty() and MESH_METHODS[args.method].reports_progress,

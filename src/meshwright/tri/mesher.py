@@ -79,7 +79,6 @@ import numpy as np
 
 from meshwright.core.errors import GeometryError, InputError, SizeError
 from meshwright.core.mesh import Mesh
-from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import check_count, check_flag, check_positive, check_seed
 from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
@@ -91,8 +90,9 @@ from meshwright.sizing.lfs import DEFAULT_CAP, DEFAULT_GROWTH, lfs_field, turnin
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
 from meshwright.tri.frontal_delaunay import frontal_delaunay, stretching
+from meshwright.tri._postprocess import input_nodes, region_data, relax_domain, relax_flag, smooth_mesh
+from meshwright.tri.relax import relax_mesh
 from meshwright.tri.ruppert import conform, refine
-from meshwright.tri.smoothing import smooth as smooth_points
 from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
 
 __all__ = [
@@ -157,6 +157,9 @@ class MeshMethod(NamedTuple):
         Whether the method's own point placement follows the local feature size, so that
         without a size it takes none (Delaunay refinement: Ruppert 1995 proves its meshes
         graded by the lfs); the others get :func:`_default_size`.
+    relaxes : bool
+        Whether :func:`triangulate` relaxes the method's mesh by default
+        (:mod:`meshwright.tri.relax`: where no bound is asked for and the size is isotropic).
     """
 
     name: str
@@ -168,6 +171,7 @@ class MeshMethod(NamedTuple):
     options: tuple[str, ...] = ()
     convex_hull: bool = True
     grades_itself: bool = False
+    relaxes: bool = False
 
 
 def _place_delaunay(job: _Job) -> None:
@@ -284,7 +288,7 @@ MESH_METHODS: dict[str, MeshMethod] = {
         ),
         MeshMethod(
             "frontal-delaunay", "frontal Delaunay: advancing-front points, Delaunay insertion (18.3)", _place_frontal,
-            RUPPERT_MAX_ANGLE, 0.0, False,
+            RUPPERT_MAX_ANGLE, 0.0, False, relaxes=True,
         ),
         MeshMethod("front", "advancing front with stretched background grids (18.2)", _place_front, 0.0, 0.0, True),
     )
@@ -376,76 +380,11 @@ def _check_work(dom: Domain, field: SizeField | None, max_area: float | None, ca
 
 def _regions(disc: Discretization) -> list[tuple]:
     """Region seeds for ``classify``, region i marked i + 1 so that every triangle names
-    its region (see :func:`_region_data`)."""
+    its region (see :func:`meshwright.tri._postprocess.region_data`)."""
     out = []
     for i, (x, y, _, area) in enumerate(disc.regions):
         out.append((x, y, i + 1) if area <= 0 else (x, y, i + 1, float(area)))
     return out
-
-
-def _region_data(mesh: Mesh, dom: Domain, disc: Discretization) -> Mesh:
-    """Replace the region numbers of :func:`_regions` by the regions' markers and, when some
-    region's attribute is not its marker, add the attributes as
-    ``cell_data["region_attribute"]`` (0 outside every region, as Triangle; 0 on the lines
-    too, since formats such as Gmsh's need data on every cell block).  Attributes equal to
-    the markers add nothing, so such meshes keep the marker alone."""
-    if not len(disc.regions):
-        return mesh
-    region = mesh.cell_data["marker"]["triangle"]
-    cell_data = dict(mesh.cell_data)
-    markers = np.concatenate([[0], disc.regions[:, 2]]).astype(np.int32)
-    cell_data["marker"] = {**mesh.cell_data["marker"], "triangle": markers[region]}
-    if np.array_equal(dom.region_attributes, disc.regions[:, 2]):
-        return Mesh(mesh.points, mesh.cells, point_data=mesh.point_data, cell_data=cell_data)
-    cell_data["region_attribute"] = {
-        "triangle": np.concatenate([[0.0], dom.region_attributes])[region],
-        "line": np.zeros(len(mesh.cells["line"])),
-    }
-    return Mesh(mesh.points, mesh.cells, point_data=mesh.point_data, cell_data=cell_data)
-
-
-def _polyline_corners(points: np.ndarray, edges: np.ndarray, curve: np.ndarray, domain: Domain) -> np.ndarray:
-    """(n,) bool: nodes where a straight curve (a Polyline's vertex) turns; exact test."""
-    straight = np.array([isinstance(c, (Line, Polyline)) for c in domain.curves], dtype=bool)
-    e = edges[straight[curve]]
-    nxt = np.full(len(points), -1)
-    prv = np.full(len(points), -1)
-    nxt[e[:, 0]] = e[:, 1]
-    prv[e[:, 1]] = e[:, 0]
-    out = np.zeros(len(points), dtype=bool)
-    mid = np.flatnonzero((nxt >= 0) & (prv >= 0))
-    out[mid] = orient2d_batch(points, np.column_stack([prv[mid], mid, nxt[mid]])) != 0.0
-    return out
-
-
-def _smooth_mesh(mesh: Mesh, ct: ConstrainedTriangulation, domain: Domain, disc: Discretization, passes: int) -> Mesh:
-    """Spring-analogy smoothing of ``mesh`` (made by ``ct.to_mesh``) with sliding boundary nodes."""
-    tris_ct = ct.triangles(True)
-    used = np.zeros(ct.n_points, dtype=bool)
-    used[tris_ct.ravel()] = True
-    newid = np.cumsum(used) - 1  # the renumbering of ConstrainedTriangulation.to_mesh
-    edges, ids = ct.segments()
-    keep = used[edges[:, 0]] & used[edges[:, 1]]
-    edges, curve = newid[edges[keep]], disc.segment_curve[ids[keep]]
-    n = mesh.n_points
-    lo = np.full(n, np.iinfo(np.int64).max)
-    hi = np.full(n, -1)
-    np.minimum.at(lo, edges.ravel(), np.repeat(curve, 2))
-    np.maximum.at(hi, edges.ravel(), np.repeat(curve, 2))
-    fixed = (hi >= 0) & (lo != hi)  # where two curves meet: a corner of the true boundary
-    fixed |= _polyline_corners(mesh.points, edges, curve, domain)
-    npts = len(domain.points)
-    if npts:
-        inner = ct.index_map[len(disc.points) - npts :]
-        fixed[newid[inner[used[inner]]]] = True
-    vcurve = np.where(hi >= 0, hi, 0)
-
-    def project(nodes, xy):
-        return domain.project(vcurve[nodes], xy)[1]
-
-    xy = smooth_points(mesh.points, mesh.cells["triangle"], edges, passes=passes, fixed=fixed, project=project)
-    return Mesh(xy, mesh.cells, point_data=mesh.point_data, cell_data=mesh.cell_data)
-
 
 
 def _domain_and_field(
@@ -625,6 +564,7 @@ def triangulate(
     alpha: float | None = None,
     convex_hull: bool = False,
     grading: float | str | None = GRADING_AUTO,
+    relax: bool | None = None,
 ) -> Mesh:
     """Boundary-conforming quality triangle mesh of a 2-D domain.
 
@@ -701,6 +641,13 @@ def triangulate(
         is the default size's growth.  None: a given size is followed exactly as given
         (Gmsh's ``MeshSizeExtendFromBoundary = 0``); refused without a size.  A stretched
         background grid is followed as drawn.
+    relax : bool, optional
+        Mesh relaxation afterwards (:mod:`meshwright.tri.relax`: valence-driven diagonal
+        swaps and guarded smoothing of the nodes off the lines; Field and Frey 1991).
+        None (the default): on for the methods whose registry entry ``relaxes``
+        (``"frontal-delaunay"``) when no ``min_angle``, area bound, ``conforming`` or
+        stretched background is asked for, whose guarantees a swap could break (the mesh
+        is then no longer Delaunay); True where that holds, refused where it does not.
 
     Returns
     -------
@@ -748,6 +695,7 @@ def triangulate(
     if convex_hull and not m.convex_hull:
         raise InputError(f"method {method!r} cannot mesh the convex hull; call it with convex_hull=False")
     seed = check_seed(seed)
+    relax = relax_flag(relax, m, angle, max_area, conforming)
     grading = _grading(grading)
     growth = DEFAULT_GRADING if grading == GRADING_AUTO else grading
     if grading == GRADING_AUTO:
@@ -760,6 +708,7 @@ def triangulate(
         # The boundary too: straight pieces next to finer given vertices (a slit's mouth, a
         # hole near the outer wall) are split at the graded size, not at the size.
         field, disc = graded, dom.discretize(graded)
+    relax = relax_domain(relax, _is_stretched(field), disc)
     ct = _classified_cdt(dom, disc, seed)
     fill = m.place(_Job(ct, disc, field, angle, max_area, bool(progress), cap, alpha, grading))
     if fill is not None and conforming:
@@ -768,7 +717,9 @@ def triangulate(
         fill = None
     if conforming:
         conform(ct)
-    mesh = _region_data(ct.to_mesh(segment_markers=disc.segment_markers, fill=fill), dom, disc)
+    mesh = region_data(ct.to_mesh(segment_markers=disc.segment_markers, fill=fill), dom, disc)
+    if relax:
+        mesh = relax_mesh(mesh, input_nodes(mesh, ct, dom, disc))
     if passes:
-        mesh = _smooth_mesh(mesh, ct, dom, disc, passes)
+        mesh = smooth_mesh(mesh, ct, dom, disc, passes)
     return mesh

@@ -45,7 +45,7 @@ from meshwright.core.predicates import orient2d
 from meshwright.core.topology import boundary_edges_of
 from meshwright.core.validate_input import as_cells, as_exact_points, as_node_indices, check_count
 
-__all__ = ["smooth", "node_adjacency"]
+__all__ = ["smooth", "node_adjacency", "incident_triangles"]
 
 MAX_HALVINGS = 4
 
@@ -68,15 +68,31 @@ def node_adjacency(triangles: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarra
     tri_indices : (3m,) int32
         Triangles incident to node i.
     """
-    tri = np.asarray(triangles, dtype=np.int64)
-    owners = tri.ravel()
-    order = np.argsort(owners, kind="stable")
-    tri_indices = (order // 3).astype(np.int32)
-    tri_offsets = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(np.bincount(owners, minlength=n), out=tri_offsets[1:])
-
+    tri = np.ascontiguousarray(triangles, dtype=np.int64)
+    tri_offsets, tri_indices = incident_triangles(tri, n)
     nbr_offsets, nbr_indices = _star_neighbours(tri, tri_offsets, tri_indices, n)
     return nbr_offsets, nbr_indices, tri_offsets, tri_indices
+
+
+@njit(cache=True)
+def incident_triangles(tri, n):
+    """Node -> triangle CSR of ``tri`` (m, 3) int, n nodes: offsets (n + 1,) int64 and
+    triangle ids (3m,) int32, each node's ascending.  A counting sort: a stable argsort of
+    the corners gave the same (0.09 s of a 289k-triangle mesh's set-up)."""
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    for t in range(tri.shape[0]):
+        for k in range(3):
+            offsets[tri[t, k] + 1] += 1
+    for v in range(n):
+        offsets[v + 1] += offsets[v]
+    fill = offsets[:-1].copy()
+    out = np.empty(3 * tri.shape[0], dtype=np.int32)
+    for t in range(tri.shape[0]):
+        for k in range(3):
+            v = tri[t, k]
+            out[fill[v]] = t
+            fill[v] += 1
+    return offsets, out
 
 
 @njit(cache=True)
@@ -128,23 +144,24 @@ def _radius_ratio(ax, ay, bx, by, cx, cy):
 def _worst_around(xy, tris, tri_offsets, tri_indices, i, px, py):
     """Worst radius ratio of the triangles around node ``i`` if it sat at (px, py).
 
-    Returns -1.0 if any incident triangle would not be strictly counter-clockwise.
+    Returns -1.0 if any incident triangle would not be strictly counter-clockwise.  Corners
+    are read as scalars: a per-triangle scratch array was a heap allocation per visit, most
+    of a pass's time.
     """
     worst = 1.0
     for s in range(tri_offsets[i], tri_offsets[i + 1]):
         t = tri_indices[s]
-        c = np.empty(6)
-        for k in range(3):
-            v = tris[t, k]
-            if v == i:
-                c[2 * k] = px
-                c[2 * k + 1] = py
-            else:
-                c[2 * k] = xy[v, 0]
-                c[2 * k + 1] = xy[v, 1]
-        if orient2d(c[0], c[1], c[2], c[3], c[4], c[5]) <= 0.0:
+        u, v, w = tris[t, 0], tris[t, 1], tris[t, 2]
+        ax, ay, bx, by, cx, cy = xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], xy[w, 0], xy[w, 1]
+        if u == i:
+            ax, ay = px, py
+        elif v == i:
+            bx, by = px, py
+        else:
+            cx, cy = px, py
+        if orient2d(ax, ay, bx, by, cx, cy) <= 0.0:
             return -1.0
-        q = _radius_ratio(c[0], c[1], c[2], c[3], c[4], c[5])
+        q = _radius_ratio(ax, ay, bx, by, cx, cy)
         if q < worst:
             worst = q
     return worst
