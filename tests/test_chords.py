@@ -141,3 +141,33 @@ def test_candidates_are_the_bent_plain_split_and_the_recut_one():
     plain, recut = chord_split_candidates(deep, polygon(xy.tolist()), 1000)
     assert recut is None
     _assert_convex_and_conforming(plain, deep)
+
+
+def test_nonconvex_quads_matches_exact_rational_corners():
+    """The chord and pairing checks' exact convexity (``nonconvex_quads``) against cross
+    products in rational arithmetic, on quads whose corner at (12, 12) lies between
+    (24, 24) and points a few ulps off the line through both (Shewchuk's example, where
+    the floating-point cross product gets the sign wrong), or on it."""
+    from meshwright.quad._pairing_kernel import nonconvex_quads
+
+    ulp = 2.0**-53
+    ij = np.array([(i, j) for i in range(16) for j in range(16)], dtype=np.float64)
+    n = len(ij)
+    xy = np.vstack([0.5 + ij * ulp, [[12.0, 12.0], [24.0, 24.0], [30.0, 1.0]]])
+    rng = np.random.default_rng(7)
+    quads = np.column_stack(
+        [rng.integers(0, n, 2000), np.full(2000, n), np.full(2000, n + 1), rng.integers(0, n, 2000)]
+    ).astype(np.int32)
+    quads[1000:, 3] = n + 2
+
+    def strictly_convex(q):
+        p = [tuple(Fraction(v) for v in xy[i]) for i in q]
+        for k in range(4):
+            (ax, ay), (bx, by), (cx, cy) = p[k - 1], p[k], p[(k + 1) % 4]
+            if (ax - cx) * (by - cy) - (ay - cy) * (bx - cx) <= 0:
+                return False
+        return True
+
+    want = [i for i, q in enumerate(quads.tolist()) if not strictly_convex(q)]
+    assert 0 < len(want) < len(quads)
+    assert nonconvex_quads(xy, quads).tolist() == want

@@ -512,6 +512,28 @@ def test_walk_rounds_refill_only_the_flipped_rows(seed):
         assert pk.pair_score(xy, tris.ravel(), nbr.ravel(), t, k, 0.5) >= 0.5
 
 
+@pytest.mark.parametrize("seed", [3, 81, 147, 208])
+def test_centre_rounds_refill_only_the_cut_rows(seed):
+    """Centroid rounds that refill only the rows around the cut triangles of the table the
+    last chain round left pair exactly as rounds filling every row of a fresh table."""
+    from meshwright.quad.pairing import _centre_rounds, _pair_rounds
+
+    _, xy, tris, _, _ = _random_delaunay(seed, 60, 120)
+    n = len(xy)
+    none = np.zeros(0, dtype=np.int64)
+    # Short searches and no walks leave triangles for the centroid rounds.
+    st = _pair_rounds(xy, tris.copy(), none, n, (0.5, 0.3), 2, 0, seed)
+    left = int((st.mate < 0).sum())
+    assert left >= 2
+    fresh = st._replace(mate=st.mate.copy(), scratch=None)
+    got = _centre_rounds(st, none, n, 0.3, 64, 2)
+    want = _centre_rounds(fresh, none, n, 0.3, 64, 2)
+    assert got.chains == want.chains > st.chains  # the chain rounds gained pairs
+    assert got.mate.tolist() == want.mate.tolist()
+    assert got.tris.tolist() == want.tris.tolist()
+    assert (st.mate < 0).sum() == left  # st's own arrays are left as they were
+
+
 # ------------------------------------------------------------------ enhancement
 
 

@@ -28,6 +28,7 @@ from meshwright.core.errors import InputError, MeshingError
 from meshwright.core.predicates import orient2d_batch
 from meshwright.core.validate_input import check_count
 from meshwright.geometry.domain import Domain
+from meshwright.quad._pairing_kernel import nonconvex_quads
 
 __all__ = ["chord_split", "chord_split_candidates"]
 
@@ -110,7 +111,7 @@ def chord_split_candidates(fill, domain: Domain, max_points: int, line_params=No
     first = None
     for _ in range(MEND_ROUNDS):
         out, parent = _split(fill, domain, max_points, line_params)
-        bad = _nonconvex(out.points, out.quads)
+        bad = nonconvex_quads(out.points, out.quads)
         if not len(bad):
             return (out, None) if first is None else (first, out)
         first = out if first is None else first
@@ -200,15 +201,6 @@ def _split(fill, domain: Domain, max_points: int, line_params):
         line_curves=np.repeat(fill.line_curves, reps).astype(np.int32),
     )
     return split_fill, np.concatenate(parent).astype(np.int64)
-
-
-def _nonconvex(xy, quads) -> np.ndarray:
-    """Indices of quads with a corner that is not strictly convex (exact orient2d)."""
-    q = np.asarray(quads, dtype=np.int64)
-    bad = np.zeros(len(q), dtype=bool)
-    for k in range(4):
-        bad |= orient2d_batch(xy, q[:, [(k + 3) % 4, k, (k + 1) % 4]]) <= 0.0
-    return np.flatnonzero(bad)
 
 
 def _corners(xy, cell):

@@ -119,7 +119,6 @@ from meshwright.quad.enhancement import (
     ENHANCE_SMOOTH,
     enhance,
     min_scaled_jacobian,
-    nonconvex,
     smooth_quads,
     unpair_nonconvex,
 )
@@ -471,7 +470,13 @@ def _pair_rounds(
 
 def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairState:
     """Up to ``centres`` rounds of centroid splits of the unpaired triangles, each followed
-    by a greedy and a chain round at ``qmin``; ``st`` itself is not modified."""
+    by a greedy and a chain round at ``qmin``.
+
+    ``st.scratch``'s search table must hold ``st``'s last chain round at ``qmin`` (as
+    :func:`_pair_rounds` leaves it at its last bound): a round refills only the rows around
+    its cut triangles (:func:`~meshwright.quad._pairing_kernel.augment_changed`).  ``st``'s
+    arrays are not modified, but its table then holds the centred rows: a chain round on
+    ``st`` afterwards must refill every row (``augment``)."""
     xy, tris, nbr, mate, chains, raw, scratch = st
     for _ in range(centres):
         if not (mate < 0).any():
@@ -486,10 +491,15 @@ def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairSt
         raw = np.concatenate([raw, np.empty(3 * (len(tris) - nt))])
         parts = np.concatenate([cut, nt + np.arange(len(tris) - nt, dtype=np.int64)])
         pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), parts)
+        # The parts and the left-overs not cut: the only triangles the greedy pass can pair
+        # (with each other or with a neighbour), so the rows that change lie around them.
+        free = np.flatnonzero(mate < 0)
         pk.greedy_pairs(raw, nbr.ravel(), mate, float(qmin))
         if scratch is None or len(scratch[0]) < len(tris):
             scratch = pk.augment_scratch(len(tris), 64 + len(tris) // 256)
-        chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit), scratch))
+            chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit), scratch))
+        else:
+            chains += int(pk.augment_changed(raw, nbr.ravel(), mate, float(qmin), int(max_visit), scratch, free))
     return _PairState(xy, tris, nbr, mate, chains, raw, scratch)
 
 
@@ -702,8 +712,8 @@ def pair_domain(
         fill = settle(plain)
         if recut is not None:
             other = settle(recut)
-            if not len(nonconvex(other.points, other.quads)) and (
-                len(nonconvex(fill.points, fill.quads))
+            if not len(pk.nonconvex_quads(other.points, other.quads)) and (
+                len(pk.nonconvex_quads(fill.points, fill.quads))
                 or min_scaled_jacobian(other.points, other.quads) > min_scaled_jacobian(fill.points, fill.quads)
             ):
                 fill = other
@@ -729,7 +739,7 @@ def pairing_fill(job, front="triangles"):
 
 def _check(xy, quads, tris) -> None:
     """Exact last check: every quad strictly convex, every triangle counter-clockwise."""
-    bad = nonconvex(xy, quads)
+    bad = pk.nonconvex_quads(xy, quads)
     if len(bad):
         q = int(bad[0])
         raise MeshingError(
