@@ -602,6 +602,33 @@ def _closed_segments_meet(p, q, r, s) -> bool:
     return any(o == 0 and on(a, b, c) for o, a, b, c in ((o1, p, q, r), (o2, p, q, s), (o3, r, s, p), (o4, r, s, q)))
 
 
+@pytest.mark.parametrize("seed", range(6))
+def test_grid_crossings_against_exact_segment_tests(seed):
+    """The row check's grid search of meeting segments on lattice points (collinear
+    overlaps, touching ends, a node on another segment, zero-length boxes) with a few
+    segments across the whole box (the grid's list of long segments): each query meets
+    a segment sharing no end node with it exactly when ``Fraction`` tests say so."""
+    from meshwright.quad._paving_grid import grid_crossings
+
+    rng = np.random.default_rng(seed)
+    pts = np.unique(rng.integers(0, 40, size=(200, 2)), axis=0).astype(np.float64)
+    if seed % 2:
+        pts = pts * 0.1 + 0.3  # coordinates that do not fall on the cells' edges
+    n = len(pts)
+    near = [(i, j) for i in range(n) for j in range(i + 1, n) if np.abs(pts[i] - pts[j]).max() <= 3.0]
+    pick = rng.choice(len(near), size=50, replace=False)
+    seg = [near[k] for k in pick] + [tuple(rng.choice(n, 2, replace=False)) for _ in range(3 + seed)]
+    seg = np.array(seg, dtype=np.int64)
+    queries = seg[rng.permutation(len(seg))[:40]]
+    got = grid_crossings(pts, queries[:, 0].copy(), queries[:, 1].copy(), seg[:, 0].copy(), seg[:, 1].copy())
+    want = [
+        any(not ({a, b} & {u, w}) and _closed_segments_meet(pts[a], pts[b], pts[u], pts[w]) for u, w in seg.tolist())
+        for a, b in queries.tolist()
+    ]
+    assert 0 < sum(want) < len(want)
+    assert got.tolist() == want
+
+
 @pytest.mark.parametrize("seed", range(9))
 def test_check_row_against_exact_segment_and_containment_tests(seed):
     """Step 7's kernel on rows of random depths (crossings, folded quads) grown from a

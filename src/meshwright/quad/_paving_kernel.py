@@ -13,10 +13,10 @@ rules, floating point; quads (q, 4) int64 with a vertex-to-quad table in CSR for
 ``cell_ptr`` (n + 1,), ``cell_idx``).
 
 Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``, ``sb``
-(node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.  The
-candidate search sweeps the segments sorted by their smallest x (``order``, ``xlo``) with
-the largest x extent ``span`` as the window, so each query visits only segments whose x
-range can overlap its own.
+(node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.
+:func:`row_crossings` sweeps the segments sorted along one axis, so each query visits only
+segments whose range there can overlap its own; a row's own check searches a uniform grid
+of them instead (:func:`~meshwright.quad._paving_grid.grid_crossings`, the same answer).
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from numba import njit
 
 from meshwright.core.flat import lower_bound
 from meshwright.core.predicates import orient2d
+from meshwright.quad._paving_grid import grid_crossings, orient_sign, segments_meet
 from meshwright.sizing.background import interpolate_walk
 
 __all__ = [
@@ -35,42 +36,6 @@ __all__ = [
 
 
 RUNGS = 4  # committed nodes a new node of a row notes its rungs from (check_row)
-
-
-@njit
-def _sgn(pts, a, b, c):
-    o = orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1])
-    if o > 0.0:
-        return 1
-    if o < 0.0:
-        return -1
-    return 0
-
-
-@njit(inline="always")
-def _between(pts, a, b, c):
-    """c, collinear with a b, lies on the closed segment a b."""
-    return (min(pts[a, 0], pts[b, 0]) <= pts[c, 0] <= max(pts[a, 0], pts[b, 0])) and (
-        min(pts[a, 1], pts[b, 1]) <= pts[c, 1] <= max(pts[a, 1], pts[b, 1])
-    )
-
-
-@njit
-def _meet(pts, a, b, c, d):
-    """Closed segments a b and c d share a point (exact)."""
-    o1 = _sgn(pts, a, b, c)
-    o2 = _sgn(pts, a, b, d)
-    o3 = _sgn(pts, c, d, a)
-    o4 = _sgn(pts, c, d, b)
-    if o1 * o2 < 0 and o3 * o4 < 0:
-        return True
-    if o1 == 0 and _between(pts, a, b, c):
-        return True
-    if o2 == 0 and _between(pts, a, b, d):
-        return True
-    if o3 == 0 and _between(pts, c, d, a):
-        return True
-    return o4 == 0 and _between(pts, c, d, b)
 
 
 @njit
@@ -167,7 +132,7 @@ def row_crossings(pts, na, nb, sa, sb):
                     continue
                 if min(pts[u, bx], pts[d, bx]) > r1 or max(pts[u, bx], pts[d, bx]) < r0:
                     continue
-                if _meet(pts, a, b, u, d):
+                if segments_meet(pts, a, b, u, d):
                     bad[i] = True
                     break
     return bad
@@ -208,7 +173,7 @@ def nodes_in_quads(pts, quads, nodes):
                 continue
             inside = True
             for e in range(4):
-                if _sgn(pts, quads[q, e], quads[q, (e + 1) % 4], v) < 0:
+                if orient_sign(pts, quads[q, e], quads[q, (e + 1) % 4], v) < 0:
                     inside = False
                     break
             if inside:
@@ -284,8 +249,8 @@ def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
             nb[ne] = b
             ne += 1
     # Only edges and nodes that reach the row's bounding box can meet it: a row around
-    # one airfoil skips the far field's long edges, which would widen every query's
-    # window in the sorted sweep of :func:`row_crossings`.
+    # one airfoil skips the far field's long edges, which would coarsen the grid of
+    # :func:`~meshwright.quad._paving_grid.grid_crossings` and the nodes' sorted sweep.
     x0 = np.inf
     x1 = -np.inf
     y0 = np.inf
@@ -321,7 +286,7 @@ def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
         if x0 <= pts[v, 0] <= x1 and y0 <= pts[v, 1] <= y1:
             near[mn] = v
             mn += 1
-    cross = row_crossings(pts, na[:ne], nb[:ne], ea[: me + ne], eb[: me + ne])
+    cross = grid_crossings(pts, na[:ne], nb[:ne], ea[: me + ne], eb[: me + ne])
     inside = nodes_in_quads(pts, quads, near[:mn])
     # Culprit nodes: new ones flag the paving node they grew from, committed ones
     # themselves (a stamp over the committed nodes; f may hold a node twice).
