@@ -182,8 +182,11 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old
     than the star's worst was, so a relaxed or tangled quad opens over several moves of
     its vertices (one move rarely makes a quad with two bad corners convex at once, and a
     rule that asked for it kept every such star still), while no convex corner ever
-    turns.  One walk of the star: the new values are written into ``cs`` as they are
-    computed, the old ones kept in ``slot`` / ``old`` and put back at the first failure.
+    turns.  One walk of the star, stopping at the first cell that fails: the new values
+    are kept in ``old`` and their corners in ``slot`` (``4 * cell + corner``, shifted
+    left by one), and written to ``cs`` once every test passed.  A quad's three corners
+    are formed together from the four sides they share, without a loop to find ``v`` in
+    it (a tenth to a quarter less time per guard than a corner-by-corner walk).
 
     With ``exact``, ``cv`` (m, 4) int8 holds every corner's exact convexity
     (:func:`_corner_table`); a passing move sets the entries of the corners it changed
@@ -209,49 +212,95 @@ def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old
                 sn, _, _ = _corner_cross(points, a, cells[c, k], d)
                 if sn < bound:
                     return False
+    # The new sines go to ``old`` and their corners to ``slot`` (lowest bit: convex), the
+    # table is written only once every test passed.
+    vx = points[v, 0]
+    vy = points[v, 1]
     i = 0
-    ok = True
     for t in range(cell_ptr[v], cell_ptr[v + 1]):
         c = cell_idx[t]
-        nv = 4 if cells[c, 3] >= 0 else 3
-        kv = 0
-        while cells[c, kv] != v:
-            kv += 1
-        for k in range(nv):
-            # The corner opposite v keeps its two sides: unchanged, nothing to test.
-            if nv == 4 and k == ((kv + 2) & 3):
-                continue
-            a = cells[c, k - 1 if k > 0 else nv - 1]
-            b = cells[c, k]
-            d = cells[c, k + 1 if k + 1 < nv else 0]
-            now = 1
-            if exact:
-                sn, convex = _corner_measure(points, a, b, d)
-                if not convex:
-                    now = 0
-                    if cv[c, k] == 1:
-                        ok = False
-                        break
-            else:
-                sn, _, _ = _corner_cross(points, a, b, d)
-            if sn < bound:
-                ok = False
-                break
-            slot[i] = 2 * (4 * c + k) + now
-            old[i] = cs[c, k]
-            cs[c, k] = sn
-            i += 1
-        if not ok:
-            break
-    if not ok:
-        for j in range(i):
-            s = slot[j] >> 1
-            cs[s >> 2, s & 3] = old[j]
-    elif exact:
-        for j in range(i):
-            s = slot[j] >> 1
+        if cells[c, 3] < 0:
+            for k in range(3):
+                a = cells[c, k - 1 if k > 0 else 2]
+                d = cells[c, k + 1 if k < 2 else 0]
+                convex = True
+                if exact:
+                    sn, convex = _corner_measure(points, a, cells[c, k], d)
+                    if not convex and cv[c, k] == 1:
+                        return False
+                else:
+                    sn, _, _ = _corner_cross(points, a, cells[c, k], d)
+                if sn < bound:
+                    return False
+                slot[i] = 2 * (4 * c + k) + (1 if convex else 0)
+                old[i] = sn
+                i += 1
+            continue
+        # v's place in the quad without a data-dependent loop exit, then its three
+        # corners that v changes from the four sides they share (v->q, v->p, q->o,
+        # p->o).  A side read backwards is negated, which changes no magnitude: the
+        # sines and cross products are _corner_cross's, bit for bit.
+        kv = (cells[c, 1] == v) * 1 + (cells[c, 2] == v) * 2 + (cells[c, 3] == v) * 3
+        kq = (kv + 1) & 3
+        kp = (kv + 3) & 3
+        q = cells[c, kq]
+        o = cells[c, (kv + 2) & 3]
+        p = cells[c, kp]
+        aqx = points[q, 0] - vx
+        aqy = points[q, 1] - vy
+        apx = points[p, 0] - vx
+        apy = points[p, 1] - vy
+        qox = points[o, 0] - points[q, 0]
+        qoy = points[o, 1] - points[q, 1]
+        pox = points[o, 0] - points[p, 0]
+        poy = points[o, 1] - points[p, 1]
+        lq = aqx * aqx + aqy * aqy
+        lp = apx * apx + apy * apy
+        l0 = aqx * apy
+        r0 = aqy * apx
+        l1 = -(qox * aqy)
+        r1 = -(qoy * aqx)
+        l2 = -(apx * poy)
+        r2 = -(apy * pox)
+        x0 = l0 - r0
+        x1 = l1 - r1
+        x2 = l2 - r2
+        d0 = np.sqrt(lq * lp)
+        d1 = np.sqrt((qox * qox + qoy * qoy) * lq)
+        d2 = np.sqrt(lp * (pox * pox + poy * poy))
+        s0 = x0 / d0 if d0 > 0.0 else -1.0
+        s1 = x1 / d1 if d1 > 0.0 else -1.0
+        s2 = x2 / d2 if d2 > 0.0 else -1.0
+        b0 = 1
+        b1 = 1
+        b2 = 1
+        if exact:
+            if not (x0 > 0.0 and x0 >= CCW_ERRBOUND_A * (abs(l0) + abs(r0))):
+                s0, ok0 = _corner_measure(points, p, v, q)
+                b0 = 1 if ok0 else 0
+            if not (x1 > 0.0 and x1 >= CCW_ERRBOUND_A * (abs(l1) + abs(r1))):
+                s1, ok1 = _corner_measure(points, v, q, o)
+                b1 = 1 if ok1 else 0
+            if not (x2 > 0.0 and x2 >= CCW_ERRBOUND_A * (abs(l2) + abs(r2))):
+                s2, ok2 = _corner_measure(points, o, p, v)
+                b2 = 1 if ok2 else 0
+            if (b0 == 0 and cv[c, kv] == 1) or (b1 == 0 and cv[c, kq] == 1) or (b2 == 0 and cv[c, kp] == 1):
+                return False
+        if s0 < bound or s1 < bound or s2 < bound:
+            return False
+        slot[i] = 2 * (4 * c + kv) + b0
+        slot[i + 1] = 2 * (4 * c + kq) + b1
+        slot[i + 2] = 2 * (4 * c + kp) + b2
+        old[i] = s0
+        old[i + 1] = s1
+        old[i + 2] = s2
+        i += 3
+    for j in range(i):
+        s = slot[j] >> 1
+        cs[s >> 2, s & 3] = old[j]
+        if exact:
             cv[s >> 2, s & 3] = slot[j] & 1
-    return ok
+    return True
 
 
 @njit(cache=True)
