@@ -367,11 +367,15 @@ def _tables(cells, n):
         cell_ptr[v + 1] += cell_ptr[v]
     fill = cell_ptr[:-1].copy()
     cell_idx = np.empty(cell_ptr[n], np.int32)
+    # Each entry's place of its vertex in the cell, so that the neighbour pass below
+    # reads the two sides there without searching the cell for the vertex.
+    place = np.empty(cell_ptr[n], np.int8)
     for c in range(m):
         for k in range(4):
             v = cells[c, k]
             if v >= 0:
                 cell_idx[fill[v]] = c
+                place[fill[v]] = k
                 fill[v] += 1
     # Each cell gives a vertex its two edge neighbours; a stamp drops the repeats.
     stamp = np.full(n, -1, np.int64)
@@ -381,14 +385,18 @@ def _tables(cells, n):
     for v in range(n):
         for s in range(cell_ptr[v], cell_ptr[v + 1]):
             c = cell_idx[s]
-            nv = 4 if cells[c, 3] >= 0 else 3
-            for k in range(nv):
-                if cells[c, k] == v:
-                    for w in (cells[c, k + 1 if k + 1 < nv else 0], cells[c, k - 1 if k > 0 else nv - 1]):
-                        if stamp[w] != v:
-                            stamp[w] = v
-                            nbr_idx[top] = w
-                            top += 1
+            k = np.int64(place[s])
+            last = 3 if cells[c, 3] >= 0 else 2
+            w = cells[c, k + 1 if k < last else 0]
+            if stamp[w] != v:
+                stamp[w] = v
+                nbr_idx[top] = w
+                top += 1
+            w = cells[c, k - 1 if k > 0 else last]
+            if stamp[w] != v:
+                stamp[w] = v
+                nbr_idx[top] = w
+                top += 1
         nbr_ptr[v + 1] = top
     return cell_ptr, cell_idx, nbr_ptr, nbr_idx[:top].copy()
 
