@@ -129,15 +129,15 @@ def _split(fill, domain: Domain, max_points: int, line_params):
 
     xy = fill.points
     n = len(xy)
-    quads = fill.quads.astype(np.int64)
-    tris = fill.triangles.astype(np.int64)
-    m = len(quads)
-    starts = np.concatenate([quads.ravel(), tris.ravel()])
-    ends = np.concatenate([quads[:, [1, 2, 3, 0]].ravel(), tris[:, [1, 2, 0]].ravel()])
-    key = np.minimum(starts, ends) * n + np.maximum(starts, ends)
-    split, crossed = _chord_walk(starts, ends, m, n)
-    uniq = np.unique(key[split])
-    total = n + len(uniq) + int((crossed == 3).sum()) + len(tris)
+    quads = np.ascontiguousarray(fill.quads, dtype=np.int32)
+    tris = np.ascontiguousarray(fill.triangles, dtype=np.int32)
+    split, crossed, starts, ends = _chord_walk(quads, tris, n)
+    # Only the split sides get a key: one node per side, numbered in key order.
+    hs = np.flatnonzero(split)
+    key = np.minimum(starts[hs], ends[hs]) * n + np.maximum(starts[hs], ends[hs])
+    uniq, which = np.unique(key, return_inverse=True)
+    both = np.flatnonzero(crossed == 3)
+    total = n + len(uniq) + len(both) + len(tris)
     if total > max_points:
         raise MeshingError(f"the chord refinement needs {total} vertices, above max_points = {max_points}")
     mid = 0.5 * (xy[uniq // n] + xy[uniq % n])
@@ -154,35 +154,10 @@ def _split(fill, domain: Domain, max_points: int, line_params):
         else:
             ta, tb = line_params[lsplit][on_curve].T
             mid[lmid[on_curve]] = domain.split(curves, ta, tb)[1]
-    node = np.full(len(key), -1, dtype=np.int64)
-    node[split] = n + np.searchsorted(uniq, key[split])
-    hq = node[: 4 * m].reshape(m, 4)
-    ht = node[4 * m :].reshape(-1, 3)
-    both = np.flatnonzero(crossed == 3)
+    node = np.full(len(split), -1, dtype=np.int64)
+    node[hs] = n + which.ravel()
     centres = np.concatenate([xy[quads[both]].mean(axis=1), xy[tris].mean(axis=1)])
-    cq = n + len(uniq) + np.arange(len(both))
-    ct = n + len(uniq) + len(both) + np.arange(len(tris))
-    out = [quads[crossed == 0]]
-    parent = [np.flatnonzero(crossed == 0)]
-    for bit in (1, 2):
-        sel = np.flatnonzero(crossed == bit)
-        parent += [sel, sel]
-        v, h = quads[sel], hq[sel]
-        if bit == 1:  # (v0, m0, m2, v3) and (m0, v1, v2, m2)
-            out += [
-                np.column_stack([v[:, 0], h[:, 0], h[:, 2], v[:, 3]]),
-                np.column_stack([h[:, 0], v[:, 1], v[:, 2], h[:, 2]]),
-            ]
-        else:  # (v0, v1, m1, m3) and (m3, m1, v2, v3)
-            out += [
-                np.column_stack([v[:, 0], v[:, 1], h[:, 1], h[:, 3]]),
-                np.column_stack([h[:, 3], h[:, 1], v[:, 2], v[:, 3]]),
-            ]
-    for cells, h, c, ids in ((quads[both], hq[both], cq, both), (tris, ht, ct, m + np.arange(len(tris)))):
-        p = cells.shape[1]
-        for k in range(p):
-            out.append(np.column_stack([cells[:, k], h[:, k], c, h[:, (k - 1) % p]]))
-            parent.append(ids)
+    out, parent = _chord_cells(quads, tris, node, crossed, n + len(uniq))
     # Each split line becomes (u, mid) and (mid, w), in the lines' order.
     reps = np.where(lsplit, 2, 1)
     at = np.cumsum(reps) - reps
@@ -194,13 +169,13 @@ def _split(fill, domain: Domain, max_points: int, line_params):
     new_lines[at[lsplit] + 1, 1] = lines[lsplit, 1]
     split_fill = fill._replace(
         points=np.ascontiguousarray(np.concatenate([xy, mid, centres])),
-        quads=np.ascontiguousarray(np.concatenate(out)).astype(np.int32),
+        quads=out,
         triangles=np.zeros((0, 3), dtype=np.int32),
         lines=new_lines.astype(np.int32),
         line_markers=np.repeat(fill.line_markers, reps).astype(np.int32),
         line_curves=np.repeat(fill.line_curves, reps).astype(np.int32),
     )
-    return split_fill, np.concatenate(parent).astype(np.int64)
+    return split_fill, parent
 
 
 def _corners(xy, cell):
@@ -300,11 +275,12 @@ def _mend(fill, parents):
 
 
 @njit(cache=True)
-def _chord_walk(starts, ends, m, n):
-    """Walk the chords from every triangle side; returns (split, crossed).
+def _chord_walk(quads, tris, n):
+    """Walk the chords from every triangle side; returns (split, crossed, starts, ends).
 
     Half-edge ``h`` runs from ``starts[h]`` to ``ends[h]`` (both (4 m + 3 t,) int64, the
-    module's half-edge order); its twin, the half-edge of the same side in the other cell,
+    module's half-edge order, from ``quads`` (m, 4) and ``tris`` (t, 3) int32); its twin, the
+    half-edge of the same side in the other cell,
     runs the other way and is looked up, only for the sides the chords reach, among the
     half-edges leaving ``ends[h]`` (a table by start vertex, ``n`` vertices: no sort).
     ``split`` (4 m + 3 t,) bool marks the half-edges whose side gets a midpoint;
@@ -314,6 +290,17 @@ def _chord_walk(starts, ends, m, n):
     other end): every step sets a new bit, so all the walks together take at most 2 m
     steps.
     """
+    m = quads.shape[0]
+    starts = np.empty(4 * m + 3 * tris.shape[0], np.int64)
+    ends = np.empty_like(starts)
+    for q in range(m):
+        for k in range(4):
+            starts[4 * q + k] = quads[q, k]
+            ends[4 * q + k] = quads[q, (k + 1) & 3]
+    for j in range(tris.shape[0]):
+        for k in range(3):
+            starts[4 * m + 3 * j + k] = tris[j, k]
+            ends[4 * m + 3 * j + k] = tris[j, k + 1 if k < 2 else 0]
     nh = starts.shape[0]
     ptr = np.zeros(n + 1, np.int64)
     for h in range(nh):
@@ -349,4 +336,76 @@ def _chord_walk(starts, ends, m, n):
             split[at] = True
         if o >= 0:
             split[o] = True
-    return split, crossed
+    return split, crossed, starts, ends
+
+
+@njit(cache=True)
+def _chord_cells(quads, tris, node, crossed, first_centre):
+    """The split's quads (k, 4) int32 and the cell each came from (k,) int64.
+
+    ``node`` (4 m + 3 t,) int64 is the midpoint of each half-edge's side (-1 where not
+    split); the centres are numbered from ``first_centre``, the quads crossed both ways
+    first, then the triangles.  In this order: the quads not crossed; those crossed once
+    between sides 0 and 2, as (v0, m0, m2, v3) then (m0, v1, v2, m2); those crossed between
+    sides 1 and 3, as (v0, v1, m1, m3) then (m3, m1, v2, v3); then for k = 0 .. 3 corner
+    k's quad (v_k, m_k, centre, m_{k-1}) of every quad crossed both ways, and for k = 0 .. 2
+    that of every triangle.
+    """
+    m = quads.shape[0]
+    t = tris.shape[0]
+    count = np.zeros(4, np.int64)
+    for q in range(m):
+        count[crossed[q]] += 1
+    total = count[0] + 2 * count[1] + 2 * count[2] + 4 * count[3] + 3 * t
+    out = np.empty((total, 4), np.int32)
+    parent = np.empty(total, np.int64)
+    i = 0
+    for q in range(m):
+        if crossed[q] == 0:
+            out[i] = quads[q]
+            parent[i] = q
+            i += 1
+    for bit in (1, 2):
+        for half in range(2):
+            for q in range(m):
+                if crossed[q] != bit:
+                    continue
+                # Crossed once: the two midpoints m, p (sides bit - 1 and bit + 1) and the
+                # corners; half 0 keeps corner 0, half 1 corner 2.
+                r = bit - 1
+                mm = node[4 * q + r]
+                pp = node[4 * q + r + 2]
+                if bit == 1:
+                    if half == 0:
+                        out[i, 0], out[i, 1], out[i, 2], out[i, 3] = quads[q, 0], mm, pp, quads[q, 3]
+                    else:
+                        out[i, 0], out[i, 1], out[i, 2], out[i, 3] = mm, quads[q, 1], quads[q, 2], pp
+                elif half == 0:
+                    out[i, 0], out[i, 1], out[i, 2], out[i, 3] = quads[q, 0], quads[q, 1], mm, pp
+                else:
+                    out[i, 0], out[i, 1], out[i, 2], out[i, 3] = pp, mm, quads[q, 2], quads[q, 3]
+                parent[i] = q
+                i += 1
+    for k in range(4):
+        c = first_centre
+        for q in range(m):
+            if crossed[q] != 3:
+                continue
+            out[i, 0] = quads[q, k]
+            out[i, 1] = node[4 * q + k]
+            out[i, 2] = c
+            out[i, 3] = node[4 * q + (k + 3) % 4]
+            parent[i] = q
+            c += 1
+            i += 1
+    for k in range(3):
+        c = first_centre + count[3]
+        for j in range(t):
+            out[i, 0] = tris[j, k]
+            out[i, 1] = node[4 * m + 3 * j + k]
+            out[i, 2] = c
+            out[i, 3] = node[4 * m + 3 * j + (k + 2) % 3]
+            parent[i] = m + j
+            c += 1
+            i += 1
+    return out, parent
