@@ -587,6 +587,26 @@ def test_walk_spacing_matches_exact_interpolation(seed):
     assert np.allclose(got, np.array([w for w in want if w is not None]), rtol=1e-12, atol=0.0)
 
 
+def test_serpentine_order_of_size_queries():
+    """The void fill's size queries are asked along the rows of a 16 x 16 grid of their
+    box, every other row backwards, in input order within a cell (cells recomputed
+    here with plain floor division, one point at a time)."""
+    from meshwright.quad._paving_close import serpentine
+
+    rng = np.random.default_rng(3)
+    xy = np.concatenate([rng.uniform(-2.0, 5.0, size=(300, 2)), [[-2.0, -2.0], [5.0, 5.0]]])
+    xy[::7] = xy[3]  # repeats: ties keep their input order
+    order = serpentine(xy)
+    assert sorted(order.tolist()) == list(range(len(xy)))
+    lo, ext = xy.min(axis=0), float((xy.max(axis=0) - xy.min(axis=0)).max())
+    keys = []
+    for i in order.tolist():
+        cx, cy = (min(int(16 * ((float(xy[i, d]) - float(lo[d])) / ext)), 15) for d in (0, 1))
+        keys.append((cy * 16 + (cx if cy % 2 == 0 else 15 - cx), i))
+    assert keys == sorted(keys)
+    assert serpentine(np.zeros((1, 2))).tolist() == [0] and serpentine(np.ones((3, 2))).tolist() == [0, 1, 2]
+
+
 def _closed_segments_meet(p, q, r, s) -> bool:
     """Exact: closed segments p q and r s share a point."""
     def side(a, b, c):

@@ -78,7 +78,23 @@ CHORD_REACH = 4.0  # sizes: chords up to this long are tried first
 CHORD_TRIES = 48  # best-scored chords tested for crossings before giving up on a part
 VOID_SMOOTH = 8  # guarded Laplacian sweeps of the void fill before non-convex pairs are cut back
 STAR_MAX = 12  # a part of up to this many nodes no chord can cut is closed around a centre node
+SERPENTINE = 16  # cells per side of the grid that orders the void fill's size queries
 LONG_LOOP = 200  # loops above this many nodes are closed by the kernel of _paving_long (near chords only)
+
+
+def serpentine(xy, k: int = SERPENTINE):
+    """Order of points ``xy`` (m, 2) along the rows of a k by k grid of their box,
+    alternate rows backwards (a stable sort by cell): consecutive points are near each
+    other, for searches that start from the last answer."""
+    if len(xy) < 2:
+        return np.arange(len(xy))
+    lo = xy.min(axis=0)
+    ext = float((xy.max(axis=0) - lo).max())
+    if not ext > 0.0:
+        return np.arange(len(xy))
+    cell = np.minimum((k * ((xy - lo) / ext)).astype(np.int64), k - 1)
+    key = cell[:, 1] * k + np.where(cell[:, 1] % 2 == 0, cell[:, 0], k - 1 - cell[:, 0])
+    return np.argsort(key, kind="stable")
 
 
 def shift_next(a: np.ndarray) -> np.ndarray:
@@ -494,7 +510,16 @@ def fill_voids(xy, voids, field, seed):
     grid, hint = bg.kernel_args(), np.zeros(1, dtype=np.int64)
 
     def capped(p):
-        return np.minimum(field(p), pk.walk_spacing(*grid, hint, np.ascontiguousarray(p, dtype=np.float64)))
+        # Asked in a serpentine order over a grid of the batch's box: the front's new
+        # nodes come in face order, jumping across the void, and both the walk and the
+        # graded field's search start from the last query (half the walk's cost on the
+        # three-element airfoil; each value is the same in any order).
+        q = np.ascontiguousarray(p, dtype=np.float64)
+        order = serpentine(q)
+        ahead = np.ascontiguousarray(q[order])
+        out = np.empty(len(q))
+        out[order] = np.minimum(field(ahead), pk.walk_spacing(*grid, hint, ahead))
+        return out
 
     pts, tris = advancing_front(ct, as_size_field(capped), finish=False)
     # Back to global ids: the triangulation's own vertices, then the front's new nodes.
