@@ -534,6 +534,21 @@ def test_centre_rounds_refill_only_the_cut_rows(seed):
     assert (st.mate < 0).sum() == left  # st's own arrays are left as they were
 
 
+def test_grow_rings_marks_the_nodes_of_quads_touching_the_last_ring():
+    """The chord smoothing's rings (``grow_rings``) against a breadth-first oracle over the
+    quads' node sets: ring r holds the nodes of every quad with a node within r - 1 rings."""
+    rng = np.random.default_rng(5)
+    quads = rng.integers(0, 400, size=(300, 4)).astype(np.int32)
+    start = rng.random(400) < 0.02
+    cells = [set(q) for q in quads.tolist()]
+    want = set(np.flatnonzero(start).tolist())
+    for rings in range(4):
+        got = pk.grow_rings(quads, start, rings)
+        assert set(np.flatnonzero(got).tolist()) == want
+        want = want.union(*(c for c in cells if c & want))
+    assert start.sum() < 20  # the input is left as it was
+
+
 # ------------------------------------------------------------------ enhancement
 
 

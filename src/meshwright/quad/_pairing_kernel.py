@@ -47,6 +47,7 @@ __all__ = [
     "corner_ok",
     "dual_neighbours",
     "greedy_pairs",
+    "grow_rings",
     "nonconvex_quads",
     "pair_quad",
     "pair_quads",
@@ -613,6 +614,20 @@ def nonconvex_quads(xy, quads):
             out[k] = i
             k += 1
     return out[:k].copy()
+
+
+@njit(cache=True)
+def grow_rings(quads, near, rings):
+    """``near`` (n,) bool grown by ``rings`` rings of quads: each ring marks every node of
+    every quad (q, 4) that has a marked node as the ring began.  Returns a new array."""
+    out = near.copy()
+    for _ in range(rings):
+        was = out.copy()
+        for i in range(quads.shape[0]):
+            if was[quads[i, 0]] or was[quads[i, 1]] or was[quads[i, 2]] or was[quads[i, 3]]:
+                for k in range(4):
+                    out[quads[i, k]] = True
+    return out
 
 
 @njit(cache=True)
