@@ -158,59 +158,52 @@ def _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, 
     per = nc + n_close + 1
     clear = par[P_CLEAR_E] * rho if i < per else 0.0
     i = i % per
-    if i < n_close:
-        c = np.int64(cand[i])
-        qx, qy = _to_metric(l11, l21, l22, pts[c, 0] - pts[a, 0], pts[c, 1] - pts[a, 1])
-        longest = par[P_LONG] * rho
-        if _quality(0.0, 0.0, u0, u1, qx, qy) < par[P_QMIN] or max(
-            qx * qx + qy * qy, (qx - u0) ** 2 + (qy - u1) ** 2
-        ) > longest * longest:
-            return np.int64(-1), clear
-        return c, clear
     if i == n_close:
         return (np.int64(p) if p_ok else np.int64(-1)), clear
-    c = np.int64(cand[i - n_close - 1])
-    # The last try's wider box may hold far nodes: a pair reaching one would span a graded
-    # field (slivers across it); such a face is left to the triangle front instead.
+    close = i < n_close
+    c = np.int64(cand[i if close else i - n_close - 1])
+    # One metric transform, reach and quality for both kinds of candidate (each copy is
+    # typed and lowered again: issue 13).  A close node must make a good triangle with
+    # sides of at most LONG rho.  A list node may reach FAR rho: the last try's wider box
+    # may hold far nodes, and a pair reaching one would span a graded field (slivers across
+    # it); such a face is left to the triangle front instead.  Validity alone admits a node
+    # on the base's line up to round-off, the next node of a straight boundary whose split
+    # points lie a few ulps inside it; such a triangle pairs into a quad with a straight
+    # corner (stress-zhu-6fde022a69d2 graded: fans of 1e-9 .. 1e-12 degree triangles from
+    # one boundary node, min SJ 0.003), hence the FLAT floor.
     qx, qy = _to_metric(l11, l21, l22, pts[c, 0] - pts[a, 0], pts[c, 1] - pts[a, 1])
-    reach = FAR * rho
-    if max(qx * qx + qy * qy, (qx - u0) ** 2 + (qy - u1) ** 2) > reach * reach:
-        return np.int64(-1), clear
-    # Validity alone admits a node on the base's line up to round-off: the next node of a
-    # straight boundary whose split points lie a few ulps inside it.  Such a triangle pairs
-    # into a quad with a straight corner (stress-zhu-6fde022a69d2 graded: fans of 1e-9 ..
-    # 1e-12 degree triangles from one boundary node, min SJ 0.003).
-    if _quality(0.0, 0.0, u0, u1, qx, qy) < FLAT:
+    reach = (par[P_LONG] if close else FAR) * rho
+    if max(qx * qx + qy * qy, (qx - u0) ** 2 + (qy - u1) ** 2) > reach * reach or _quality(
+        0.0, 0.0, u0, u1, qx, qy
+    ) < (par[P_QMIN] if close else FLAT):
         return np.int64(-1), clear
     return c, clear
 
 
 @njit(inline="always")
-def _convex(pts, q0, q1, q2, q3):
-    """Quadrilateral q0 q1 q2 q3 strictly convex (exact)."""
-    return (
-        _orient(pts, q3, q0, q1) > 0.0
-        and _orient(pts, q0, q1, q2) > 0.0
-        and _orient(pts, q1, q2, q3) > 0.0
-        and _orient(pts, q2, q3, q0) > 0.0
-    )
+def _convex(pts, q):
+    """Quadrilateral q (four nodes) strictly convex (exact)."""
+    for k in range(4):
+        if _orient(pts, q[(k + 3) % 4], q[k], q[(k + 1) % 4]) <= 0.0:
+            return False
+    return True
 
 
 @njit(inline="always")
-def _flat_input(pts, nin, q0, q1, q2, q3):
-    """Whether quadrilateral q0 q1 q2 q3 has a corner wider than 150 degrees at an input
+def _flat_input(pts, nin, q):
+    """Whether quadrilateral q (four nodes) has a corner wider than 150 degrees at an input
     node whose two neighbours in it are input nodes too (a quality rule)."""
     for k in range(4):
-        v = q0 if k == 0 else (q1 if k == 1 else (q2 if k == 2 else q3))
-        prv = q3 if k == 0 else (q0 if k == 1 else (q1 if k == 2 else q2))
-        nxt = q1 if k == 0 else (q2 if k == 1 else (q3 if k == 2 else q0))
+        v = q[k]
+        prv = q[(k + 3) % 4]
+        nxt = q[(k + 1) % 4]
         if v < nin and prv < nin and nxt < nin and corner_flat(pts, prv, v, nxt):
             return True
     return False
 
 
 @njit(inline="always")
-def _next_after(x, q, gone, f, fs):
+def _next_after(x, q, gone, f, vint, face, falive, np_):
     """The node after x on the front as it would be once quad ``q`` (four nodes,
     counter-clockwise, on face f = q[0] -> q[1]) is made; -1 when x would start no face or
     more than one (a pinch point, where the loop through x is not one path).
@@ -219,10 +212,9 @@ def _next_after(x, q, gone, f, fs):
     direction (bit k of ``gone``) or else adds its reverse q[k+1] -> q[k] to the front, as
     :func:`~meshwright.tri._front_kernel._make_triangle` does for each of the two triangles.
     """
-    face, falive = fs.face, fs.falive
     nxt = np.int64(-1)
     count = 0
-    g = fs.vint[x, V_FACE] if x < fs.meta[M_NP] else -1  # a new node starts no face yet
+    g = vint[x, V_FACE] if x < np_ else -1  # a new node starts no face yet (np_: the node count)
     while g >= 0:
         if falive[g] != 0 and g != f:
             y = np.int64(face[g, F_B])
@@ -241,8 +233,8 @@ def _next_after(x, q, gone, f, fs):
     return nxt if count == 1 else np.int64(-1)
 
 
-@njit(inline="always")
-def _bad_pocket(pts, f, q, fs):
+@njit(cache=True)
+def _bad_pocket(pts, vint, face, falive, np_, nin, f, q):
     """Whether making quad ``q`` (four nodes, counter-clockwise, on face f = q[0] -> q[1])
     would leave a sub-front of four faces with a corner at an input node that is not
     strictly convex (exact ``orient2d``), or wider than 150 degrees between two input
@@ -255,16 +247,19 @@ def _bad_pocket(pts, f, q, fs):
     whose chords leave slivers (letter_a.poly at its acute notch: min scaled Jacobian
     0.094).  A pocket bad only at generated nodes is allowed: smoothing moves those.
     Pinch points are not followed (such a loop is not judged).
+
+    ``np_``: the node count (new corners are ``>= np_``), ``nin``: the input nodes'.  A
+    compiled call, not inlined: the kernel needs it only where the quad has an existing
+    free corner, and its inlined body (with its copies of _find_face, _next_after and
+    _flat_input) was about a tenth of the kernel's IR statements (issue 13).
     """
-    face, falive, vint = fs.face, fs.falive, fs.vint
-    if q[2] >= fs.meta[M_NP] and q[3] >= fs.meta[M_NP]:
+    if q[2] >= np_ and q[3] >= np_:
         # Two new corners (the common case): the front gains the path q0 q3 q2 q1 in
         # place of one face, so its loop grows and no other loop changes.
         return False
-    nin = fs.meta[M_NIN]
     gone = 0
     for k in range(1, 4):
-        if q[k] < fs.meta[M_NP] and _find_face(q[k], q[(k + 1) % 4], vint, face, falive) >= 0:
+        if q[k] < np_ and _find_face(q[k], q[(k + 1) % 4], vint, face, falive) >= 0:
             gone |= 1 << k
     # A loop the pair changes passes through a corner of the quad: it holds a face the
     # pair adds, or a corner whose other face the pair fills (a pinch point resolved).
@@ -275,7 +270,7 @@ def _bad_pocket(pts, f, q, fs):
         x = x0
         four = False
         for step in range(4):
-            x = _next_after(x, q, gone, f, fs)
+            x = _next_after(x, q, gone, f, vint, face, falive, np_)
             if step == 3:
                 four = x == x0
             elif x < 0 or (step >= 1 and x == x0) or (step == 2 and x == x1):
@@ -289,7 +284,7 @@ def _bad_pocket(pts, f, q, fs):
         if not four:
             continue
         loop = (x0, x1, x2, x3)
-        if _flat_input(pts, nin, x0, x1, x2, x3):
+        if _flat_input(pts, nin, loop):
             return True
         for m in range(4):
             v = loop[m]
@@ -309,7 +304,10 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
     order and of the validity test, so that the kernel holds one inlined copy of each
     (the nested form held two: the largest part of this kernel's compile time, and a
     compiled call in place of the second costs run time).  ``g*`` are the current level's
-    search results; the first level's are ``kept`` while the second runs.
+    search and its results; the first level's results are ``kept`` and its arrays swapped
+    into the second set (``items2`` ...) while the second runs, so that every call reads
+    one set of variables, not a selection by level per argument.  The two sets are alike
+    scratch: they may come back in either order.
 
     Returns ``(ok, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2)``.
     """
@@ -330,48 +328,39 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
     gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1 = zero, zero, zero, zero, False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     kept = (gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1)
     lvl = 0
+    ga, gb, gp, gf, gshape, gwant = a, b, p, np.int64(f), shape, np.int64(-1)
     fresh = True  # the level's candidates are still to be gathered
     i = zero  # next trial of the level
     fi = zero  # the first level's next trial, kept while the second runs
     total = zero
     side = 2  # no first apex yet: no base to try
-    c = u = w = o = io = p2 = want = np.int64(-1)
+    c = u = w = o = p2 = want = np.int64(-1)
     cu = np.int8(0)
     px = py = clear = 0.0
+    ok = False
     # Bounded: each pass takes the level's next trial (at most rounds * (nc + n_close + 1)
-    # a level), or moves to the next base (two per first apex), or returns.
+    # a level), or moves to the next base (two per first apex), or ends the search.
     while True:
-        ga = a if lvl == 0 else u
-        gb = b if lvl == 0 else w
-        gp = p if lvl == 0 else p2
-        gf = np.int64(f) if lvl == 0 else np.int64(-1)
         if fresh:
             fresh = False
-            it, nd, cd, ck = (items, nodes, cand, ckey) if lvl == 0 else (items2, nodes2, cand2, ckey2)
-            gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1, it, nd, cd, ck = _gather(
-                ga, gb, gf, gp, shape if lvl == 0 else io, last, False, fs, par, col,
-                np.int64(-1) if lvl == 0 else want, it, nd, cd, ck, stack, fstack,
+            gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1, items, nodes, cand, ckey = _gather(
+                ga, gb, gf, gp, gshape, last, False, fs, par, col, gwant, items, nodes, cand, ckey, stack, fstack
             )
             if lvl == 0:
-                items, nodes, cand, ckey = it, nd, cd, ck
                 px = pts[p, 0]
                 py = pts[p, 1]
-            else:
-                items2, nodes2, cand2, ckey2 = it, nd, cd, ck
             i = zero
             total = rounds * (gnc + gclose + 1)
         x = np.int64(-1)
         if i < total:
-            x, clear = _trial(
-                i, gnc, gclose, gp, gok, cand if lvl == 0 else cand2, pts, par, grho, g11, g21, g22, gu0, gu1, ga
-            )
+            x, clear = _trial(i, gnc, gclose, gp, gok, cand, pts, par, grho, g11, g21, g22, gu0, gu1, ga)
             i += 1
         next_base = False
         if x < 0:
             if i < total:
                 continue
             if lvl == 0:
-                return False, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
+                break
             next_base = True  # no apex D on this base
         else:
             if lvl == 0 and x == p:
@@ -382,12 +371,9 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
             # which the chapter allows (step 8) but only in the last round here.  A corner
             # between two input nodes wider than 150 degrees is never made: they barely move,
             # so no smoothing would open it (the face is left to the triangle front instead).
-            if lvl == 1 and ((clear > 0.0 and not _convex(pts, u, o, w, x)) or _flat_input(pts, nin, u, o, w, x)):
+            if lvl == 1 and ((clear > 0.0 and not _convex(pts, (u, o, w, x))) or _flat_input(pts, nin, (u, o, w, x))):
                 continue
-            if not _valid(
-                pts, face, qbox, ga, gb, x, gf, items if lvl == 0 else items2, gni, nodes if lvl == 0 else nodes2,
-                gnn, clear, g11, g21, g22,
-            ):
+            if not _valid(pts, face, qbox, ga, gb, x, gf, items, gni, nodes, gnn, clear, g11, g21, g22):
                 continue
             if lvl == 0:
                 c = x
@@ -404,7 +390,9 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
                 if c == p:
                     pts[p, 0] = px
                     pts[p, 1] = py
-                if _bad_pocket(pts, f, (a, b, c, d) if side == 0 else (a, b, d, c), fs):
+                quad = (a, b, c, d) if side == 0 else (a, b, d, c)
+                # (Two new corners, the common case, need no walk: the call is skipped.)
+                if (c < p or d < p) and _bad_pocket(pts, fs.vint, face, fs.falive, p, nin, np.int64(f), quad):
                     next_base = True
                 else:
                     # Both triangles by one inlined copy of the front's update.
@@ -421,24 +409,30 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
                         col[d] = want
                     tpair[meta[M_NT] - 2] = 1
                     tpair[meta[M_NT] - 1] = 0
-                    return True, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
+                    ok = True
+                    break
         if not next_base:
             continue
         # Step 5: the base of the second triangle is the side of ABC joining two nodes of
         # one colour; a new (or uncoloured) C may take either colour, A C tried first.
         side += 1
-        while side < 2 and col[c] >= 0 and col[c] != (col[a] if side == 0 else col[b]):
-            side += 1
+        if side == 0 and col[c] >= 0 and col[c] != col[a]:
+            side = 1
+        if side == 1 and col[c] >= 0 and col[c] != col[b]:
+            side = 2
         if side < 2:
             if lvl == 0:
                 kept = (gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1)
                 fi = i
+                items, nodes, cand, ckey, items2, nodes2, cand2, ckey2 = (
+                    items2, nodes2, cand2, ckey2, items, nodes, cand, ckey
+                )
             u = a if side == 0 else c
             w = c if side == 0 else b
             o = b if side == 0 else a
-            io = o if c == p and uniform else np.int64(-1)
             cu = col[a] if side == 0 else col[b]
             want = np.int64(1 - cu)
+            ga, gb, gp, gf, gshape, gwant = u, w, p2, np.int64(-1), o if c == p and uniform else np.int64(-1), want
             lvl = 1
             fresh = True
         elif lvl == 1:
@@ -446,7 +440,12 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
             gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1 = kept
             i = fi
             total = rounds * (gnc + gclose + 1)
+            items, nodes, cand, ckey, items2, nodes2, cand2, ckey2 = (
+                items2, nodes2, cand2, ckey2, items, nodes, cand, ckey
+            )
+            ga, gb, gp, gf, gshape, gwant = a, b, p, np.int64(f), shape, np.int64(-1)
             lvl = 0
+    return ok, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
 
 
 def new_scratch(depth, size=SCRATCH):
@@ -502,7 +501,10 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
         fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
     sync_every = int(par[P_SYNC_EVERY])
     max_defer = int(par[P_MAX_DEFER])
-    while True:
+    # One return: each return statement exits through its own copy of the IR's variable
+    # releases (issue 13).
+    code = -1
+    while code < 0:
         if (
             meta[M_NP] + 2 > pts.shape[0]
             or meta[M_NF] + ROOM_FACES > face.shape[0]
@@ -511,18 +513,21 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
             or meta[M_NT] + 2 > tri.shape[0]
             or qmeta[Q_NODES] + ROOM_FACES * (node_room + 1) > qhead.shape[0]
         ):
-            return R_ROOM
-        if meta[M_NP] - meta[M_SYNC] >= sync_every:
-            return R_SYNC
-        if meta[M_NP] > par[P_MAX_POINTS]:
-            return R_POINTS
-        if meta[M_STEPS] > 16 * meta[M_NF] + 100_000:
-            return R_STEPS
-        if meta[M_NT] + 2 > max_tris:
-            return R_PAUSE
+            code = R_ROOM
+        elif meta[M_NP] - meta[M_SYNC] >= sync_every:
+            code = R_SYNC
+        elif meta[M_NP] > par[P_MAX_POINTS]:
+            code = R_POINTS
+        elif meta[M_STEPS] > 16 * meta[M_NF] + 100_000:
+            code = R_STEPS
+        elif meta[M_NT] + 2 > max_tris:
+            code = R_PAUSE
+        if code >= 0:
+            continue
         f, key, wmin = pop_ready(fs, wmin, par[P_WAIT])
         if f < 0:
-            return R_SYNC if meta[M_NW] > 0 else R_DONE
+            code = R_SYNC if meta[M_NW] > 0 else R_DONE
+            continue
         meta[M_STEPS] += 1
         ok, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2 = _try_pair(
             f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack
@@ -531,14 +536,14 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
             continue
         tries = face[f, F_TRIES] + 1
         face[f, F_TRIES] = tries
-        if tries <= max_defer:
-            # Postponed behind every ordinary face: the front around it moves on first.
-            heap_push(hkey, hface, meta, key + par[P_DEFER], f)
-        elif tries == max_defer + 1:
-            # Given up until every other face has been tried: the pairs made meanwhile may
-            # open it (the key stays above any postponed face's).
-            heap_push(hkey, hface, meta, key + 8.0 * par[P_DEFER], f)
-        else:
+        if tries > max_defer + 1:
             # Left to the triangle front: off the heap, still on the front.
             face[f, F_TRIES] = LEFT
             meta[M_FAIL] = f
+            continue
+        # Postponed behind every ordinary face (the front around it moves on first), or on
+        # its last try given up until every other face has been tried: the pairs made
+        # meanwhile may open it (the key stays above any postponed face's).  One inlined
+        # heap push for both (issue 13).
+        heap_push(hkey, hface, meta, key + (1.0 if tries <= max_defer else 8.0) * par[P_DEFER], f)
+    return code
