@@ -31,15 +31,14 @@ _coord = st.floats(-10, 10).filter(lambda x: x == 0.0 or abs(x) >= 1e-60)
     st.sampled_from([0.0, 1e-17, 1e-15, 1e-12, 1e-3]), st.booleans(),
 )
 def test_filtered_convexity_is_exact(ax, ay, bx, by, t, tiny, up):
-    """``_convex`` (the sine pass's cross product certified by Shewchuk's bound, else the
+    """``_measure_xy``'s convexity (the sine pass's cross product certified by Shewchuk's bound, else the
     adaptive ``orient2d``) against the exact rational sign, on corners from collinear to
     clearly turned."""
     dx = ax + t * (bx - ax) + (tiny if up else -tiny)
     dy = ay + t * (by - ay) - (tiny if up else -tiny)
     pts = np.array([[ax, ay], [bx, by], [dx, dy]])
     for a, b, d in ((0, 1, 2), (1, 2, 0), (2, 0, 1), (0, 2, 1)):
-        _, cross, scale = sm._corner_cross(pts, a, b, d)
-        got = sm._convex(pts, a, b, d, cross, scale)
+        _, got = sm._corner_measure(pts, a, b, d)
         assert got == (_orient(pts[a], pts[b], pts[d]) > 0)
 
 

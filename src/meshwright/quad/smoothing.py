@@ -24,9 +24,10 @@ are opened that way.
 Array layout: points (n, 2) float64; cells (m, 4) int32, a triangle padded with -1 in
 column 3, counter-clockwise; vertex-to-cell and vertex-to-neighbour tables in CSR form
 (``ptr`` (n + 1,) int64, ``idx`` int32), built in one linear pass (:func:`cell_tables`).
-The index tables are int32 and the guard (:func:`_guard`, through :func:`_try_move`) is
-inlined at one call site per sweep: a visit reads its star from half the bytes and passes
-no array structs to a call (the disk's sweeps took about 40 % less time).
+The index tables are int32 and the guard is written out in the sweep (:func:`_sweep`), not
+called: a visit reads its star from half the bytes, passes no array structs to a call (the
+disk's sweeps took about 40 % less time than with a called guard) and takes no reference
+counts on arrays (an inlined guard took some eighteen per trial, half the sweep's time).
 """
 
 from __future__ import annotations
@@ -43,42 +44,12 @@ __all__ = ["UNTANGLE", "cell_tables", "smooth_cells", "smooth_sliding"]
 UNTANGLE = 0.01  # smooth_sliding: a star this flat or folded whose Laplacian steps fail tries its kernel
 
 
-@njit(inline="always")
-def _neighbour_mean(points, nbr_ptr, nbr_idx, v):
-    """Mean of vertex ``v``'s neighbours (the spring analogy's equilibrium)."""
-    tx = 0.0
-    ty = 0.0
-    for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
-        tx += points[nbr_idx[t], 0]
-        ty += points[nbr_idx[t], 1]
-    k = nbr_ptr[v + 1] - nbr_ptr[v]
-    return tx / k, ty / k
-
-
-@njit(inline="always")
-def _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
-    """If ``v`` moved from (x0, y0) by more than ``settle`` times its distance to its
-    first neighbour, wake it and its neighbours for the rest of this sweep (``cur``) and
-    for the next (``nxt``); returns whether it did."""
-    w = nbr_idx[nbr_ptr[v]]
-    ref = (points[w, 0] - x0) ** 2 + (points[w, 1] - y0) ** 2
-    shift = (points[v, 0] - x0) ** 2 + (points[v, 1] - y0) ** 2
-    if shift <= settle * settle * ref:
-        return False
-    cur[v] = 1
-    nxt[v] = 1
-    for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
-        cur[nbr_idx[t]] = 1
-        nxt[nbr_idx[t]] = 1
-    return True
-
-
 @njit(cache=True)
 def _corner_table(points, cells, exact):
     """Quality of every corner, (m, 4) float64: ``cs[c, k]`` of corner k of cell c (unused
     slot of a triangle: 1), its sine, or with ``exact`` :func:`_corner_measure`; with
     ``exact`` also every corner's exact convexity, (m, 4) int8: ``cv[c, k]`` 1 when
-    strictly convex (exact ``orient2d``, through :func:`_convex`'s filter on the same cross
+    strictly convex (exact ``orient2d``, through :func:`_measure_xy`'s filter on the same cross
     product), else 0 (unused slot: 1); without it ``cv`` is (0, 4).  Returns (cs, cv)."""
     m = cells.shape[0]
     cs = np.ones((m, 4))
@@ -116,18 +87,26 @@ def _star_min(cs, cells, cell_ptr, cell_idx, v):
 
 @njit(inline="always")
 def _corner_cross(points, a, b, d):
+    """:func:`_cross_xy` of corner b (between b->d and b->a)."""
+    return _cross_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1])
+
+
+@njit(inline="always")
+def _cross_xy(ax, ay, bx, by, dx, dy):
     """Sine, floating cross product and its error scale at corner b (between b->d and b->a).
 
     The cross product is computed with exactly the operations of ``orient2d(d, a, b)``'s
     filter, so ``cross >= CCW_ERRBOUND_A * scale`` (Shewchuk 1997) certifies that the
     exact ``orient2d(a, b, d)`` (the same determinant, cyclically permuted) is positive.
     The sine is ``cross / sqrt(|u|^2 |w|^2)`` (-1 for a degenerate corner); the corner
-    table and every guard test compute it here, so they agree bit for bit.
+    table and every guard test compute it here, so they agree bit for bit.  Coordinates,
+    not an array and indices: an inlined function's array argument costs reference
+    counts on every pass through it.
     """
-    ux = points[d, 0] - points[b, 0]
-    uy = points[d, 1] - points[b, 1]
-    wx = points[a, 0] - points[b, 0]
-    wy = points[a, 1] - points[b, 1]
+    ux = dx - bx
+    uy = dy - by
+    wx = ax - bx
+    wy = ay - by
     left = ux * wy
     right = uy * wx
     cross = left - right
@@ -136,16 +115,13 @@ def _corner_cross(points, a, b, d):
 
 
 @njit(inline="always")
-def _convex(points, a, b, d, cross, scale):
-    """Whether the exact ``orient2d(a, b, d)`` is positive: by the filter when ``cross``
-    (:func:`_corner_cross`) is certain, else by the adaptive predicate."""
-    if cross > 0.0 and cross >= CCW_ERRBOUND_A * scale:
-        return True
-    return orient2d(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1]) > 0.0
+def _corner_measure(points, a, b, d):
+    """:func:`_measure_xy` of corner b (between b->d and b->a)."""
+    return _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1])
 
 
 @njit(inline="always")
-def _corner_measure(points, a, b, d):
+def _measure_xy(ax, ay, bx, by, dx, dy):
     """Quality of corner b (between b->d and b->a) for the exact guard, and whether it is
     strictly convex (exact).  A strictly convex corner's quality is its sine; a corner that
     is not gets a value that falls with the angle over the whole reflex range: its sine
@@ -154,13 +130,13 @@ def _corner_measure(points, a, b, d):
     folded, with one of 181, so a guard that lets reflex corners stay (a relaxed quad
     opening over several moves) could fold one; the convexity is the exact one, since near
     0 or 360 degrees the floating cross product's sign cannot tell the two apart."""
-    ux = points[d, 0] - points[b, 0]
-    uy = points[d, 1] - points[b, 1]
-    wx = points[a, 0] - points[b, 0]
-    wy = points[a, 1] - points[b, 1]
-    sn, cross, scale = _corner_cross(points, a, b, d)
-    if _convex(points, a, b, d, cross, scale):
+    sn, cross, scale = _cross_xy(ax, ay, bx, by, dx, dy)
+    if (cross > 0.0 and cross >= CCW_ERRBOUND_A * scale) or orient2d(ax, ay, bx, by, dx, dy) > 0.0:
         return sn, True
+    ux = dx - bx
+    uy = dy - by
+    wx = ax - bx
+    wy = ay - by
     den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
     if den == 0.0:
         return -2.0, False
@@ -169,143 +145,226 @@ def _corner_measure(points, a, b, d):
     return -2.0 + abs(sn), False
 
 
-@njit(inline="always")
-def _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, bound, worst, slot, old, exact):
-    """Test ``v``'s new position and bring the corner table ``cs`` up to date if it passes.
+@njit(cache=True)
+def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, exact,
+           nodes, full, half):
+    """One Gauss-Seidel guarded sweep in place; returns (moves kept, whether one woke its
+    neighbours).
 
-    Passes if every corner quality that moving ``v`` changes is at least ``bound`` (the
-    star's smallest before the move: the guard's test without the corners opposite ``v``
-    in its quads, unchanged and not below ``bound``) and, with ``exact``, every corner of
-    the star that was strictly convex (``cv``) still is by exact ``orient2d``, certified
-    from the same cross products where the filter allows.  The qualities are sines, or
-    with ``exact`` :func:`_corner_measure`'s: a reflex corner may stay reflex, no better
-    than the star's worst was, so a relaxed or tangled quad opens over several moves of
-    its vertices (one move rarely makes a quad with two bad corners convex at once, and a
-    rule that asked for it kept every such star still), while no convex corner ever
-    turns.  One walk of the star, stopping at the first cell that fails: the new values
-    are kept in ``old`` and their corners in ``slot`` (``4 * cell + corner``, shifted
-    left by one), and written to ``cs`` once every test passed.  A quad's three corners
-    are formed together from the four sides they share, without a loop to find ``v`` in
-    it (a tenth to a quarter less time per guard than a corner-by-corner walk).
+    With ``nodes`` empty, every free vertex (with ``settle > 0`` only those awake in
+    ``cur``) tries the full step towards its neighbours' mean, then the half step, then,
+    with ``exact`` and a star whose worst corner is below ``UNTANGLE``, its kernel's
+    centroid (:func:`_kernel_target`; ``box``: its (4, k) scratch): a Laplacian step
+    seldom opens a reflex or flat corner.  A kept move of more than ``settle`` times the
+    vertex's distance to its first neighbour wakes it and its neighbours for the rest of
+    this sweep (``cur``) and the next (``nxt``).  Else vertex ``nodes[s]`` tries
+    ``full[s]``, then ``half[s]`` (the sliding vertices' projected steps), and wakes
+    nothing.
 
-    With ``exact``, ``cv`` (m, 4) int8 holds every corner's exact convexity
-    (:func:`_corner_table`); a passing move sets the entries of the corners it changed
-    (``slot`` carries each one's new convexity in its lowest bit).  Without ``exact``
-    ``cv`` is not read.
+    The guard: a trial is kept if every corner quality that moving the vertex changes is
+    at least the star's smallest before the move (``before``, read from the corner table
+    ``cs`` by :func:`_star_min`; the corners opposite the vertex in its quads keep their
+    sides and are not tested) and, with ``exact``, every corner of the star that was
+    strictly convex (``cv``, (m, 4) int8) still is by exact ``orient2d``, certified from
+    the same cross products where the filter allows.  The qualities are sines, or with
+    ``exact`` :func:`_measure_xy`'s: a reflex corner may stay reflex, no better than the
+    star's worst was, so a relaxed or tangled quad opens over several moves of its
+    vertices (one move rarely makes a quad with two bad corners convex at once, and a rule
+    that asked for it kept every such star still), while no convex corner ever turns.  A
+    refused move almost always fails at the star's worst corner (``worst``), so that
+    corner, if the move changes it, is tested first.  The walk of the star stops at the
+    first cell that fails; the new values are kept in ``old`` and their corners in
+    ``slot`` (``4 * cell + corner``, shifted left by one, lowest bit: convex), and written
+    to ``cs`` (and ``cv``) once every test passed.  A quad's three corners are formed
+    together from the four sides they share, without a loop to find the vertex in it.
 
-    A refused move almost always fails at the star's worst corner (``worst``, from
-    :func:`_star_min`), so that corner, if the move changes it, is tested first: the
-    same decision, without the walk up to it.
+    The guard, the neighbours' mean and the wake-up are written out here, not inlined
+    functions: an inlined function's array arguments are new references, counted
+    (atomically) on every pass through it, and a guard with several exits kept them,
+    some eighteen counts per trial, half the sweep's time on the disk.
     """
-    if worst >= 0:
-        c = worst >> 2
-        k = worst & 3
-        nv = 4 if cells[c, 3] >= 0 else 3
-        if nv == 3 or cells[c, (k + 2) & 3] != v:
-            a = cells[c, k - 1 if k > 0 else nv - 1]
-            d = cells[c, k + 1 if k + 1 < nv else 0]
-            if exact:
-                sn, ok = _corner_measure(points, a, cells[c, k], d)
-                if sn < bound or (cv[c, k] == 1 and not ok):
-                    return False
-            else:
-                sn, _, _ = _corner_cross(points, a, cells[c, k], d)
-                if sn < bound:
-                    return False
-    # The new sines go to ``old`` and their corners to ``slot`` (lowest bit: convex), the
-    # table is written only once every test passed.
-    vx = points[v, 0]
-    vy = points[v, 1]
-    i = 0
-    for t in range(cell_ptr[v], cell_ptr[v + 1]):
-        c = cell_idx[t]
-        if cells[c, 3] < 0:
-            for k in range(3):
-                a = cells[c, k - 1 if k > 0 else 2]
-                d = cells[c, k + 1 if k < 2 else 0]
-                convex = True
-                if exact:
-                    sn, convex = _corner_measure(points, a, cells[c, k], d)
-                    if not convex and cv[c, k] == 1:
-                        return False
+    interior = nodes.shape[0] == 0
+    kept = 0
+    woke = False
+    for it in range(points.shape[0] if interior else nodes.shape[0]):
+        tx = 0.0
+        ty = 0.0
+        if interior:
+            v = np.int64(it)
+            if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
+                continue
+            if settle > 0.0 and cur[v] == 0:
+                continue
+            for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
+                tx += points[nbr_idx[t], 0]
+                ty += points[nbr_idx[t], 1]
+            k = nbr_ptr[v + 1] - nbr_ptr[v]
+            tx = tx / k
+            ty = ty / k
+        else:
+            v = nodes[it]
+        x0 = points[v, 0]
+        y0 = points[v, 1]
+        # A refused trial puts v back exactly, so every trial shares one ``before``.
+        before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
+        moved = False
+        for trial in range(3):
+            if trial < 2:
+                if interior:
+                    step = 1.0 if trial == 0 else 0.5
+                    px = x0 + step * (tx - x0)
+                    py = y0 + step * (ty - y0)
+                elif trial == 0:
+                    px = full[it, 0]
+                    py = full[it, 1]
                 else:
-                    sn, _, _ = _corner_cross(points, a, cells[c, k], d)
-                if sn < bound:
-                    return False
-                slot[i] = 2 * (4 * c + k) + (1 if convex else 0)
-                old[i] = sn
-                i += 1
+                    px = half[it, 0]
+                    py = half[it, 1]
+            else:
+                if not (interior and exact) or before >= UNTANGLE:
+                    break
+                found, px, py = _kernel_target(points, cells, cell_ptr, cell_idx, v, box[0], box[1], box[2], box[3])
+                if not found:
+                    break
+            points[v, 0] = px
+            points[v, 1] = py
+            ok = True
+            if worst >= 0:
+                c = worst >> 2
+                k = worst & 3
+                nv = 4 if cells[c, 3] >= 0 else 3
+                if nv == 3 or cells[c, (k + 2) & 3] != v:
+                    a = cells[c, k - 1 if k > 0 else nv - 1]
+                    b = cells[c, k]
+                    d = cells[c, k + 1 if k + 1 < nv else 0]
+                    if exact:
+                        sn, convex = _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
+                                                 points[d, 0], points[d, 1])
+                        ok = not (sn < before or (cv[c, k] == 1 and not convex))
+                    else:
+                        sn, _, _ = _cross_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
+                                             points[d, 0], points[d, 1])
+                        ok = not sn < before
+            i = 0
+            if ok:
+                for t in range(cell_ptr[v], cell_ptr[v + 1]):
+                    c = cell_idx[t]
+                    if cells[c, 3] < 0:
+                        for k in range(3):
+                            a = cells[c, k - 1 if k > 0 else 2]
+                            b = cells[c, k]
+                            d = cells[c, k + 1 if k < 2 else 0]
+                            convex = True
+                            if exact:
+                                sn, convex = _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
+                                                         points[d, 0], points[d, 1])
+                                if not convex and cv[c, k] == 1:
+                                    ok = False
+                            else:
+                                sn, _, _ = _cross_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
+                                                     points[d, 0], points[d, 1])
+                            if sn < before:
+                                ok = False
+                            if not ok:
+                                break
+                            slot[i] = 2 * (4 * c + k) + (1 if convex else 0)
+                            old[i] = sn
+                            i += 1
+                        if not ok:
+                            break
+                        continue
+                    # v's place in the quad without a data-dependent loop exit, then its
+                    # three corners that v changes from the four sides they share (v->q,
+                    # v->p, q->o, p->o).  A side read backwards is negated, which changes
+                    # no magnitude: the sines and cross products are _cross_xy's, bit for bit.
+                    kv = (cells[c, 1] == v) * 1 + (cells[c, 2] == v) * 2 + (cells[c, 3] == v) * 3
+                    kq = (kv + 1) & 3
+                    kp = (kv + 3) & 3
+                    q = cells[c, kq]
+                    o = cells[c, (kv + 2) & 3]
+                    p = cells[c, kp]
+                    aqx = points[q, 0] - px
+                    aqy = points[q, 1] - py
+                    apx = points[p, 0] - px
+                    apy = points[p, 1] - py
+                    qox = points[o, 0] - points[q, 0]
+                    qoy = points[o, 1] - points[q, 1]
+                    pox = points[o, 0] - points[p, 0]
+                    poy = points[o, 1] - points[p, 1]
+                    lq = aqx * aqx + aqy * aqy
+                    lp = apx * apx + apy * apy
+                    l0 = aqx * apy
+                    r0 = aqy * apx
+                    l1 = -(qox * aqy)
+                    r1 = -(qoy * aqx)
+                    l2 = -(apx * poy)
+                    r2 = -(apy * pox)
+                    x0_ = l0 - r0
+                    x1_ = l1 - r1
+                    x2_ = l2 - r2
+                    d0 = np.sqrt(lq * lp)
+                    d1 = np.sqrt((qox * qox + qoy * qoy) * lq)
+                    d2 = np.sqrt(lp * (pox * pox + poy * poy))
+                    s0 = x0_ / d0 if d0 > 0.0 else -1.0
+                    s1 = x1_ / d1 if d1 > 0.0 else -1.0
+                    s2 = x2_ / d2 if d2 > 0.0 else -1.0
+                    b0 = 1
+                    b1 = 1
+                    b2 = 1
+                    if exact:
+                        if not (x0_ > 0.0 and x0_ >= CCW_ERRBOUND_A * (abs(l0) + abs(r0))):
+                            s0, ok0 = _measure_xy(points[p, 0], points[p, 1], px, py, points[q, 0], points[q, 1])
+                            b0 = 1 if ok0 else 0
+                        if not (x1_ > 0.0 and x1_ >= CCW_ERRBOUND_A * (abs(l1) + abs(r1))):
+                            s1, ok1 = _measure_xy(px, py, points[q, 0], points[q, 1], points[o, 0], points[o, 1])
+                            b1 = 1 if ok1 else 0
+                        if not (x2_ > 0.0 and x2_ >= CCW_ERRBOUND_A * (abs(l2) + abs(r2))):
+                            s2, ok2 = _measure_xy(points[o, 0], points[o, 1], points[p, 0], points[p, 1], px, py)
+                            b2 = 1 if ok2 else 0
+                        if (b0 == 0 and cv[c, kv] == 1) or (b1 == 0 and cv[c, kq] == 1) or (b2 == 0 and cv[c, kp] == 1):
+                            ok = False
+                            break
+                    if s0 < before or s1 < before or s2 < before:
+                        ok = False
+                        break
+                    slot[i] = 2 * (4 * c + kv) + b0
+                    slot[i + 1] = 2 * (4 * c + kq) + b1
+                    slot[i + 2] = 2 * (4 * c + kp) + b2
+                    old[i] = s0
+                    old[i + 1] = s1
+                    old[i + 2] = s2
+                    i += 3
+            if ok:
+                for j in range(i):
+                    sc = slot[j] >> 1
+                    cs[sc >> 2, sc & 3] = old[j]
+                    if exact:
+                        cv[sc >> 2, sc & 3] = slot[j] & 1
+                moved = True
+                break
+            points[v, 0] = x0
+            points[v, 1] = y0
+        if not moved:
             continue
-        # v's place in the quad without a data-dependent loop exit, then its three
-        # corners that v changes from the four sides they share (v->q, v->p, q->o,
-        # p->o).  A side read backwards is negated, which changes no magnitude: the
-        # sines and cross products are _corner_cross's, bit for bit.
-        kv = (cells[c, 1] == v) * 1 + (cells[c, 2] == v) * 2 + (cells[c, 3] == v) * 3
-        kq = (kv + 1) & 3
-        kp = (kv + 3) & 3
-        q = cells[c, kq]
-        o = cells[c, (kv + 2) & 3]
-        p = cells[c, kp]
-        aqx = points[q, 0] - vx
-        aqy = points[q, 1] - vy
-        apx = points[p, 0] - vx
-        apy = points[p, 1] - vy
-        qox = points[o, 0] - points[q, 0]
-        qoy = points[o, 1] - points[q, 1]
-        pox = points[o, 0] - points[p, 0]
-        poy = points[o, 1] - points[p, 1]
-        lq = aqx * aqx + aqy * aqy
-        lp = apx * apx + apy * apy
-        l0 = aqx * apy
-        r0 = aqy * apx
-        l1 = -(qox * aqy)
-        r1 = -(qoy * aqx)
-        l2 = -(apx * poy)
-        r2 = -(apy * pox)
-        x0 = l0 - r0
-        x1 = l1 - r1
-        x2 = l2 - r2
-        d0 = np.sqrt(lq * lp)
-        d1 = np.sqrt((qox * qox + qoy * qoy) * lq)
-        d2 = np.sqrt(lp * (pox * pox + poy * poy))
-        s0 = x0 / d0 if d0 > 0.0 else -1.0
-        s1 = x1 / d1 if d1 > 0.0 else -1.0
-        s2 = x2 / d2 if d2 > 0.0 else -1.0
-        b0 = 1
-        b1 = 1
-        b2 = 1
-        if exact:
-            if not (x0 > 0.0 and x0 >= CCW_ERRBOUND_A * (abs(l0) + abs(r0))):
-                s0, ok0 = _corner_measure(points, p, v, q)
-                b0 = 1 if ok0 else 0
-            if not (x1 > 0.0 and x1 >= CCW_ERRBOUND_A * (abs(l1) + abs(r1))):
-                s1, ok1 = _corner_measure(points, v, q, o)
-                b1 = 1 if ok1 else 0
-            if not (x2 > 0.0 and x2 >= CCW_ERRBOUND_A * (abs(l2) + abs(r2))):
-                s2, ok2 = _corner_measure(points, o, p, v)
-                b2 = 1 if ok2 else 0
-            if (b0 == 0 and cv[c, kv] == 1) or (b1 == 0 and cv[c, kq] == 1) or (b2 == 0 and cv[c, kp] == 1):
-                return False
-        if s0 < bound or s1 < bound or s2 < bound:
-            return False
-        slot[i] = 2 * (4 * c + kv) + b0
-        slot[i + 1] = 2 * (4 * c + kq) + b1
-        slot[i + 2] = 2 * (4 * c + kp) + b2
-        old[i] = s0
-        old[i + 1] = s1
-        old[i + 2] = s2
-        i += 3
-    for j in range(i):
-        s = slot[j] >> 1
-        cs[s >> 2, s & 3] = old[j]
-        if exact:
-            cv[s >> 2, s & 3] = slot[j] & 1
-    return True
+        kept += 1
+        if interior and settle > 0.0:
+            w = nbr_idx[nbr_ptr[v]]
+            ref = (points[w, 0] - x0) ** 2 + (points[w, 1] - y0) ** 2
+            shift = (points[v, 0] - x0) ** 2 + (points[v, 1] - y0) ** 2
+            if shift > settle * settle * ref:
+                woke = True
+                cur[v] = 1
+                nxt[v] = 1
+                for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
+                    cur[nbr_idx[t]] = 1
+                    nxt[nbr_idx[t]] = 1
+    return kept, woke
 
 
 @njit(cache=True)
 def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, settle):
-    """Gauss-Seidel guarded Laplacian sweeps in place; returns the moves kept.
+    """Gauss-Seidel guarded Laplacian sweeps (:func:`_sweep`, sines only) in place;
+    returns the moves kept.
 
     With ``settle > 0`` a vertex is visited again only while it or an edge neighbour
     moved, in this sweep or the last, by more than ``settle`` times the vertex's distance
@@ -327,27 +386,13 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
         most = max(most, cell_ptr[v + 1] - cell_ptr[v])
     slot = np.empty(4 * most + 1, np.int64)
     old = np.empty(4 * most + 1)
+    box = np.empty((4, 1))
+    none = np.empty(0, np.int64)
+    steps = np.empty((0, 2))
     for _ in range(passes):
-        woke = False
-        for v in range(n):
-            if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
-                continue
-            if settle > 0.0 and cur[v] == 0:
-                continue
-            tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
-            x0 = points[v, 0]
-            y0 = points[v, 1]
-            before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
-            for step in (1.0, 0.5):
-                points[v, 0] = x0 + step * (tx - x0)
-                points[v, 1] = y0 + step * (ty - y0)
-                if _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, before, worst, slot, old, np.bool_(False)):
-                    kept += 1
-                    if settle > 0.0 and _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle):
-                        woke = True
-                    break
-                points[v, 0] = x0
-                points[v, 1] = y0
+        got, woke = _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot,
+                           old, box, np.bool_(False), none, steps, steps)
+        kept += got
         if settle > 0.0 and not woke:
             break  # nothing is awake: every later sweep would visit no vertex
         cur, nxt = nxt, cur
@@ -423,24 +468,6 @@ def cell_tables(points, quads, triangles):
     cells[: len(quads)] = quads
     cells[len(quads) :, :3] = triangles
     return (cells, *_tables(cells, len(points)))
-
-
-@njit(inline="always")
-def _try_move(points, cells, cell_ptr, cell_idx, v, tx, ty, before, worst, cs, cv, slot, old):
-    """Move v to (tx, ty) if every cell of its star is valid there (exact) and the star's
-    smallest corner sine (``before`` at corner ``worst``, :func:`_star_min` where v is
-    now) does not fall; a
-    star with a non-convex quad thus moves only to become valid, as the pairing's relaxed
-    pairs need.  A kept move updates the corner table ``cs`` (:func:`_guard`)."""
-    x0 = points[v, 0]
-    y0 = points[v, 1]
-    points[v, 0] = tx
-    points[v, 1] = ty
-    if _guard(points, cells, cell_ptr, cell_idx, cs, cv, v, before, worst, slot, old, np.bool_(True)):
-        return True
-    points[v, 0] = x0
-    points[v, 1] = y0
-    return False
 
 
 @njit(cache=True)
@@ -541,51 +568,6 @@ def _kernel_target(points, cells, cell_ptr, cell_idx, v, px, py, qx, qy):
 
 
 @njit(cache=True)
-def _interior_sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box):
-    """One Gauss-Seidel guarded Laplacian sweep over the free vertices, exact validity
-    kept; with ``settle > 0`` only those awake in ``cur`` (:func:`_sweeps`; this sweep's
-    moves wake their neighbours in ``cur`` and ``nxt``, :func:`_note_move`).  ``cs``, ``cv``: the corner
-    qualities and exact convexity, kept up to date; ``slot``, ``old``: scratch for a star's
-    corners (:func:`_guard`).  A vertex whose star's worst corner is below ``UNTANGLE``
-    and whose two Laplacian steps are refused tries the centroid of its star's kernel
-    (:func:`_kernel_target`; ``box``: its (4, k) scratch): a Laplacian step towards the
-    neighbours' mean seldom opens a reflex or flat corner.  Returns the moves kept."""
-    kept = 0
-    for v in range(points.shape[0]):
-        if not free[v] or nbr_ptr[v + 1] == nbr_ptr[v]:
-            continue
-        if settle > 0.0 and cur[v] == 0:
-            continue
-        tx, ty = _neighbour_mean(points, nbr_ptr, nbr_idx, v)
-        x0 = points[v, 0]
-        y0 = points[v, 1]
-        # A refused trial puts v back exactly, so every trial shares one ``before``.
-        before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
-        moved = False
-        # The full step, the half step, then (a flat or folded star) its kernel's centroid:
-        # one call site of the inlined guard.
-        for trial in range(3):
-            if trial < 2:
-                step = 1.0 if trial == 0 else 0.5
-                px = x0 + step * (tx - x0)
-                py = y0 + step * (ty - y0)
-            else:
-                if before >= UNTANGLE:
-                    break
-                found, px, py = _kernel_target(points, cells, cell_ptr, cell_idx, v, box[0], box[1], box[2], box[3])
-                if not found:
-                    break
-            if _try_move(points, cells, cell_ptr, cell_idx, v, px, py, before, worst, cs, cv, slot, old):
-                moved = True
-                break
-        if moved:
-            kept += 1
-            if settle > 0.0:
-                _note_move(points, nbr_ptr, nbr_idx, cur, nxt, v, x0, y0, settle)
-    return kept
-
-
-@njit(cache=True)
 def _tangent_steps(points, nbr_ptr, nbr_idx, nodes, chord):
     """Laplacian steps of the sliding vertices projected on their boundary chords, (k, 2)."""
     out = np.empty((nodes.shape[0], 2))
@@ -601,21 +583,6 @@ def _tangent_steps(points, nbr_ptr, nbr_idx, nodes, chord):
         out[s, 0] = d * chord[s, 0]
         out[s, 1] = d * chord[s, 1]
     return out
-
-
-@njit(cache=True)
-def _slide(points, cells, cell_ptr, cell_idx, nodes, full, half, cs, cv, slot, old):
-    """Move each sliding vertex to its projected full step, else its projected half step
-    (``cs``, ``cv``, ``slot``, ``old``: as :func:`_interior_sweep`)."""
-    kept = 0
-    for s in range(nodes.shape[0]):
-        v = nodes[s]
-        before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
-        for step in (full, half):
-            if _try_move(points, cells, cell_ptr, cell_idx, v, step[s, 0], step[s, 1], before, worst, cs, cv, slot, old):
-                kept += 1
-                break
-    return kept
 
 
 def _check_settle(settle) -> float:
@@ -728,8 +695,11 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     old = np.empty(len(slot))
     # Clipping one half-plane adds at most one vertex to the box's four.
     box = np.empty((4, len(slot) + 4))
+    none = np.empty(0, np.int64)
+    steps = np.empty((0, 2))
     for _ in range(passes):
-        _interior_sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box)
+        _sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, True,
+               none, steps, steps)
         cur, nxt = nxt, cur
         nxt[:] = 0
         cur[woken] = 1
@@ -739,6 +709,8 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
         norm = np.hypot(chord[:, 0], chord[:, 1])
         ok = norm > 0.0
         nodes = slide[ok]
+        if not len(nodes):
+            continue  # (an empty list would make _sweep an interior sweep)
         chord = chord[ok] / norm[ok, None]
         step = _tangent_steps(pts, nbr_ptr, nbr_idx, nodes, np.ascontiguousarray(chord))
         # One projection call for both trial steps: on curves given as functions its cost
@@ -748,5 +720,6 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
         both = project(np.concatenate([nodes, nodes]), np.vstack([at + step, at + 0.5 * step]), np.vstack([at, at]))
         full = np.ascontiguousarray(both[: len(nodes)], dtype=np.float64)
         half = np.ascontiguousarray(both[len(nodes) :], dtype=np.float64)
-        _slide(pts, cells, cell_ptr, cell_idx, nodes, full, half, cs, cv, slot, old)
+        _sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, True,
+               nodes, full, half)
     return pts
