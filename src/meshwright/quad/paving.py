@@ -35,7 +35,7 @@ Steps, as the chapter numbers them
    new paving boundary.
 4. **Smoothing.**  After each row, the guarded Laplacian (:mod:`meshwright.quad.smoothing`)
    on the floating nodes of the two previous rows (after its first sweep only where
-   nodes still move, :data:`SETTLE`).
+   nodes still move, :data:`ROW_SETTLE`).
 5. **Seams.**  A floating paving node sharper than :data:`SEAM_ANGLE` is closed: its two
    neighbours merge at their midpoint if every quad around stays strictly convex, no
    front edge moves across another, the boundary's region only shrinks and the node
@@ -159,7 +159,8 @@ POLISH_BELOW = 0.8  # quads with a corner sine below this (about 53 degrees) get
 POLISH_ROUNDS = 8  # ... this many passes
 FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end
 ROW_SMOOTH = 4  # ... over the two previous rows after each row
-SETTLE = 1e-2  # both: after the first sweep, only where a node moved more than this times an edge
+SETTLE = 1e-2  # at the end: after the first sweep, only where a node moved more than this times an edge
+ROW_SETTLE = 3e-2  # ... after each row (its nodes are smoothed again after the next row and at the end)
 
 
 class PavingReport(NamedTuple):
@@ -600,7 +601,7 @@ class _Paver:
         free = (used >= self.n_fixed) & (ro >= rnd - 2) & (ro <= rnd - 1) & ~on_front[used]
         if not free.any():
             return
-        moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH, SETTLE)
+        moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH, ROW_SETTLE)
         self.pts[used] = moved
         self.h[used[free]] = np.nan
 
