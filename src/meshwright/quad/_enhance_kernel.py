@@ -187,45 +187,41 @@ def _flat_boundary_corner(xy, bnd, a, b, c, d):
 
 
 @njit(inline="always")
-def _sj_of(xy, quad, sjt, q):
-    """Scaled Jacobian of quad q, computed once per swap stage (``sjt``: NaN = not yet).
-
-    :func:`~meshwright.quad._pairing_kernel.quad_sj`'s value, bit for bit: the same
-    differences, square roots and quotients per corner, written out for the four corners
-    (no call, no tuple read at a run-time index: a third of the stage's time on the
-    disk); the product of a corner's two side lengths is the same in either order.
-    """
-    if np.isnan(sjt[q]):
-        a, b, c, d = quad[q, 0], quad[q, 1], quad[q, 2], quad[q, 3]
-        l3 = np.sqrt((xy[d, 0] - xy[a, 0]) ** 2 + (xy[d, 1] - xy[a, 1]) ** 2)
-        l0 = np.sqrt((xy[b, 0] - xy[a, 0]) ** 2 + (xy[b, 1] - xy[a, 1]) ** 2)
-        l1 = np.sqrt((xy[c, 0] - xy[b, 0]) ** 2 + (xy[c, 1] - xy[b, 1]) ** 2)
-        l2 = np.sqrt((xy[d, 0] - xy[c, 0]) ** 2 + (xy[d, 1] - xy[c, 1]) ** 2)
-        # From 1 down, as quad_sj (a sine may round above 1).
-        sjt[q] = min(1.0, _cross_over(xy, d, a, b, l0 * l3), _cross_over(xy, a, b, c, l1 * l0),
-                     _cross_over(xy, b, c, d, l2 * l1), _cross_over(xy, c, d, a, l3 * l2))
-    return sjt[q]
+def _quad_sj_xy(ax, ay, bx, by, cx, cy, dx, dy):
+    """:func:`~meshwright.quad._pairing_kernel.quad_sj` of quad (a, b, c, d) from its
+    coordinates, bit for bit: the same differences, square roots and quotients per
+    corner, written out for the four corners (no call, no tuple read at a run-time index);
+    the product of a corner's two side lengths is the same in either order.  Coordinates,
+    not an array: an inlined function's array argument costs reference counts on every
+    pass through it."""
+    l3 = np.sqrt((dx - ax) ** 2 + (dy - ay) ** 2)
+    l0 = np.sqrt((bx - ax) ** 2 + (by - ay) ** 2)
+    l1 = np.sqrt((cx - bx) ** 2 + (cy - by) ** 2)
+    l2 = np.sqrt((dx - cx) ** 2 + (dy - cy) ** 2)
+    # From 1 down, as quad_sj (a sine may round above 1).
+    return min(1.0, _cross_over(dx, dy, ax, ay, bx, by, l0 * l3), _cross_over(ax, ay, bx, by, cx, cy, l1 * l0),
+               _cross_over(bx, by, cx, cy, dx, dy, l2 * l1), _cross_over(cx, cy, dx, dy, ax, ay, l3 * l2))
 
 
 @njit(inline="always")
-def _cross_over(xy, p, q, r, den):
+def _cross_over(px, py, qx, qy, rx, ry, den):
     """Cross product of corner q (q->r, q->p) over ``den``, the product of its two side
     lengths (0 when it is 0): quad_sj's corner sine."""
-    ux = xy[r, 0] - xy[q, 0]
-    uy = xy[r, 1] - xy[q, 1]
-    wx = xy[p, 0] - xy[q, 0]
-    wy = xy[p, 1] - xy[q, 1]
+    ux = rx - qx
+    uy = ry - qy
+    wx = px - qx
+    wy = py - qy
     return (ux * wy - uy * wx) / den if den > 0.0 else 0.0
 
 
 @njit(inline="always")
-def _sine(xy, p, q, r):
+def _sine(px, py, qx, qy, rx, ry):
     """Sine of corner q between q->r and q->p as :func:`_sj_above` forms it (0 when a
     side is degenerate)."""
-    ux = xy[r, 0] - xy[q, 0]
-    uy = xy[r, 1] - xy[q, 1]
-    wx = xy[p, 0] - xy[q, 0]
-    wy = xy[p, 1] - xy[q, 1]
+    ux = rx - qx
+    uy = ry - qy
+    wx = px - qx
+    wy = py - qy
     lu = np.sqrt(ux * ux + uy * uy)
     lw = np.sqrt(wx * wx + wy * wy)
     return (ux * wy - uy * wx) / (lu * lw) if lu * lw > 0.0 else 0.0
@@ -241,7 +237,10 @@ def _sj_above(xy, a, b, c, d, bound):
         return False
     v = (a, b, c, d)
     for k in range(4):
-        if not _sine(xy, v[(k + 3) % 4], v[k], v[(k + 1) % 4]) > bound:
+        p = v[(k + 3) % 4]
+        q = v[k]
+        r = v[(k + 1) % 4]
+        if not _sine(xy[p, 0], xy[p, 1], xy[q, 0], xy[q, 1], xy[r, 0], xy[r, 1]) > bound:
             return False
     return True
 
@@ -277,14 +276,17 @@ def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
             v = quad[q1, (k + 1) % 4]
             if bnd[u] != 0 and bnd[v] != 0:
                 continue  # possibly a boundary side: only interior sides are swapped
+            # (Quads searched in place, not through _position: an inlined function's
+            # array argument costs reference counts on every pass through it.)
             q2 = -1
             for s in range(off[u], off[u + 1]):
                 p = idx[s]
-                if p != q1 and alive[p] != 0 and _position(quad, p, v) >= 0:
+                if p != q1 and alive[p] != 0 and (quad[p, 0] == v or quad[p, 1] == v or quad[p, 2] == v
+                                                  or quad[p, 3] == v):
                     q2 = p
             if q2 < 0 or lock[q2] != 0 or refused[4 * q1 + k] == q2:
                 continue
-            j = _position(quad, q2, u)
+            j = (quad[q2, 1] == u) * 1 + (quad[q2, 2] == u) * 2 + (quad[q2, 3] == u) * 3
             if quad[q2, (j + 3) % 4] != v:
                 continue  # q2 must run v -> u
             # Hexagon counter-clockwise: u, c, d, v, a, b with q1 = (u, v, a, b), q2 = (v, u, c, d).
@@ -294,14 +296,22 @@ def _diagonal_swap(xy, quad, alive, bnd, off, idx, lock, gain, dirty):
             h[3] = v
             h[4] = quad[q1, (k + 2) % 4]
             h[5] = quad[q1, (k + 3) % 4]
-            old = min(_sj_of(xy, quad, sjt, q2), _sj_of(xy, quad, sjt, q1))
+            # Each quad's scaled Jacobian once per stage (``sjt``: NaN = not yet).
+            for r in (q2, q1):
+                if np.isnan(sjt[r]):
+                    a, b, c, d = quad[r, 0], quad[r, 1], quad[r, 2], quad[r, 3]
+                    sjt[r] = _quad_sj_xy(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1], xy[d, 0], xy[d, 1])
+            old = min(sjt[q2], sjt[q1])
             best = old + gain
             pick = -1
             # Either new diagonal leaves u and v each in one quad, at the hexagon's whole
             # corner there (b, u, c and d, v, a, the same sines in both pairs): unless both
             # exceed the bound, no pair can (at a valence-4 node that corner is flat, so
             # most sides stop here instead of at two or four quads' corners).
-            far = 1 if best < 1.0 and _sine(xy, h[5], h[0], h[1]) > best and _sine(xy, h[2], h[3], h[4]) > best else 3
+            far = 3
+            if best < 1.0 and _sine(xy[h[5], 0], xy[h[5], 1], xy[u, 0], xy[u, 1], xy[h[1], 0], xy[h[1], 1]) > best:
+                if _sine(xy[h[2], 0], xy[h[2], 1], xy[v, 0], xy[v, 1], xy[h[4], 0], xy[h[4], 1]) > best:
+                    far = 1
             for r in range(far, 3):
                 p0, p1, p2, p3 = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
                 s0, s1, s2, s3 = h[(r + 3) % 6], h[(r + 4) % 6], h[(r + 5) % 6], h[r]
