@@ -74,6 +74,7 @@ F_A, F_B, F_NEXT, F_TRIES = range(4)
 ROOM_FACES = 512  # free face / heap slots required before each step (a back-off adds <= 3 * 96)
 BACKOFF_TRIS = 32  # triangles removed per ring of a back-off
 MAX_LEVEL = 3  # back-off rings before giving up on a face
+SCRATCH = 256  # room of the scratch search arrays (a larger query replaces them)
 WAIT_RATIO = 4.0  # par[P_WAIT] of a graded front: a ready face this many times longer than a waiting one waits too
 _Q = 4.0 * np.sqrt(3.0)
 
@@ -723,15 +724,48 @@ def _try_face(f, fs, par, nocol, items, nodes, cand, ckey, stack, fstack):
     return False, items, nodes, cand, ckey
 
 
+def new_scratch(depth, size=SCRATCH):
+    """The kernel's scratch arrays, made by the caller and kept between calls (see
+    :func:`advance`).
+
+    Parameters
+    ----------
+    depth : int
+        The front's quadtree depth (``fs.qmeta[Q_DEPTH]``).
+    size : int
+        Room for query items, nodes and candidates.
+
+    Returns
+    -------
+    tuple
+        ``(items, nodes, cand, ckey, stack, fstack, tbuf, vbuf, nocol)``: (size,) int32 /
+        int32 / int32 / float64 for the candidate search, the quadtree query's stacks (s,)
+        int64 and (s, 3) float64 with s = STACK_PER_LEVEL (depth + 2), the back-off's
+        triangle and node buffers, and the empty int8 colours of :func:`_gather`.
+    """
+    s = STACK_PER_LEVEL * (int(depth) + 2)
+    return (
+        np.empty(size, np.int32), np.empty(size, np.int32), np.empty(size, np.int32), np.empty(size),
+        np.empty(s, np.int64), np.empty((s, 3)), np.empty(BACKOFF_TRIS * MAX_LEVEL, np.int32),
+        np.empty(3 * BACKOFF_TRIS * MAX_LEVEL + 2, np.int32), np.empty(0, np.int8),
+    )
+
+
 @njit(cache=True)
-def advance(fs, par):
+def advance(fs, par, scratch):
     """Run the front until it is empty or Python must act; returns an ``R_*`` code.
 
     A face with an end whose metric is not known yet (a node made since the last
     evaluation of the size field) waits; when only waiting faces are left, or enough nodes
     are new, Python evaluates the field (``R_SYNC``) and the waiting faces return.
+
+    ``scratch`` is :func:`new_scratch`'s tuple, the caller's and borrowed like ``fs``: an
+    array the kernel allocated would cost a reference-count pair (two atomic operations)
+    at every inlined helper it passes through, in every step (15 % of the run's samples
+    on pairing's disk).  A search array a query outgrows is replaced by a larger one of the
+    kernel's for the rest of the call.
     """
-    fs, par = borrowed(fs), borrowed(par)
+    fs, par, scratch = borrowed(fs), borrowed(par), borrowed(scratch)
     pts, face, falive, qmeta, qhead, hkey = fs.pts, fs.face, fs.falive, fs.qmeta, fs.qhead, fs.hkey
     hface, wkey, wface, tri, meta = fs.hface, fs.wkey, fs.wface, fs.tri, fs.meta
     for i in range(meta[M_NW]):
@@ -739,17 +773,12 @@ def advance(fs, par):
             heap_push(hkey, hface, meta, wkey[i], wface[i])
     meta[M_NW] = 0
     wmin = np.inf
-    items = np.empty(256, dtype=np.int32)
-    nodes = np.empty(256, dtype=np.int32)
-    cand = np.empty(256, dtype=np.int32)
-    ckey = np.empty(256)
-    nocol = np.empty(0, dtype=np.int8)
+    items, nodes, cand, ckey, stack, fstack, tbuf, vbuf, nocol = scratch
     depth = qmeta[Q_DEPTH]
     node_room = qmeta[Q_ROOM]
-    stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
-    fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
-    tbuf = np.empty(BACKOFF_TRIS * MAX_LEVEL, dtype=np.int32)
-    vbuf = np.empty(3 * BACKOFF_TRIS * MAX_LEVEL + 2, dtype=np.int32)
+    if stack.shape[0] < STACK_PER_LEVEL * (depth + 2) or fstack.shape[0] < STACK_PER_LEVEL * (depth + 2):
+        stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
+        fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
     sync_every = int(par[P_SYNC_EVERY])
     max_defer = int(par[P_MAX_DEFER])
     while True:

@@ -74,7 +74,7 @@ import numpy as np
 
 from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.core.flat import grown_rows
-from meshwright.core.spatial.cell_quadtree import Q_NODES, Q_ROOM, ct_new
+from meshwright.core.spatial.cell_quadtree import Q_DEPTH, Q_NODES, Q_ROOM, ct_new
 from meshwright.core.validate_input import check_flag
 from meshwright.sizing.field import as_size_field
 from meshwright.tri import _front_kernel as fk
@@ -212,6 +212,7 @@ class _Front:
             self.room()
             j = i + fk.ROOM_FACES
             fk.seed_front(faces[i:j], free[max(i - len(faces), 0):max(j - len(faces), 0)], self.fs)
+        self.scratch = fk.new_scratch(qmeta[Q_DEPTH])
 
     def room(self) -> None:
         """Grow every array the kernel asked room in (doubling)."""
@@ -245,7 +246,7 @@ class _Front:
             self.fs = fs._replace(**new)
 
     def advance(self, par) -> int:
-        return int(fk.advance(self.fs, par))
+        return int(fk.advance(self.fs, par, self.scratch))
 
 
 def _is_isotropic(field) -> bool:

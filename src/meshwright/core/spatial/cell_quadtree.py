@@ -146,14 +146,18 @@ def _scan(node, sh, cx, cy, qx0, qy0, x0, y0, x1, y1, qhead, qnext, qcell, qbox,
             else:
                 qnext[prev] = nxt
         else:
-            if (
-                (max(qcell[it, 0], qx0) >> sh) == cx
-                and (max(qcell[it, 1], qy0) >> sh) == cy
-                and not (qbox[it, 2] < x0 or qbox[it, 0] > x1 or qbox[it, 3] < y0 or qbox[it, 1] > y1)
-            ):
-                if k < cap:
-                    out[k] = it
-                k += 1
+            # One test without short-circuits: a query scans about 28 entries to report 4
+            # (pairing's disk), and each of five unpredictable branches cost more than the
+            # comparisons (10 % of the front's run).  The item is written at the next slot
+            # either way and counted only on a hit.
+            hit = (
+                ((max(qcell[it, 0], qx0) >> sh) == cx)
+                & ((max(qcell[it, 1], qy0) >> sh) == cy)
+                & (qbox[it, 2] >= x0) & (qbox[it, 0] <= x1) & (qbox[it, 3] >= y0) & (qbox[it, 1] <= y1)
+            )
+            if k < cap:
+                out[k] = it
+            k += np.int64(hit)
             prev = e
         e = nxt
     return k
