@@ -604,7 +604,8 @@ def polish(xy, quads, fixed, floor: float, rounds: int):
     xy : (n, 2) float64
         Not modified.
     quads : (q, 4) int
-        Strictly convex, counter-clockwise.
+        Counter-clockwise; strictly convex, or bent ones to open (a bent quad's smallest
+        sine is not above zero, and no move lowers a star's smallest sine).
     fixed : (n,) bool
         Nodes that never move.
     floor : float

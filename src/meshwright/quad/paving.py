@@ -66,7 +66,8 @@ Steps, as the chapter numbers them
    then :data:`FINAL_SMOOTH` sweeps of the guarded Laplacian (after the first, only
    where nodes still move: :data:`SETTLE`), and a max-min pattern
    search (``_paving_close.polish``) moves the free nodes of every quad with a corner sine
-   below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles).
+   below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles), up to
+   :data:`MEND_ROUNDS` passes more while a quad the chord split bent is still not convex.
 
 Invariants: every paving boundary has an even node count and the unmeshed region on its
 left; every quad committed is strictly convex by exact ``orient2d``; no paving-boundary
@@ -157,6 +158,7 @@ SPLIT_MAX = 80  # paving boundaries up to this many nodes may be closed by chord
 MAX_ROUNDS = 64  # rounds of rows beyond the bound from the domain's extent
 POLISH_BELOW = 0.8  # quads with a corner sine below this (about 53 degrees) get the max-min cleanup ...
 POLISH_ROUNDS = 8  # ... this many passes
+MEND_ROUNDS = 32  # ... and up to this many more while a quad is still not convex
 FINAL_SMOOTH = 12  # guarded Laplacian sweeps over all floating nodes at the end
 ROW_SMOOTH = 4  # ... over the two previous rows after each row
 SETTLE = 1e-2  # at the end: after the first sweep, only where a node moved more than this times an edge
@@ -770,6 +772,11 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH, SETTLE)
     if not len(fill.triangles):
         moved = polish(moved, fill.quads, fixed, POLISH_BELOW, POLISH_ROUNDS)
+        if not convex(moved, fill.quads).all():
+            # The chord split may leave bent quads that the smoothing and the first
+            # passes do not open (15 on a sliver under a size jump, one left at the end);
+            # each pass only raises a star's smallest sine, so more passes open them.
+            moved = polish(moved, fill.quads, fixed, POLISH_BELOW, MEND_ROUNDS)
     fill = fill._replace(points=np.ascontiguousarray(moved))
     bad = np.flatnonzero(~convex(fill.points, fill.quads))
     if len(bad):
