@@ -221,6 +221,10 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                     px = half[it, 0]
                     py = half[it, 1]
             else:
+                # ``box`` None (the sines-only sweeps) prunes the kernel trial at compile
+                # time: that specialisation does not compile the clipping (first call).
+                if box is None:
+                    break
                 if not (interior and exact) or before >= UNTANGLE:
                     break
                 found, px, py = _kernel_target(points, cells, cell_ptr, cell_idx, v, box[0], box[1], box[2], box[3])
@@ -386,12 +390,11 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
         most = max(most, cell_ptr[v + 1] - cell_ptr[v])
     slot = np.empty(4 * most + 1, np.int64)
     old = np.empty(4 * most + 1)
-    box = np.empty((4, 1))
     none = np.empty(0, np.int64)
     steps = np.empty((0, 2))
     for _ in range(passes):
         got, woke = _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot,
-                           old, box, np.bool_(False), none, steps, steps)
+                           old, None, np.bool_(False), none, steps, steps)
         kept += got
         if settle > 0.0 and not woke:
             break  # nothing is awake: every later sweep would visit no vertex
@@ -546,8 +549,11 @@ def _kernel_target(points, cells, cell_ptr, cell_idx, v, px, py, qx, qy):
             n = _clip(px, py, n, qx, qy, xy - yy, yx - xx, xx * yy - xy * yx)
             if n == 0:
                 return False, x0, y0
-            px[:n] = qx[:n]
-            py[:n] = qy[:n]
+            # A loop, not a slice assignment: that compiles a shape check with string
+            # formatting, a second of the first call's compile.
+            for j in range(n):
+                px[j] = qx[j]
+                py[j] = qy[j]
     # Area centroid (the vertex mean when the polygon is too thin to have one).
     area = 0.0
     cx = 0.0
