@@ -772,13 +772,14 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH, SETTLE)
     if not len(fill.triangles):
         moved = polish(moved, fill.quads, fixed, POLISH_BELOW, POLISH_ROUNDS)
-        if not convex(moved, fill.quads).all():
-            # The chord split may leave bent quads that the smoothing and the first
-            # passes do not open (15 on a sliver under a size jump, one left at the end);
-            # each pass only raises a star's smallest sine, so more passes open them.
-            moved = polish(moved, fill.quads, fixed, POLISH_BELOW, MEND_ROUNDS)
     fill = fill._replace(points=np.ascontiguousarray(moved))
     bad = np.flatnonzero(~convex(fill.points, fill.quads))
+    if len(bad) and not len(fill.triangles):
+        # The chord split may leave bent quads that the smoothing and the first passes
+        # do not open (15 on a sliver under a size jump, one left at the end); each pass
+        # only raises a star's smallest sine, so more passes open them.
+        fill = fill._replace(points=polish(fill.points, fill.quads, fixed, POLISH_BELOW, MEND_ROUNDS))
+        bad = np.flatnonzero(~convex(fill.points, fill.quads))
     if len(bad):
         c = int(bad[0])
         raise MeshingError(
