@@ -3,9 +3,8 @@ step 7): which of a row's new edges meet another segment.
 
 :func:`~meshwright.quad._paving_kernel.row_crossings` sweeps the segments sorted along
 one axis: on a row around a ring (a disk's, an airfoil's), each query's window held about
-forty segments of the ring's far side at the same abscissa, of which fewer than one in
-ten thousand reached the exact test, and the window scan was nine tenths of a row's
-check.  Here each segment is listed in every cell of a uniform grid its bounding box
+forty segments at the same abscissa (the ring's far side among them), of which about one
+in four hundred reached the exact test, and the window scan was most of a row's check.  Here each segment is listed in every cell of a uniform grid its bounding box
 overlaps, and a query visits the cells its own box overlaps: the same candidates that
 can meet it (every segment whose box overlaps the query's), so the answer is the same.
 
@@ -88,8 +87,8 @@ def grid_crossings(pts, na, nb, sa, sb):
     segments, exact) other than one sharing an end node with it; the answer of
     :func:`~meshwright.quad._paving_kernel.row_crossings` on the same arguments.
 
-    The cells are as wide as the queries' mean extent (at least the side that puts about
-    one segment per cell over the segments' box); a segment covering more than
+    The cells are as wide as the queries' mean extent, doubled until there are at most
+    :data:`GRID_CELLS` cells per segment; a segment covering more than
     :data:`LONG_CELLS` cells is kept in a list every query scans (with the box test), so
     a few long edges beside many short ones cost neither a crowded grid nor a scan of
     their cells.
@@ -115,12 +114,13 @@ def grid_crossings(pts, na, nb, sa, sb):
     size = reach / k
     if not size > 0.0:
         size = max(x1 - x0, y1 - y0, 1.0)
-    nx = min(int((x1 - x0) / size) + 1, m + 1)
-    ny = min(int((y1 - y0) / size) + 1, m + 1)
+    # Capped before the conversion: a tiny query over a wide box must not overflow it.
+    nx = int(min((x1 - x0) / size, float(m))) + 1
+    ny = int(min((y1 - y0) / size, float(m))) + 1
     while nx * ny > GRID_CELLS * m + 16:
         size *= 2.0
-        nx = min(int((x1 - x0) / size) + 1, m + 1)
-        ny = min(int((y1 - y0) / size) + 1, m + 1)
+        nx = int(min((x1 - x0) / size, float(m))) + 1
+        ny = int(min((y1 - y0) / size, float(m))) + 1
     # Counting sort of (cell, segment) entries, the long segments apart; each segment's
     # box kept (a candidate is mostly rejected by it).
     start = np.zeros(nx * ny + 1, dtype=np.int64)
