@@ -66,15 +66,6 @@ def _live_count(alive, off, idx, v):
 
 
 @njit(inline="always")
-def _star_any(off, idx, flag, v):
-    """Whether a quad of node v's star has its flag (dirty, locked) set."""
-    for s in range(off[v], off[v + 1]):
-        if flag[idx[s]] != 0:
-            return True
-    return False
-
-
-@njit(inline="always")
 def _lock_star(off, idx, lock, v):
     for s in range(off[v], off[v + 1]):
         lock[idx[s]] = 1
@@ -96,25 +87,30 @@ def _node_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, wake):
     done = 0
     n = xy.shape[0]
     for v in range(n):
-        if wake[v] == 0 or bnd[v] != 0 or tri_node[v] != 0 or _star_any(off, idx, lock, v):
+        if wake[v] == 0 or bnd[v] != 0 or tri_node[v] != 0:
             continue
+        # The star's locks and live quads read in place, not through inlined helpers: an
+        # inlined function's array argument costs reference counts on every pass
+        # through it.
         q1 = -1
         q2 = -1
         count = 0
+        busy = False
         for s in range(off[v], off[v + 1]):
+            busy |= lock[idx[s]] != 0
             if alive[idx[s]] != 0:
                 count += 1
                 if q1 < 0:
                     q1 = idx[s]
                 else:
                     q2 = idx[s]
-        if count != 2:
+        if busy or count != 2:
             continue
-        i = _position(quad, q1, v)
+        i = (quad[q1, 1] == v) * 1 + (quad[q1, 2] == v) * 2 + (quad[q1, 3] == v) * 3
         # int64 corners, as every other caller passes them: an int32 quad would compile
         # quad_ok, quad_sj and corner_flat once more each (issue 13, first-run compile).
         a, b, c = np.int64(quad[q1, (i + 1) % 4]), np.int64(quad[q1, (i + 2) % 4]), np.int64(quad[q1, (i + 3) % 4])
-        j = _position(quad, q2, v)
+        j = (quad[q2, 1] == v) * 1 + (quad[q2, 2] == v) * 2 + (quad[q2, 3] == v) * 3
         if quad[q2, (j + 1) % 4] != c or quad[q2, (j + 3) % 4] != a:
             continue
         d = np.int64(quad[q2, (j + 2) % 4])
@@ -145,9 +141,21 @@ def _element_elimination(xy, quad, alive, bnd, off, idx, lock, tri_node, accept,
                 continue
             b = quad[q, r + 1]
             d = quad[q, (r + 3) % 4]
-            if _live_count(alive, off, idx, b) < 3 or _live_count(alive, off, idx, d) < 3:
+            # Live quads and locks counted in place (see _node_elimination).
+            live_b = 0
+            for s in range(off[b], off[b + 1]):
+                live_b += alive[idx[s]] != 0
+            live_d = 0
+            for s in range(off[d], off[d + 1]):
+                live_d += alive[idx[s]] != 0
+            if live_b < 3 or live_d < 3:
                 continue
-            if _star_any(off, idx, lock, a) or _star_any(off, idx, lock, c):
+            busy = False
+            for s in range(off[a], off[a + 1]):
+                busy |= lock[idx[s]] != 0
+            for s in range(off[c], off[c + 1]):
+                busy |= lock[idx[s]] != 0
+            if busy:
                 continue
             old = min(_local_min(xy, quad, alive, off, idx, a, none, none, none),
                       _local_min(xy, quad, alive, off, idx, c, none, none, none))
