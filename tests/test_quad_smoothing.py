@@ -38,7 +38,7 @@ def test_filtered_convexity_is_exact(ax, ay, bx, by, t, tiny, up):
     dy = ay + t * (by - ay) - (tiny if up else -tiny)
     pts = np.array([[ax, ay], [bx, by], [dx, dy]])
     for a, b, d in ((0, 1, 2), (1, 2, 0), (2, 0, 1), (0, 2, 1)):
-        _, got = sm._corner_measure(pts, a, b, d)
+        _, got = sm._measure_xy(*pts[a], *pts[b], *pts[d])
         assert got == (_orient(pts[a], pts[b], pts[d]) > 0)
 
 

@@ -47,7 +47,7 @@ UNTANGLE = 0.01  # smooth_sliding: a star this flat or folded whose Laplacian st
 @njit(cache=True)
 def _corner_table(points, cells, exact):
     """Quality of every corner, (m, 4) float64: ``cs[c, k]`` of corner k of cell c (unused
-    slot of a triangle: 1), its sine, or with ``exact`` :func:`_corner_measure`; with
+    slot of a triangle: 1), its sine, or with ``exact`` :func:`_measure_xy`'s; with
     ``exact`` also every corner's exact convexity, (m, 4) int8: ``cv[c, k]`` 1 when
     strictly convex (exact ``orient2d``, through :func:`_measure_xy`'s filter on the same cross
     product), else 0 (unused slot: 1); without it ``cv`` is (0, 4).  Returns (cs, cv)."""
@@ -60,12 +60,16 @@ def _corner_table(points, cells, exact):
             # Neighbouring corners by comparison, not by a modulo (a hardware divide by the
             # run-time nv, per corner, in the hot loops below).
             a = cells[c, k - 1 if k > 0 else nv - 1]
+            b = cells[c, k]
             d = cells[c, k + 1 if k + 1 < nv else 0]
+            # Coordinates, not the array, to the inlined helpers (see _sweep).
             if exact:
-                cs[c, k], ok = _corner_measure(points, a, cells[c, k], d)
+                cs[c, k], ok = _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0],
+                                           points[d, 1])
                 cv[c, k] = 1 if ok else 0
             else:
-                cs[c, k], _, _ = _corner_cross(points, a, cells[c, k], d)
+                cs[c, k], _, _ = _cross_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0],
+                                           points[d, 1])
     return cs, cv
 
 
@@ -83,12 +87,6 @@ def _star_min(cs, cells, cell_ptr, cell_idx, v):
                 worst = cs[c, k]
                 at = 4 * c + k
     return worst, at
-
-
-@njit(inline="always")
-def _corner_cross(points, a, b, d):
-    """:func:`_cross_xy` of corner b (between b->d and b->a)."""
-    return _cross_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1])
 
 
 @njit(inline="always")
@@ -112,12 +110,6 @@ def _cross_xy(ax, ay, bx, by, dx, dy):
     cross = left - right
     den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
     return (cross / den if den > 0.0 else -1.0), cross, abs(left) + abs(right)
-
-
-@njit(inline="always")
-def _corner_measure(points, a, b, d):
-    """:func:`_measure_xy` of corner b (between b->d and b->a)."""
-    return _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1])
 
 
 @njit(inline="always")
