@@ -138,16 +138,16 @@ def _measure_xy(ax, ay, bx, by, dx, dy):
 
 
 @njit(cache=True)
-def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, exact,
-           nodes, full, half):
+def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, nodes,
+           full, half):
     """One Gauss-Seidel guarded sweep in place; returns (moves kept, whether one woke its
     neighbours).
 
     With ``nodes`` empty, every free vertex (with ``settle > 0`` only those awake in
     ``cur``) tries the full step towards its neighbours' mean, then the half step, then,
-    with ``exact`` and a star whose worst corner is below ``UNTANGLE``, its kernel's
-    centroid (:func:`_kernel_target`; ``box``: its (4, k) scratch): a Laplacian step
-    seldom opens a reflex or flat corner.  A kept move of more than ``settle`` times the
+    with ``cv`` and ``box`` given and a star whose worst corner is below ``UNTANGLE``,
+    its kernel's centroid (:func:`_kernel_target`; ``box``: its (4, k) scratch): a
+    Laplacian step seldom opens a reflex or flat corner.  A kept move of more than ``settle`` times the
     vertex's distance to its first neighbour wakes it and its neighbours for the rest of
     this sweep (``cur``) and the next (``nxt``).  Else vertex ``nodes[s]`` tries
     ``full[s]``, then ``half[s]`` (the sliding vertices' projected steps), and wakes
@@ -156,10 +156,10 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
     The guard: a trial is kept if every corner quality that moving the vertex changes is
     at least the star's smallest before the move (``before``, read from the corner table
     ``cs`` by :func:`_star_min`; the corners opposite the vertex in its quads keep their
-    sides and are not tested) and, with ``exact``, every corner of the star that was
-    strictly convex (``cv``, (m, 4) int8) still is by exact ``orient2d``, certified from
-    the same cross products where the filter allows.  The qualities are sines, or with
-    ``exact`` :func:`_measure_xy`'s: a reflex corner may stay reflex, no better than the
+    sides and are not tested) and, with ``cv`` (the exact guard; None: sines only),
+    every corner of the star that was strictly convex (``cv``, (m, 4) int8) still is by
+    exact ``orient2d``, certified from the same cross products where the filter allows.
+    The qualities are sines, or with ``cv`` :func:`_measure_xy`'s: a reflex corner may stay reflex, no better than the
     star's worst was, so a relaxed or tangled quad opens over several moves of its
     vertices (one move rarely makes a quad with two bad corners convex at once, and a rule
     that asked for it kept every such star still), while no convex corner ever turns.  A
@@ -173,7 +173,9 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
     The guard, the neighbours' mean and the wake-up are written out here, not inlined
     functions: an inlined function's array arguments are new references, counted
     (atomically) on every pass through it, and a guard with several exits kept them,
-    some eighteen counts per trial, half the sweep's time on the disk.
+    some eighteen counts per trial, half the sweep's time on the disk.  ``cv`` and
+    ``box`` None are pruned at compile time (``is None`` tests of arguments): the
+    sines-only specialisation compiles neither the exact tests nor the kernel's clipping.
     """
     interior = nodes.shape[0] == 0
     kept = 0
@@ -215,9 +217,9 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
             else:
                 # ``box`` None (the sines-only sweeps) prunes the kernel trial at compile
                 # time: that specialisation does not compile the clipping (first call).
-                if box is None:
+                if box is None or cv is None:
                     break
-                if not (interior and exact) or before >= UNTANGLE:
+                if not interior or before >= UNTANGLE:
                     break
                 found, px, py = _kernel_target(points, cells, cell_ptr, cell_idx, v, box[0], box[1], box[2], box[3])
                 if not found:
@@ -233,7 +235,7 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                     a = cells[c, k - 1 if k > 0 else nv - 1]
                     b = cells[c, k]
                     d = cells[c, k + 1 if k + 1 < nv else 0]
-                    if exact:
+                    if cv is not None:
                         sn, convex = _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
                                                  points[d, 0], points[d, 1])
                         ok = not (sn < before or (cv[c, k] == 1 and not convex))
@@ -251,7 +253,7 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                             b = cells[c, k]
                             d = cells[c, k + 1 if k < 2 else 0]
                             convex = True
-                            if exact:
+                            if cv is not None:
                                 sn, convex = _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
                                                          points[d, 0], points[d, 1])
                                 if not convex and cv[c, k] == 1:
@@ -307,7 +309,7 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                     b0 = 1
                     b1 = 1
                     b2 = 1
-                    if exact:
+                    if cv is not None:
                         if not (x0_ > 0.0 and x0_ >= CCW_ERRBOUND_A * (abs(l0) + abs(r0))):
                             s0, ok0 = _measure_xy(points[p, 0], points[p, 1], px, py, points[q, 0], points[q, 1])
                             b0 = 1 if ok0 else 0
@@ -334,7 +336,7 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                 for j in range(i):
                     sc = slot[j] >> 1
                     cs[sc >> 2, sc & 3] = old[j]
-                    if exact:
+                    if cv is not None:
                         cv[sc >> 2, sc & 3] = slot[j] & 1
                 moved = True
                 break
@@ -376,7 +378,7 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
     kept = 0
     cur = np.ones(n, np.int8)
     nxt = np.zeros(n, np.int8)
-    cs, cv = _corner_table(points, cells, np.bool_(False))
+    cs, _ = _corner_table(points, cells, np.bool_(False))
     most = 0
     for v in range(n):
         most = max(most, cell_ptr[v + 1] - cell_ptr[v])
@@ -385,8 +387,8 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
     none = np.empty(0, np.int64)
     steps = np.empty((0, 2))
     for _ in range(passes):
-        got, woke = _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot,
-                           old, None, np.bool_(False), none, steps, steps)
+        got, woke = _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, None, slot,
+                           old, None, none, steps, steps)
         kept += got
         if settle > 0.0 and not woke:
             break  # nothing is awake: every later sweep would visit no vertex
@@ -696,8 +698,8 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     none = np.empty(0, np.int64)
     steps = np.empty((0, 2))
     for _ in range(passes):
-        _sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, True,
-               none, steps, steps)
+        _sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, none, steps,
+               steps)
         cur, nxt = nxt, cur
         nxt[:] = 0
         cur[woken] = 1
@@ -718,6 +720,6 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
         both = project(np.concatenate([nodes, nodes]), np.vstack([at + step, at + 0.5 * step]), np.vstack([at, at]))
         full = np.ascontiguousarray(both[: len(nodes)], dtype=np.float64)
         half = np.ascontiguousarray(both[len(nodes) :], dtype=np.float64)
-        _sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, True,
-               nodes, full, half)
+        _sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, nodes, full,
+               half)
     return pts
