@@ -297,26 +297,26 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                     r1 = -(qoy * aqx)
                     l2 = -(apx * poy)
                     r2 = -(apy * pox)
-                    x0_ = l0 - r0
-                    x1_ = l1 - r1
-                    x2_ = l2 - r2
+                    cr0 = l0 - r0
+                    cr1 = l1 - r1
+                    cr2 = l2 - r2
                     d0 = np.sqrt(lq * lp)
                     d1 = np.sqrt((qox * qox + qoy * qoy) * lq)
                     d2 = np.sqrt(lp * (pox * pox + poy * poy))
-                    s0 = x0_ / d0 if d0 > 0.0 else -1.0
-                    s1 = x1_ / d1 if d1 > 0.0 else -1.0
-                    s2 = x2_ / d2 if d2 > 0.0 else -1.0
+                    s0 = cr0 / d0 if d0 > 0.0 else -1.0
+                    s1 = cr1 / d1 if d1 > 0.0 else -1.0
+                    s2 = cr2 / d2 if d2 > 0.0 else -1.0
                     b0 = 1
                     b1 = 1
                     b2 = 1
                     if cv is not None:
-                        if not (x0_ > 0.0 and x0_ >= CCW_ERRBOUND_A * (abs(l0) + abs(r0))):
+                        if not (cr0 > 0.0 and cr0 >= CCW_ERRBOUND_A * (abs(l0) + abs(r0))):
                             s0, ok0 = _measure_xy(points[p, 0], points[p, 1], px, py, points[q, 0], points[q, 1])
                             b0 = 1 if ok0 else 0
-                        if not (x1_ > 0.0 and x1_ >= CCW_ERRBOUND_A * (abs(l1) + abs(r1))):
+                        if not (cr1 > 0.0 and cr1 >= CCW_ERRBOUND_A * (abs(l1) + abs(r1))):
                             s1, ok1 = _measure_xy(px, py, points[q, 0], points[q, 1], points[o, 0], points[o, 1])
                             b1 = 1 if ok1 else 0
-                        if not (x2_ > 0.0 and x2_ >= CCW_ERRBOUND_A * (abs(l2) + abs(r2))):
+                        if not (cr2 > 0.0 and cr2 >= CCW_ERRBOUND_A * (abs(l2) + abs(r2))):
                             s2, ok2 = _measure_xy(points[o, 0], points[o, 1], points[p, 0], points[p, 1], px, py)
                             b2 = 1 if ok2 else 0
                         if (b0 == 0 and cv[c, kv] == 1) or (b1 == 0 and cv[c, kq] == 1) or (b2 == 0 and cv[c, kp] == 1):
