@@ -290,7 +290,10 @@ MESH_METHODS: dict[str, MeshMethod] = {
             "frontal-delaunay", "frontal Delaunay: advancing-front points, Delaunay insertion (18.3)", _place_frontal,
             RUPPERT_MAX_ANGLE, 0.0, False, relaxes=True,
         ),
-        MeshMethod("front", "advancing front with stretched background grids (18.2)", _place_front, 0.0, 0.0, True),
+        MeshMethod(
+            "front", "advancing front with stretched background grids (18.2)", _place_front, 0.0, 0.0, True,
+            relaxes=True,
+        ),
     )
 }
 
@@ -645,7 +648,7 @@ def triangulate(
         Mesh relaxation afterwards (:mod:`meshwright.tri.relax`: valence-driven diagonal
         swaps and guarded smoothing of the nodes off the lines; Field and Frey 1991).
         None (the default): on for the methods whose registry entry ``relaxes``
-        (``"frontal-delaunay"``) when no ``min_angle``, area bound, ``conforming`` or
+        (``"frontal-delaunay"``, ``"front"``) when no ``min_angle``, area bound, ``conforming`` or
         stretched background is asked for, whose guarantees a swap could break (the mesh
         is then no longer Delaunay); True where that holds, refused where it does not.
 
