@@ -35,6 +35,7 @@ from meshwright.core.validate_input import as_cells, as_points, check_count
 from meshwright.geometry.curves import Line, Parametric, Polyline
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _enhance_kernel as ek
+from meshwright.quad._pairing_kernel import nonconvex_quads
 from meshwright.quad.smoothing import smooth_sliding
 
 __all__ = [
@@ -113,13 +114,9 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
 
 
 def nonconvex(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
-    """Indices of quads with a corner that is not strictly convex (exact orient2d)."""
-    q = np.asarray(quads, dtype=np.int64)
-    bad = np.zeros(len(q), dtype=bool)
-    for k in range(4):
-        corner = np.column_stack([q[:, (k + 3) % 4], q[:, k], q[:, (k + 1) % 4]])
-        bad |= orient2d_batch(xy, corner) <= 0.0
-    return np.flatnonzero(bad)
+    """Indices (k,) int64 of quads with a corner that is not strictly convex (exact orient2d):
+    :func:`meshwright.quad._pairing_kernel.nonconvex_quads` on the layouts pairing passes it."""
+    return nonconvex_quads(np.ascontiguousarray(xy, dtype=np.float64), np.ascontiguousarray(quads, dtype=np.int32))
 
 
 def unpair_nonconvex(xy, quads, tris):

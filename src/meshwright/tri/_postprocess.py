@@ -61,20 +61,22 @@ def input_nodes(mesh: Mesh, ct: ConstrainedTriangulation, domain: Domain, disc: 
     out = np.zeros(mesh.n_points, dtype=bool)
     npts = len(domain.points)
     if npts:
-        used = np.zeros(ct.n_points, dtype=bool)
-        used[ct.triangles(True).ravel()] = True
-        newid = np.cumsum(used) - 1  # the renumbering of ConstrainedTriangulation.to_mesh
+        used, newid = _renumbering(ct)
         inner = ct.index_map[len(disc.points) - npts :]
         out[newid[inner[used[inner]]]] = True
     return out
 
 
+def _renumbering(ct: ConstrainedTriangulation) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices ``ct.to_mesh`` keeps, (n,) bool, and their new numbers, (n,) int64."""
+    used = np.zeros(ct.n_points, dtype=bool)
+    used[ct.triangles(True).ravel()] = True
+    return used, np.cumsum(used) - 1
+
+
 def smooth_mesh(mesh: Mesh, ct: ConstrainedTriangulation, domain: Domain, disc: Discretization, passes: int) -> Mesh:
     """Spring-analogy smoothing of ``mesh`` (made by ``ct.to_mesh``) with sliding boundary nodes."""
-    tris_ct = ct.triangles(True)
-    used = np.zeros(ct.n_points, dtype=bool)
-    used[tris_ct.ravel()] = True
-    newid = np.cumsum(used) - 1  # the renumbering of ConstrainedTriangulation.to_mesh
+    used, newid = _renumbering(ct)
     edges, ids = ct.segments()
     keep = used[edges[:, 0]] & used[edges[:, 1]]
     edges, curve = newid[edges[keep]], disc.segment_curve[ids[keep]]
