@@ -45,7 +45,7 @@ from meshwright.core.predicates import orient2d
 from meshwright.core.topology import boundary_edges_of
 from meshwright.core.validate_input import as_cells, as_exact_points, as_node_indices, check_count
 
-__all__ = ["smooth", "node_adjacency", "incident_triangles", "radius_ratio"]
+__all__ = ["smooth", "node_adjacency", "incident_triangles"]
 
 MAX_HALVINGS = 4
 
@@ -127,7 +127,7 @@ def _star_neighbours(tri, tri_offsets, tri_indices, n):
 
 
 @njit(cache=True)
-def radius_ratio(ax, ay, bx, by, cx, cy):
+def _radius_ratio(ax, ay, bx, by, cx, cy):
     """2r/R of a triangle (1 for equilateral, 0 for degenerate); geometric, not topological."""
     la = np.hypot(bx - cx, by - cy)
     lb = np.hypot(cx - ax, cy - ay)
@@ -161,7 +161,7 @@ def _worst_around(xy, tris, tri_offsets, tri_indices, i, px, py):
             cx, cy = px, py
         if orient2d(ax, ay, bx, by, cx, cy) <= 0.0:
             return -1.0
-        q = radius_ratio(ax, ay, bx, by, cx, cy)
+        q = _radius_ratio(ax, ay, bx, by, cx, cy)
         if q < worst:
             worst = q
     return worst
