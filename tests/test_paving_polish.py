@@ -1,11 +1,11 @@
-"""The paving polish's vertex-to-quad table (``_paving_kernel.vertex_cells``, a counting
+"""The paving polish's vertex-to-quad table (``_paving_polish.vertex_cells``, a counting
 sort) against a plain loop over the quads' corners."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from meshwright.quad._paving_kernel import vertex_cells
+from meshwright.quad._paving_polish import vertex_cells
 
 
 def test_vertex_cells_lists_each_vertex_quads_ascending_once_per_corner():

@@ -23,7 +23,7 @@ those pieces (and the paving boundaries' geometry: :func:`boundary_loops`,
   the front's spacing never above that of the void's own boundary nodes (chapter 18.3's
   background), so it grows from a stopped row's short edges instead of fanning onto them;
 * :func:`polish`: the cleanup's max-min pattern search on the worst quads' free nodes
-  (kernels :func:`meshwright.quad._paving_kernel.polish_rounds` and ``polish_nodes``).
+  (kernels :func:`meshwright.quad._paving_polish.polish_rounds` and ``polish_nodes``).
 
 Every chord is checked against every paving-boundary edge by the exact crossing kernel
 (:func:`meshwright.quad._paving_kernel.row_crossings`); every quad of a template is
@@ -42,6 +42,7 @@ from meshwright.core.errors import MeshingError
 from meshwright.core.predicates import orient2d_batch
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad import _paving_long as pl
+from meshwright.quad import _paving_polish as pp
 from meshwright.quad import _paving_row as pr
 from meshwright.quad.enhancement import enhance, nonconvex, unpair_nonconvex
 from meshwright.quad.pairing import pair_triangles
@@ -619,12 +620,12 @@ def polish(xy, quads, fixed, floor: float, rounds: int):
     """
     p = np.array(xy, dtype=np.float64)
     q = np.ascontiguousarray(quads, dtype=np.int64)
-    cell_ptr, cell_idx = pk.vertex_cells(q, len(p))
+    cell_ptr, cell_idx = pp.vertex_cells(q, len(p))
     ang = np.arange(16) * (np.pi / 8.0)
     dirs = np.ascontiguousarray(np.column_stack([np.cos(ang), np.sin(ang)]))
     steps = np.array([0.25, 0.125, 0.0625])
     fixed = np.ascontiguousarray(fixed, dtype=np.bool_)
-    return pk.polish_rounds(p, q, cell_ptr, cell_idx, fixed, float(floor), int(rounds), dirs, steps)
+    return pp.polish_rounds(p, q, cell_ptr, cell_idx, fixed, float(floor), int(rounds), dirs, steps)
 
 
 def consistent(fronts) -> bool:

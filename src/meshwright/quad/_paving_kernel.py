@@ -7,10 +7,8 @@ check); every sign is the exact ``orient2d``; :func:`check_row` runs the whole c
 one row (its new edges found, the crossings, the quads' convexity and the nodes inside
 them, the culprits traced back to the paving nodes they grew from) in one call;
 :func:`row_nodes` builds a row's nodes and quads and :func:`adjust_row` its tucks and
-wedges.  :func:`facing_pairs` finds the paving nodes close enough to be joined, and
-:func:`polish_rounds` / :func:`polish_nodes` are the cleanup's pattern search (quality
-rules, floating point; quads (q, 4) int64 with a vertex-to-quad table in CSR form,
-``cell_ptr`` (n + 1,), ``cell_idx``).
+wedges.  :func:`facing_pairs` finds the paving nodes close enough to be joined (a quality
+rule, floating point); the cleanup's pattern search is :mod:`meshwright.quad._paving_polish`.
 
 Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``, ``sb``
 (node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.
@@ -30,8 +28,8 @@ from meshwright.quad._paving_grid import grid_crossings, orient_sign, segments_m
 from meshwright.sizing.background import interpolate_walk
 
 __all__ = [
-    "adjust_row", "check_row", "facing_pairs", "nodes_in_quads", "polish_nodes", "polish_rounds", "row_crossings",
-    "row_nodes", "sweep_axis", "vertex_cells", "walk_spacing",
+    "adjust_row", "check_row", "corner_min_sine", "facing_pairs", "nodes_in_quads", "row_crossings", "row_nodes",
+    "sweep_axis", "walk_spacing",
 ]
 
 
@@ -381,174 +379,6 @@ def corner_min_sine(p, a, b, c, d):
         s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
         worst = min(worst, s)
     return worst
-
-
-@njit
-def _quad_min_sine(p, q, c):
-    """Smallest corner sine of quad c (:func:`corner_min_sine`)."""
-    return corner_min_sine(p, q[c, 0], q[c, 1], q[c, 2], q[c, 3])
-
-
-@njit
-def _sine_at(p, a, b, d, v, x, y):
-    """Sine of the corner at b between b->d and b->a, node ``v`` taken at ``(x, y)``."""
-    bx = x if b == v else p[b, 0]
-    by = y if b == v else p[b, 1]
-    ux = (x if d == v else p[d, 0]) - bx
-    uy = (y if d == v else p[d, 1]) - by
-    wx = (x if a == v else p[a, 0]) - bx
-    wy = (y if a == v else p[a, 1]) - by
-    den = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
-    return (ux * wy - uy * wx) / den if den > 0.0 else -1.0
-
-
-@njit
-def _moving_min_sine(p, q, cell_ptr, cell_idx, v, x, y, best):
-    """Smallest sine of the corners that move with node ``v`` (all but the one opposite
-    ``v`` in each of its quads) with ``v`` at ``(x, y)``; stops at the first one not
-    above ``best`` (the value then says only that it is not above ``best``)."""
-    worst = 1.0
-    for t in range(cell_ptr[v], cell_ptr[v + 1]):
-        c = cell_idx[t]
-        for k in range(4):
-            if q[c, (k + 2) % 4] == v:
-                continue
-            s = _sine_at(p, q[c, (k + 3) % 4], q[c, k], q[c, (k + 1) % 4], v, x, y)
-            if s < worst:
-                worst = s
-                if worst <= best:
-                    return worst
-    return worst
-
-
-@njit(cache=True)
-def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps, settled):
-    """One pass of the max-min pattern search over ``nodes`` in place (see
-    :func:`meshwright.quad._paving_close.polish`): each node takes the move, among
-    ``steps`` times its shortest edge along each of ``dirs``, that raises the smallest
-    corner sine of its quads most, or stays.  Returns the number of nodes moved.
-
-    ``settled`` (n,) bool, updated: a node whose last visit left it in place, no node
-    of its quads having moved since.  Its visit would read the same coordinates and
-    stay again, so it is skipped (on a sliver's closure most marked nodes cannot
-    improve, and every pass searched them again).
-
-    The corners opposite the node in its quads do not move: while their smallest sine
-    is not above the star's, no move can raise the star's minimum and the node is
-    skipped; otherwise a trial is compared on the moving corners only, and its test
-    stops at the first one not above the best so far (the same choice as comparing the
-    whole star's minimum)."""
-    moved = 0
-    for i in range(nodes.shape[0]):
-        v = nodes[i]
-        if settled[v]:
-            continue
-        settled[v] = True
-        x0 = p[v, 0]
-        y0 = p[v, 1]
-        reach = np.inf
-        fixed_min = 1.0
-        for t in range(cell_ptr[v], cell_ptr[v + 1]):
-            c = cell_idx[t]
-            for k in range(4):
-                if q[c, k] == v:
-                    for o in (1, 3):
-                        w = q[c, (k + o) % 4]
-                        reach = min(reach, np.hypot(p[w, 0] - x0, p[w, 1] - y0))
-                    o2 = (k + 2) % 4
-                    fixed_min = min(fixed_min, _sine_at(p, q[c, (o2 + 3) % 4], q[c, o2], q[c, (o2 + 1) % 4], v, x0, y0))
-        best = min(fixed_min, _moving_min_sine(p, q, cell_ptr, cell_idx, v, x0, y0, -np.inf))
-        if fixed_min <= best:
-            continue
-        bx = x0
-        by = y0
-        for s in range(steps.shape[0]):
-            for d in range(dirs.shape[0]):
-                x = x0 + steps[s] * reach * dirs[d, 0]
-                y = y0 + steps[s] * reach * dirs[d, 1]
-                w = _moving_min_sine(p, q, cell_ptr, cell_idx, v, x, y, best)
-                if w > best:
-                    best = min(w, fixed_min)
-                    bx = x
-                    by = y
-                    if fixed_min <= best:
-                        break
-            if fixed_min <= best:
-                break
-        if bx != x0 or by != y0:
-            p[v, 0] = bx
-            p[v, 1] = by
-            moved += 1
-            for t in range(cell_ptr[v], cell_ptr[v + 1]):
-                for k in range(4):
-                    settled[q[cell_idx[t], k]] = False
-    return moved
-
-
-@njit(cache=True)
-def vertex_cells(q, n):
-    """The vertex-to-quad table of ``q`` (m, 4) int64 over ``n`` vertices in CSR form, by
-    a counting sort: ``cell_ptr`` (n + 1,) int64 and ``cell_idx`` (4 m,) int64, each
-    vertex's quads ascending (the order of a stable argsort of ``q.ravel()``, without
-    its sort)."""
-    m = q.shape[0]
-    ptr = np.zeros(n + 1, dtype=np.int64)
-    for c in range(m):
-        for k in range(4):
-            ptr[q[c, k] + 1] += 1
-    for v in range(n):
-        ptr[v + 1] += ptr[v]
-    nxt = ptr[:n].copy()
-    idx = np.empty(4 * m, dtype=np.int64)
-    for c in range(m):
-        for k in range(4):
-            v = q[c, k]
-            idx[nxt[v]] = c
-            nxt[v] += 1
-    return ptr, idx
-
-
-@njit(cache=True)
-def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
-    """The passes of :func:`meshwright.quad._paving_close.polish` in place: in each, the
-    free nodes of the quads whose smallest corner sine is below ``floor``, in ascending
-    order, get one :func:`polish_nodes` visit; the smallest sines are kept per quad and
-    recomputed around the nodes that moved.  Stops after ``rounds`` passes or one that
-    moves nothing."""
-    nq = q.shape[0]
-    n = p.shape[0]
-    worst = np.empty(nq)
-    for c in range(nq):
-        worst[c] = _quad_min_sine(p, q, c)
-    mark = np.zeros(n, dtype=np.bool_)
-    settled = np.zeros(n, dtype=np.bool_)
-    nodes = np.empty(n, dtype=np.int64)
-    before = np.empty((n, 2))
-    for _ in range(rounds):
-        for c in range(nq):
-            if worst[c] < floor:
-                for k in range(4):
-                    mark[q[c, k]] = True
-        m = 0
-        for v in range(n):
-            if mark[v]:
-                mark[v] = False
-                if not fixed[v]:
-                    nodes[m] = v
-                    before[m, 0] = p[v, 0]
-                    before[m, 1] = p[v, 1]
-                    m += 1
-        if m == 0:
-            break
-        if polish_nodes(p, q, cell_ptr, cell_idx, nodes[:m], dirs, steps, settled) == 0:
-            break
-        for i in range(m):
-            v = nodes[i]
-            if p[v, 0] != before[i, 0] or p[v, 1] != before[i, 1]:
-                for t in range(cell_ptr[v], cell_ptr[v + 1]):
-                    c = cell_idx[t]
-                    worst[c] = _quad_min_sine(p, q, c)
-    return p
 
 
 @njit(cache=True)
