@@ -6,6 +6,7 @@ Usage::
     python benchmarks/grading2d.py --quick     # the 30 holes only
     python benchmarks/grading2d.py --no-grading  # meshwright with grading=None as well
     python benchmarks/grading2d.py --no-relax    # the relaxing methods with relax=False as well
+    python benchmarks/grading2d.py --grading 1.2  # meshwright at grading=1.2 as well (repeatable)
 
 Cases (domains whose given boundary points lie closer than the size; every method and Gmsh
 get the same boundary points, the domain discretised at that size):
@@ -20,8 +21,10 @@ get the same boundary points, the domain discretised at that size):
 * ``slit``: the unit square with a slit 0.6 long and 0.01 wide cut in from its left side,
   the slit's sides split every 0.01, size 0.05.
 
-meshwright runs ``triangulate(domain, size, method=m)`` with the default grading
-(``grading=1.2``) and, with ``--no-grading``, also ``grading=None``; with ``--no-relax``,
+meshwright runs ``triangulate(domain, size, method=m)`` with the method's default grading
+(``grading="auto"``: 1.1 for ``front`` and ``frontal-delaunay``, 1.2 for ``weatherill``, none
+for ``delaunay``; :data:`meshwright.tri.mesher.MESH_METHODS`), with ``--grading G`` also at
+``grading=G`` and, with ``--no-grading``, also ``grading=None``; with ``--no-relax``,
 the methods that relax by default (:mod:`meshwright.tri.relax`) also with ``relax=False``.  Gmsh 4 runs
 Frontal-Delaunay (``Mesh.Algorithm`` 6, one thread) on the same boundary points (one
 Gmsh line per segment, mesh size ``size`` at every point, ``Mesh.MeshSizeMax`` = size), with
@@ -140,6 +143,8 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--no-grading", action="store_true", help="also run meshwright with grading=None")
+    ap.add_argument("--grading", type=float, action="append", default=[], metavar="G",
+                    help="also run meshwright with grading=G (repeatable)")
     ap.add_argument("--no-relax", action="store_true", help="also run the relaxing methods with relax=False")
     ap.add_argument("--methods", default="front,frontal-delaunay,delaunay,weatherill")
     args = ap.parse_args()
@@ -150,11 +155,13 @@ def main() -> None:
     load = os.getloadavg()[0]
     runs = []
     for m in args.methods.split(","):
-        runs.append((f"meshwright {m}", m, 1.2, None))
+        auto = MESH_METHODS[m]
+        runs.append((f"meshwright {m}" + ("" if auto.grades_itself else f" (g={auto.grading:g})"), m, "auto", None))
+        runs += [(f"meshwright {m} grading={g:g}", m, g, None) for g in args.grading]
         if args.no_grading:
             runs.append((f"meshwright {m} grading=None", m, None, None))
         if args.no_relax and MESH_METHODS[m].relaxes:
-            runs.append((f"meshwright {m} relax=False", m, 1.2, False))
+            runs.append((f"meshwright {m} relax=False", m, "auto", False))
     # JIT warm-up (not timed).
     warm, hw = case("holes30")
     for _, m, g, rl in runs:

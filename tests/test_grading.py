@@ -150,6 +150,48 @@ def test_graded_meshes_meet_the_issue_target(name, method):
     assert a.min() >= 18.0
 
 
+def radius_ratio(points, triangles) -> np.ndarray:
+    """2r/R of each triangle: 16 A^2 / ((a + b + c) a b c), A from the cross product."""
+    p = np.asarray(points)[np.asarray(triangles)]
+    la = np.hypot(*(p[:, 1] - p[:, 2]).T)
+    lb = np.hypot(*(p[:, 2] - p[:, 0]).T)
+    lc = np.hypot(*(p[:, 0] - p[:, 1]).T)
+    u, v = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    area = 0.5 * (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+    return 16.0 * area**2 / ((la + lb + lc) * la * lb * lc)
+
+
+# The default grading per method, written out (not read from the registry it checks).
+DEFAULT_G = {"front": 1.1, "frontal-delaunay": 1.1, "weatherill": 1.2, "delaunay": None}
+
+
+@pytest.mark.parametrize("method", sorted(DEFAULT_G))
+def test_default_grading_per_method(method):
+    """``grading="auto"`` is 1.1 for the relaxing methods, 1.2 for Weatherill, none for
+    Delaunay refinement: the default mesh is the one made with that grading given."""
+    assert set(DEFAULT_G) == set(mw.MESH_METHODS)
+    dom, size = slit()
+    auto = mw.triangulate(dom, size, method=method)
+    given = mw.triangulate(dom, size, method=method, grading=DEFAULT_G[method])
+    np.testing.assert_array_equal(auto.points, given.points)
+    np.testing.assert_array_equal(auto.cells["triangle"], given.cells["triangle"])
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("name", sorted(DOMAINS))
+def test_gentler_default_grading_raises_the_mean_shape(name, method):
+    """The relaxing methods' default grading (1.1) buys mean shape over 1.2's: measured
+    +0.007 to +0.013 in mean 2r/R on these domains (issue 13's target is Gmsh's mean, which
+    1.2 missed on benchmarks/grading2d.py's holes30 and slit), for more triangles."""
+    dom, size = DOMAINS[name]()
+    default = mw.triangulate(dom, size, method=method)
+    steeper = mw.triangulate(dom, size, method=method, grading=1.2)
+    q_default = radius_ratio(default.points, default.cells["triangle"]).mean()
+    q_steeper = radius_ratio(steeper.points, steeper.cells["triangle"]).mean()
+    assert q_default > q_steeper + 0.005, (q_default, q_steeper)
+    assert len(default.cells["triangle"]) > len(steeper.cells["triangle"])
+
+
 @pytest.mark.parametrize("method", ["front", "delaunay", "weatherill"])
 def test_grading_follows_the_boundary_and_keeps_size_as_bound(method):
     """Edges follow the graded size (boundary spacing grown by g - 1 per unit length, capped

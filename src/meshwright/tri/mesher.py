@@ -30,8 +30,9 @@ boundary as the domain discretises it, Weatherill's ``dP`` from it (18.1.3), and
 ``frontal-delaunay`` and ``front`` the chapter's background, the triangulated boundary
 nodes with their point distribution function (18.3).
 
-Grading from the boundary (``grading=g``, default :data:`DEFAULT_GRADING` for every method
-but ``delaunay``, whose refinement grades by itself): where the
+Grading from the boundary (``grading=g``, default the registry entry's ``grading``:
+:data:`DEFAULT_GRADING` = 1.2, :data:`RELAXED_GRADING` = 1.1 for ``front`` and
+``frontal-delaunay``, none for ``delaunay``, whose refinement grades by itself): where the
 discretised boundary is finer than the size (polygon vertices given closer, curves split
 for their turning, a fine wall), every method follows ``h(x) = min(size(x), min_i (dP_i +
 (g - 1) |x - x_i|))`` over the boundary points ``x_i`` with their spacing ``dP_i``
@@ -97,7 +98,7 @@ from meshwright.tri.weatherill import DEFAULT_ALPHA, weatherill
 
 __all__ = [
     "MESH_METHODS", "MeshMethod", "triangulate", "DEFAULT_MAX_POINTS", "RUPPERT_MAX_ANGLE", "BOUNDARY_SIZE",
-    "DEFAULT_GRADING", "GRADING_AUTO",
+    "DEFAULT_GRADING", "GRADING_AUTO", "RELAXED_GRADING",
 ]
 
 DEFAULT_MAX_POINTS = 100_000_000  # vertices; about 20 GB of kernel arrays, far beyond a 2-D mesh anyone waits for
@@ -106,12 +107,23 @@ BOUNDARY_SIZE = "boundary"  # the named size: the chapter's spacing from the bou
 TURN_PER_ELEMENT = math.pi / 16  # radians a curve turns along one element of the default size
 _AREA_SOURCES = 2_000_000  # most sources the default size spreads over area-bounded regions
 DEFAULT_GRADING = DEFAULT_GROWTH  # g of the grading from the boundary: |grad h| <= g - 1, as the default size's
+# The relaxing methods' g (their registry entries): frontal points keep their shape only as
+# well as the size varies across a triangle.  benchmarks/grading2d.py's four domains, mean
+# radius ratio relaxed at g = 1.2 -> 1.1, front / frontal-delaunay: holes30 0.9635 -> 0.9758 /
+# 0.9712 -> 0.9778 (Gmsh Frontal-Delaunay 0.9750), slit 0.9744 -> 0.9789 / 0.9686 -> 0.9794
+# (0.9729), radii and naca up 0.009-0.012 (already above Gmsh's), for 1.4-2.5x the triangles
+# (Gmsh's count or fewer, but 2.1x Gmsh's on the naca's wide far field).  Relaxation cannot
+# buy it instead: on holes30 more swap rounds and smoothing passes over every node gained
+# under 0.001.  A size given already graded (no boundary spacing under FINER times it)
+# meshes as before.
+RELAXED_GRADING = 1.1
 # A boundary point grades the size only where its spacing is below this fraction of the size:
 # rounding segment counts leaves spacings down to 2/3 of it on pieces 1.5 sizes long, which
 # must not change a boundary that already follows the size.
 FINER = 0.6
-# grading's default: DEFAULT_GRADING for the methods that place points by a size, none for a
-# method that grades itself (Delaunay refinement follows the local feature size by its own
+# grading's default: the registry entry's ``grading`` (DEFAULT_GRADING, or RELAXED_GRADING for
+# the relaxing methods) for the methods that place points by a size, none for a method that
+# grades itself (Delaunay refinement follows the local feature size by its own
 # splits; a graded field only adds 1.5-3.5x the triangles there and a Python size callback).
 GRADING_AUTO = "auto"
 
@@ -160,6 +172,10 @@ class MeshMethod(NamedTuple):
     relaxes : bool
         Whether :func:`triangulate` relaxes the method's mesh by default
         (:mod:`meshwright.tri.relax`: where no bound is asked for and the size is isotropic).
+    grading : float
+        Growth factor ``g`` of the grading from the boundary under ``grading="auto"``
+        (:data:`DEFAULT_GRADING`; :data:`RELAXED_GRADING` for the relaxing methods, whose
+        mean shape follows how fast the size grows); unused when ``grades_itself``.
     """
 
     name: str
@@ -172,6 +188,7 @@ class MeshMethod(NamedTuple):
     convex_hull: bool = True
     grades_itself: bool = False
     relaxes: bool = False
+    grading: float = DEFAULT_GRADING
 
 
 def _place_delaunay(job: _Job) -> None:
@@ -288,11 +305,11 @@ MESH_METHODS: dict[str, MeshMethod] = {
         ),
         MeshMethod(
             "frontal-delaunay", "frontal Delaunay: advancing-front points, Delaunay insertion (18.3)", _place_frontal,
-            RUPPERT_MAX_ANGLE, 0.0, False, relaxes=True,
+            RUPPERT_MAX_ANGLE, 0.0, False, relaxes=True, grading=RELAXED_GRADING,
         ),
         MeshMethod(
             "front", "advancing front with stretched background grids (18.2)", _place_front, 0.0, 0.0, True,
-            relaxes=True,
+            relaxes=True, grading=RELAXED_GRADING,
         ),
     )
 }
@@ -634,10 +651,12 @@ def triangulate(
         only when that loop is convex (its own hull).
     grading : float, None or "auto"
         Growth factor ``g >= 1`` of the size away from the boundary.  ``"auto"`` (the
-        default): :data:`DEFAULT_GRADING` = 1.2, except for a method whose registry entry
-        ``grades_itself`` (``"delaunay"``), which follows a given size as given since its
-        refinement grades from the boundary by itself (the default size's growth stays
-        1.2).  Where the boundary is finer than ``size``, the
+        default): the method's registry entry's ``grading``, :data:`DEFAULT_GRADING` = 1.2
+        (``"weatherill"``) or :data:`RELAXED_GRADING` = 1.1 (``"front"``,
+        ``"frontal-delaunay"``: gentler, for their mean shape), except for a method whose
+        registry entry ``grades_itself`` (``"delaunay"``), which follows a given size as
+        given since its refinement grades from the boundary by itself (the default size's
+        growth stays 1.2 for every method).  Where the boundary is finer than ``size``, the
         size grows from the boundary spacing by at most ``g - 1`` per unit length up to
         ``size`` (module docstring), as Gmsh's ``Mesh.MeshSizeExtendFromBoundary``; it
         also caps the chapter's background of ``size="boundary"``, and without a size it
@@ -702,7 +721,7 @@ def triangulate(
     grading = _grading(grading)
     growth = DEFAULT_GRADING if grading == GRADING_AUTO else grading
     if grading == GRADING_AUTO:
-        grading = None if m.grades_itself else DEFAULT_GRADING
+        grading = None if m.grades_itself else m.grading
     dom, field = _domain_and_field(domain, size, convex_hull, max_area, m.grades_itself, growth=growth)
     _check_work(dom, field, max_area, cap)
     disc = dom.discretize(field)
