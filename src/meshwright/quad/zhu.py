@@ -123,17 +123,19 @@ def _loop_order(fs, faces) -> None:
     f = fs.hface[:nh, 0].copy()
     nxt = np.full(int(faces.max()) + 1, -1, dtype=np.int64)
     nxt[faces[:, 0]] = np.arange(len(faces))
-    rank = np.full(len(faces), -1, dtype=np.int64)
+    # The walk on Python ints: numpy scalar reads made it 0.55 ms of the disk's set-up.
+    succ = nxt[faces[:, 1]].tolist()
+    rank = [-1] * len(faces)
     r = 0
     for i in range(len(faces)):
         j = i
         while j >= 0 and rank[j] < 0:
             rank[j] = r
             r += 1
-            j = nxt[faces[j, 1]]
+            j = succ[j]
     p = fs.pts
     length = np.hypot(*(p[faces[f, 1]] - p[faces[f, 0]]).T)
-    key = (ORDER_BIAS * length.min() / len(faces)) * rank[f]
+    key = (ORDER_BIAS * length.min() / len(faces)) * np.array(rank, dtype=np.int64)[f]
     order = np.argsort(key)
     fs.hkey[:nh] = key[order]
     fs.hface[:nh, 0] = f[order]
@@ -273,10 +275,17 @@ class PairFront:
         nt_pairs = nt if self.pairing else self.nt_pairs
         alive = fs.talive[:nt] == 1
         first = np.flatnonzero(self.tpair[: max(nt_pairs - 1, 0)] == 1)
+        npts = int(fs.meta[fk.M_NP])
+        if alive.all():
+            # No back-off removed a triangle (the common case): every generated node is a
+            # corner of one, so rows and nodes keep their numbers (the renumbering below
+            # took 2.5 ms of 2.9 on the disk h=0.01).
+            pairs = np.column_stack([first, first + 1]).astype(np.int64)
+            report = ZhuReport(self.coloured, len(pairs), self.stuck, nt - 2 * len(pairs))
+            return fs.pts[:npts].copy(), fs.tri[:nt].copy(), pairs, report
         first = first[alive[first] & alive[first + 1]]
         row = np.cumsum(alive) - 1
         tris = np.ascontiguousarray(fs.tri[:nt][alive])
-        npts = int(fs.meta[fk.M_NP])
         keep = np.zeros(npts, dtype=bool)
         keep[: self.n_in] = True
         keep[tris.ravel()] = True
