@@ -29,7 +29,7 @@ from meshwright.sizing.background import interpolate_walk
 
 __all__ = [
     "adjust_row", "check_row", "corner_min_sine", "facing_pairs", "nodes_in_quads", "row_crossings", "row_nodes",
-    "sweep_axis", "walk_spacing",
+    "serpentine_order", "sweep_axis", "walk_spacing",
 ]
 
 
@@ -379,6 +379,43 @@ def corner_min_sine(p, a, b, c, d):
         s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
         worst = min(worst, s)
     return worst
+
+
+@njit(cache=True)
+def serpentine_order(xy, k):
+    """:func:`meshwright.quad._paving_close.serpentine` in one call: the order of points
+    ``xy`` (m, 2) float64 along the rows of a k by k grid of their box, alternate rows
+    backwards, by a counting sort of the cells (stable: input order within a cell).  The
+    cells are computed as NumPy computes them there, so the order is the same."""
+    m = xy.shape[0]
+    out = np.arange(m)
+    if m < 2:
+        return out
+    lox = xy[0, 0]
+    hix = xy[0, 0]
+    loy = xy[0, 1]
+    hiy = xy[0, 1]
+    for i in range(1, m):
+        lox = min(lox, xy[i, 0])
+        hix = max(hix, xy[i, 0])
+        loy = min(loy, xy[i, 1])
+        hiy = max(hiy, xy[i, 1])
+    ext = max(hix - lox, hiy - loy)
+    if not ext > 0.0:
+        return out
+    key = np.empty(m, dtype=np.int64)
+    count = np.zeros(k * k + 1, dtype=np.int64)
+    for i in range(m):
+        cx = min(int(k * ((xy[i, 0] - lox) / ext)), k - 1)
+        cy = min(int(k * ((xy[i, 1] - loy) / ext)), k - 1)
+        key[i] = cy * k + (cx if cy % 2 == 0 else k - 1 - cx)
+        count[key[i] + 1] += 1
+    for c in range(k * k):
+        count[c + 1] += count[c]
+    for i in range(m):
+        out[count[key[i]]] = i
+        count[key[i]] += 1
+    return out
 
 
 @njit(cache=True)
