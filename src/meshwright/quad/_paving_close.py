@@ -672,12 +672,17 @@ def area_kept(xy, front, trial, a, b, at) -> bool:
 
 def clear_after_merge(xy, fronts, a, b, at) -> bool:
     """No paving-boundary edge at node a or b, moved to ``at``, meets another
-    paving-boundary edge (exact)."""
-    trial = xy.copy()
-    trial[a] = trial[b] = at
+    paving-boundary edge (exact).  ``xy`` is changed during the test and restored."""
     sa, sb = edges_of(fronts)
     sa = np.where(sa == b, a, sa)
     sb = np.where(sb == b, a, sb)
     mine = (sa == a) | (sb == a)
     keep = sa != sb
-    return not pk.row_crossings(trial, sa[mine & keep], sb[mine & keep], sa[keep], sb[keep]).any()
+    # Node b is on no edge any more: only a moves, in place and back (a copy of every
+    # point per trial cost more than the test).
+    old = xy[a].copy()
+    xy[a] = at
+    try:
+        return not pk.row_crossings(xy, sa[mine & keep], sb[mine & keep], sa[keep], sb[keep]).any()
+    finally:
+        xy[a] = old

@@ -34,6 +34,7 @@ __all__ = [
 
 
 RUNGS = 4  # committed nodes a new node of a row notes its rungs from (check_row)
+FEW = 8  # row_crossings tests up to this many segments against every one, unsorted
 
 
 @njit
@@ -69,6 +70,29 @@ def row_crossings(pts, na, nb, sa, sb):
     m = sa.shape[0]
     bad = np.zeros(na.shape[0], dtype=np.bool_)
     if m == 0:
+        return bad
+    if na.shape[0] <= FEW:
+        # A seam's or joint's few edges: each tests every segment's box, where the sort
+        # below cost more than the tests (the same answer).
+        for i in range(na.shape[0]):
+            a = na[i]
+            b = nb[i]
+            q0 = min(pts[a, 0], pts[b, 0])
+            q1 = max(pts[a, 0], pts[b, 0])
+            r0 = min(pts[a, 1], pts[b, 1])
+            r1 = max(pts[a, 1], pts[b, 1])
+            for j in range(m):
+                u = sa[j]
+                d = sb[j]
+                if u == a or u == b or d == a or d == b:
+                    continue
+                if max(pts[u, 0], pts[d, 0]) < q0 or min(pts[u, 0], pts[d, 0]) > q1:
+                    continue
+                if max(pts[u, 1], pts[d, 1]) < r0 or min(pts[u, 1], pts[d, 1]) > r1:
+                    continue
+                if segments_meet(pts, a, b, u, d):
+                    bad[i] = True
+                    break
         return bad
     ax = sweep_axis(pts, sa, sb)
     bx = 1 - ax

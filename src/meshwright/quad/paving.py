@@ -337,31 +337,25 @@ class _Paver:
         return new_xy, q, front, depth, owner
 
     # -- step 7: checks -----------------------------------------------------------------
-    def check_row(self, xy, f, quads, others, owner):
-        """Step 7 on a candidate row: ('ok' | 'refused', indices into ``f`` of the paving
-        nodes whose new quads fail; :func:`~meshwright.quad._paving_kernel.check_row`)."""
-        oa, ob = edges_of(others + [f])
-        nodes = np.concatenate(others + [f]) if others else f
-        bad = pk.check_row(xy, f, quads, owner, np.int64(self.n), oa, ob, nodes)
-        if bad.any():
-            return "refused", np.flatnonzero(bad)
-        return "ok", None
-
     def row_with_repairs(self, f, others):
-        """A valid row on ``f`` (steps 1, 3, 6, 7), the depth lowered and the adjustments
-        dropped around failing nodes up to :data:`REPAIRS` times: (new coordinates,
-        quads, new front) or None."""
+        """A valid row on ``f`` (steps 1, 3, 6, 7; the check is
+        :func:`~meshwright.quad._paving_kernel.check_row`, the other boundaries' edges and
+        nodes gathered once), the depth lowered and the adjustments dropped around failing
+        nodes up to :data:`REPAIRS` times: (new coordinates, quads, new front) or None."""
         n = len(f)
         scale = np.ones(n)
         calm_only = np.zeros(n, dtype=bool)
         memo: dict = {}
+        edges = None
         for _ in range(REPAIRS + 1):
             row = self.build_row(f, scale, calm_only, memo)
             if row is None:
                 return None
             new_xy, quads, front, _, owner = row
-            verdict, bad = self.check_row(self.trial_points(new_xy), f, quads, others, owner)
-            if verdict == "ok":
+            if edges is None:
+                edges = (*edges_of(others + [f]), np.concatenate(others + [f]) if others else f)
+            bad = np.flatnonzero(pk.check_row(self.trial_points(new_xy), f, quads, owner, np.int64(self.n), *edges))
+            if not len(bad):
                 self.tucks += self.pending[0]
                 self.wedges += self.pending[1]
                 return new_xy, quads, front
@@ -390,8 +384,7 @@ class _Paver:
                 if a < self.n_fixed or b < self.n_fixed or (shared == b).any():
                     continue
                 at = 0.5 * (self.pts[a] + self.pts[b])
-                drop = {i, (i + 1) % k}
-                trial = np.array([v for j, v in enumerate(front.tolist()) if j not in drop], dtype=np.int64)
+                trial = np.delete(front, [i, (i + 1) % k])
                 trial = despike(np.where(trial == b, a, trial))
                 if (
                     consistent([trial] + others)
@@ -548,7 +541,7 @@ class _Paver:
             if joined is not None:
                 p = self.pts[joined]
                 perimeter = float(np.hypot(*(shift_next(p) - p).T).sum())
-                size = float(np.mean(self.field(p)))
+                size = float(np.mean(self.size_at(np.asarray(joined, dtype=np.int64))))
                 thin = signed_area(p) < THIN * perimeter * size
                 if (thin or len(joined) <= SPLIT_MAX) and self.close(joined, rest, rnd, limit=len(joined)):
                     continue
@@ -583,7 +576,7 @@ class _Paver:
         pts = [self.pts[f] for f in region]
         perimeter = sum(float(np.hypot(*(shift_next(p) - p).T).sum()) for p in pts)
         perimeter += 2.0 * (len(region) - 1) * float(np.hypot(*np.ptp(pts[0], axis=0)))
-        size = float(np.mean(self.field(np.concatenate(pts))))
+        size = float(np.mean(self.size_at(np.concatenate(region).astype(np.int64, copy=False))))
         return sum(signed_area(p) for p in pts) < THIN * perimeter * size
 
     # -- step 4: smoothing -----------------------------------------------------------------
