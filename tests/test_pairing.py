@@ -494,10 +494,13 @@ def test_walk_rounds_refill_only_the_flipped_rows(seed):
     walk = np.random.default_rng(seed)
     rounds = 0
     for _ in range(6):
-        flipped = _walk_left_overs(xy, tris, nbr, mate, walk, 0.5)
+        flipped = _walk_left_overs(tris, nbr, mate, raw, walk, 0.5)
         if not len(flipped):
             break
         pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
+        # The next walk reads its scores from the table: rescoring the flipped triangles
+        # must leave it equal to a table scored afresh.
+        assert np.array_equal(raw, pk.side_scores(xy, tris.ravel(), nbr.ravel()))
         fresh = mate.copy()
         got = pk.augment_changed(raw, nbr.ravel(), mate, 0.5, 4, shared, flipped)
         want = pk.augment(raw, nbr.ravel(), fresh, 0.5, 4, pk.augment_scratch(nt))

@@ -204,18 +204,17 @@ def _neighbours(tris: np.ndarray, bkey: np.ndarray, n: int) -> np.ndarray:
     return nbr.reshape(-1, 3)
 
 
-def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> np.ndarray:
+def _walk_left_overs(tris, nbr, mate, raw, rng, qmin) -> np.ndarray:
     """Move every unpaired triangle t one pair further: flip the diagonal between t and a
-    paired neighbour s (their union an allowed quad,
-    :func:`~meshwright.quad._pairing_kernel.pair_score`), pair the two new triangles and
-    free s's old partner; ``tris`` and ``nbr`` are updated in place.  Returns the
-    triangles flipped, (2 flips,) int64."""
+    paired neighbour s (their union an allowed quad: a raw score ``raw`` of at least
+    ``qmin`` >= 0, :func:`~meshwright.quad._pairing_kernel.side_scores`), pair the two new
+    triangles and free s's old partner; ``tris`` and ``nbr`` are updated in place, ``raw``
+    is not (the caller rescores the flipped triangles).  Returns the triangles flipped,
+    (2 flips,) int64."""
     flipped = []
     touched = set()
-    # Flat views for the kernel's score (the flips below write through them), and rows
-    # read as Python lists: a walk handles one triangle at a time, where NumPy's per-call
-    # overhead is most of the cost.
-    flat_t, flat_n = tris.ravel(), nbr.ravel()
+    # Rows read as Python lists: a walk handles one triangle at a time, where NumPy's
+    # per-call overhead is most of the cost.
     for t in np.flatnonzero(mate < 0).tolist():
         if t in touched:
             continue
@@ -226,7 +225,9 @@ def _walk_left_overs(xy, tris, nbr, mate, rng, qmin) -> np.ndarray:
             old = int(mate[s])
             if old < 0 or old in touched:
                 continue
-            if pk.pair_score(xy, flat_t, flat_n, t, k, qmin) < 0.0:
+            # Neither t nor s was flipped in this walk, and a flip changes no side's
+            # boundary status, so their side's raw score is still the table's.
+            if not raw[3 * t + k] >= qmin:
                 continue  # the union is not an allowed quad (not strictly convex, or flat at the boundary)
             rt, rs, ns = tris[t].tolist(), tris[s].tolist(), nbr[s].tolist()
             a, b, c = rt[k], rt[(k + 1) % 3], rt[(k + 2) % 3]
@@ -316,22 +317,29 @@ def _split_left_overs(xy, tris, mate):
     part, its second and third are appended at ``t + i`` and ``t + k + i``."""
     left = np.flatnonzero(mate < 0)
     t = tris[left].astype(np.int64)
-    g = len(xy) + np.arange(len(left))
-    centre = xy[t].mean(axis=1)
-    trial = np.vstack([xy, centre])
-    parts = [np.column_stack([t[:, k], t[:, (k + 1) % 3], g]) for k in range(3)]
-    ok = np.all([orient2d_batch(trial, p) > 0.0 for p in parts], axis=0)
+    m = len(left)
+    corners = xy[t]
+    centre = corners.mean(axis=1)
+    # The orientation tests read the left-overs' corners and centres only (local indices:
+    # corner j of left-over i at 3 i + j, its centre at 3 m + i), not a copy of every point.
+    trial = np.concatenate([corners.reshape(-1, 2), centre])
+    own = 3 * np.arange(m)
+    ok = np.ones(m, dtype=bool)
+    for k in range(3):
+        ok &= orient2d_batch(trial, np.column_stack([own + k, own + (k + 1) % 3, 3 * m + np.arange(m)])) > 0.0
     if not ok.any():
         return xy, tris, mate, np.zeros(0, dtype=np.int64)
     # Renumber the kept centres so the points stay contiguous.
-    keep_g = len(xy) + np.arange(int(ok.sum()))
-    parts = [np.column_stack([p[ok, 0], p[ok, 1], keep_g]) for p in parts]
+    kept = int(ok.sum())
+    g = len(xy) + np.arange(kept)
+    t = t[ok]
     xy = np.ascontiguousarray(np.vstack([xy, centre[ok]]))
-    tris = tris.copy()
-    tris[left[ok]] = parts[0]
-    tris = np.ascontiguousarray(np.vstack([tris, parts[1], parts[2]]).astype(np.int32))
-    mate = np.concatenate([mate, np.full(2 * int(ok.sum()), -1, dtype=np.int32)])
-    return xy, tris, mate, left[ok].astype(np.int64)
+    out = np.empty((len(tris) + 2 * kept, 3), dtype=np.int32)
+    out[: len(tris)] = tris
+    for k, rows in enumerate((left[ok], len(tris) + np.arange(kept), len(tris) + kept + np.arange(kept))):
+        out[rows] = np.column_stack([t[:, k], t[:, (k + 1) % 3], g])
+    mate = np.concatenate([mate, np.full(2 * kept, -1, dtype=np.int32)])
+    return xy, out, mate, left[ok].astype(np.int64)
 
 
 def pair_triangles(
@@ -456,7 +464,7 @@ def _pair_rounds(
     for _ in range(walks):
         if best == 0 or stale >= stale_walks:
             break
-        flipped = _walk_left_overs(xy, tris, nbr, mate, rng, max(float(bounds[-1]), 0.0))
+        flipped = _walk_left_overs(tris, nbr, mate, raw, rng, max(float(bounds[-1]), 0.0))
         if not len(flipped):
             break
         pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
