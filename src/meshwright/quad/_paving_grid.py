@@ -1,5 +1,6 @@
-"""A uniform grid of segments for the paving row check (:mod:`meshwright.quad.paving`,
-step 7): which of a row's new edges meet another segment.
+"""Uniform grids for the paving row check (:mod:`meshwright.quad.paving`, step 7): which
+of a row's new edges meet another segment (:func:`grid_crossings`), which of its quads
+hold a paving node (:func:`grid_nodes_in_quads`).
 
 :func:`~meshwright.quad._paving_kernel.row_crossings` sweeps the segments sorted along
 one axis: on a row around a ring (a disk's, an airfoil's), each query's window held about
@@ -9,7 +10,7 @@ overlaps, and a query visits the cells its own box overlaps: the same candidates
 can meet it (every segment whose box overlaps the query's), so the answer is the same.
 
 Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``,
-``sb``; queries likewise ``na``, ``nb``.
+``sb``; queries likewise ``na``, ``nb``; quads (q, 4) int64; node lists (r,) int64.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from numba import njit
 
 from meshwright.core.predicates import orient2d
 
-__all__ = ["grid_crossings", "orient_sign", "segments_meet"]
+__all__ = ["grid_crossings", "grid_nodes_in_quads", "orient_sign", "segments_meet"]
 
 GRID_CELLS = 16  # cells per segment at most (the cells double in side until they fit)
 LONG_CELLS = 64  # a segment whose box covers more cells than this is tested by every query instead
@@ -194,4 +195,106 @@ def grid_crossings(pts, na, nb, sa, sb):
                     break
             cj += 1
         bad[i] = hit
+    return bad
+
+
+@njit(cache=True)
+def grid_nodes_in_quads(pts, quads, nodes):
+    """(q,) bool: which quads (convex, counter-clockwise) hold one of ``nodes`` inside or
+    on their boundary, the node not being one of their corners (exact ``orient2d``).
+
+    The nodes are counted into a uniform grid of their box (cells as wide as the quads'
+    mean extent, doubled until there are at most four cells per node) and each quad
+    visits the cells its box overlaps: every node in its box, as the sorted sweep this
+    replaced found them, without that sweep's sort (half its time on a row's check).
+    """
+    m = nodes.shape[0]
+    nq = quads.shape[0]
+    bad = np.zeros(nq, dtype=np.bool_)
+    if m == 0 or nq == 0:
+        return bad
+    x0 = np.inf
+    x1 = -np.inf
+    y0 = np.inf
+    y1 = -np.inf
+    for j in range(m):
+        v = nodes[j]
+        x0 = min(x0, pts[v, 0])
+        x1 = max(x1, pts[v, 0])
+        y0 = min(y0, pts[v, 1])
+        y1 = max(y1, pts[v, 1])
+    reach = 0.0
+    for q in range(nq):
+        a0 = np.inf
+        a1 = -np.inf
+        b0 = np.inf
+        b1 = -np.inf
+        for k in range(4):
+            v = quads[q, k]
+            a0 = min(a0, pts[v, 0])
+            a1 = max(a1, pts[v, 0])
+            b0 = min(b0, pts[v, 1])
+            b1 = max(b1, pts[v, 1])
+        reach += max(a1 - a0, b1 - b0)
+    size = reach / nq
+    if not size > 0.0:
+        size = max(x1 - x0, y1 - y0, 1.0)
+    nx = int(min((x1 - x0) / size, float(m))) + 1
+    ny = int(min((y1 - y0) / size, float(m))) + 1
+    while nx * ny > 4 * m + 16:
+        size *= 2.0
+        nx = int(min((x1 - x0) / size, float(m))) + 1
+        ny = int(min((y1 - y0) / size, float(m))) + 1
+    start = np.zeros(nx * ny + 1, dtype=np.int64)
+    cell = np.empty(m, dtype=np.int64)
+    for j in range(m):
+        v = nodes[j]
+        c = _cell(pts[v, 1], y0, size, ny) * nx + _cell(pts[v, 0], x0, size, nx)
+        cell[j] = c
+        start[c + 1] += 1
+    for c in range(nx * ny):
+        start[c + 1] += start[c]
+    fill = start[:-1].copy()
+    items = np.empty(m, dtype=np.int64)
+    for j in range(m):
+        items[fill[cell[j]]] = nodes[j]
+        fill[cell[j]] += 1
+    for q in range(nq):
+        a0 = np.inf
+        a1 = -np.inf
+        b0 = np.inf
+        b1 = -np.inf
+        for k in range(4):
+            v = quads[q, k]
+            a0 = min(a0, pts[v, 0])
+            a1 = max(a1, pts[v, 0])
+            b0 = min(b0, pts[v, 1])
+            b1 = max(b1, pts[v, 1])
+        i0 = _cell(a0, x0, size, nx)
+        i1 = _cell(a1, x0, size, nx)
+        j0 = _cell(b0, y0, size, ny)
+        j1 = _cell(b1, y0, size, ny)
+        hit = False
+        for cj in range(j0, j1 + 1):
+            for ci in range(i0, i1 + 1):
+                c = cj * nx + ci
+                for s in range(start[c], start[c + 1]):
+                    v = items[s]
+                    if pts[v, 0] < a0 or pts[v, 0] > a1 or pts[v, 1] < b0 or pts[v, 1] > b1:
+                        continue
+                    if v == quads[q, 0] or v == quads[q, 1] or v == quads[q, 2] or v == quads[q, 3]:
+                        continue
+                    inside = True
+                    for e in range(4):
+                        if orient_sign(pts, quads[q, e], quads[q, (e + 1) % 4], v) < 0:
+                            inside = False
+                            break
+                    if inside:
+                        hit = True
+                        break
+                if hit:
+                    break
+            if hit:
+                break
+        bad[q] = hit
     return bad

@@ -24,11 +24,11 @@ from numba import njit
 
 from meshwright.core.flat import lower_bound
 from meshwright.core.predicates import orient2d
-from meshwright.quad._paving_grid import grid_crossings, orient_sign, segments_meet
+from meshwright.quad._paving_grid import grid_crossings, grid_nodes_in_quads, segments_meet
 from meshwright.sizing.background import interpolate_walk
 
 __all__ = [
-    "adjust_row", "check_row", "corner_min_sine", "facing_pairs", "nodes_in_quads", "row_crossings", "row_nodes",
+    "adjust_row", "check_row", "corner_min_sine", "facing_pairs", "row_crossings", "row_nodes",
     "serpentine_order", "sweep_axis", "walk_spacing",
 ]
 
@@ -161,50 +161,6 @@ def row_crossings(pts, na, nb, sa, sb):
 
 
 @njit(cache=True)
-def nodes_in_quads(pts, quads, nodes):
-    """(q,) bool: which quads (convex, counter-clockwise) hold one of ``nodes`` inside or
-    on their boundary, the node not being one of their corners."""
-    m = nodes.shape[0]
-    # Sorted along the longer side of the nodes' box (see row_crossings).
-    ax = sweep_axis(pts, nodes, nodes)
-    bx = 1 - ax
-    xs_all = np.empty(m)
-    for j in range(m):
-        xs_all[j] = pts[nodes[j], ax]
-    order = np.argsort(xs_all)
-    xs = xs_all[order]
-    bad = np.zeros(quads.shape[0], dtype=np.bool_)
-    for q in range(quads.shape[0]):
-        x0 = np.inf
-        x1 = -np.inf
-        y0 = np.inf
-        y1 = -np.inf
-        for k in range(4):
-            v = quads[q, k]
-            x0 = min(x0, pts[v, ax])
-            x1 = max(x1, pts[v, ax])
-            y0 = min(y0, pts[v, bx])
-            y1 = max(y1, pts[v, bx])
-        k = lower_bound(xs, np.int64(0), xs.shape[0], x0)
-        while k < m and xs[k] <= x1:
-            v = nodes[order[k]]
-            k += 1
-            if pts[v, bx] < y0 or pts[v, bx] > y1:
-                continue
-            if v == quads[q, 0] or v == quads[q, 1] or v == quads[q, 2] or v == quads[q, 3]:
-                continue
-            inside = True
-            for e in range(4):
-                if orient_sign(pts, quads[q, e], quads[q, (e + 1) % 4], v) < 0:
-                    inside = False
-                    break
-            if inside:
-                bad[q] = True
-                break
-    return bad
-
-
-@njit(cache=True)
 def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
     """Step 7 on a candidate row: which paving nodes its failing quads and edges trace to.
 
@@ -309,7 +265,7 @@ def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
             near[mn] = v
             mn += 1
     cross = grid_crossings(pts, na[:ne], nb[:ne], ea[: me + ne], eb[: me + ne])
-    inside = nodes_in_quads(pts, quads, near[:mn])
+    inside = grid_nodes_in_quads(pts, quads, near[:mn])
     # Culprit nodes: new ones flag the paving node they grew from, committed ones
     # themselves (a stamp over the committed nodes; f may hold a node twice).
     hit = np.zeros(big, dtype=np.bool_)
