@@ -585,23 +585,11 @@ class _Paver:
         sel = [q for q, r in zip(self.quads, self.quad_round) if r >= rnd - 3]
         if not sel:
             return
-        q = np.concatenate(sel)
-        # The few recent nodes, numbered locally in ascending order (the sweeps' order):
-        # marked in a byte table and read back, not sorted (np.unique's sort was ~10x
-        # slower per row; the table is one byte per node).
-        mark = np.zeros(self.n, dtype=bool)
-        mark[q.ravel()] = True
-        used = np.flatnonzero(mark)
-        lut = np.empty(self.n, dtype=np.int64)
-        lut[used] = np.arange(len(used))
-        local = lut[q]
-        ro = self.round_of[used]
-        free = (used >= self.n_fixed) & (ro >= rnd - 2) & (ro <= rnd - 1) & ~on_front[used]
-        if not free.any():
+        used, local, fixed = pr.recent_nodes(np.concatenate(sel), self.n, self.round_of, on_front, self.n_fixed, rnd)
+        if fixed.all():
             return
-        moved = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), ~free, ROW_SMOOTH, ROW_SETTLE)
-        self.pts[used] = moved
-        self.h[used[free]] = np.nan
+        self.pts[used] = smooth_cells(self.pts[used], local, np.zeros((0, 3), np.int64), fixed, ROW_SMOOTH, ROW_SETTLE)
+        self.h[used[~fixed]] = np.nan
 
 
 def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary: bool = False, seed=0,
