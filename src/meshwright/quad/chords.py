@@ -146,8 +146,11 @@ def _split(fill, domain: Domain, max_points: int, line_params):
     mid = 0.5 * (xy[uniq // n] + xy[uniq % n])
     lines = fill.lines.astype(np.int64)
     lkey = np.minimum(lines[:, 0], lines[:, 1]) * n + np.maximum(lines[:, 0], lines[:, 1])
-    lsplit = np.isin(lkey, uniq)
-    lmid = np.searchsorted(uniq, lkey[lsplit])
+    # uniq is sorted: one search finds both whether a line is split and its midpoint
+    # (np.isin sorted both arrays again, 0.6 ms of the disk's split).
+    pos = np.searchsorted(uniq, lkey)
+    lsplit = uniq[np.minimum(pos, len(uniq) - 1)] == lkey if len(uniq) else np.zeros(len(lkey), dtype=bool)
+    lmid = pos[lsplit]
     on_curve = fill.line_curves[lsplit] >= 0
     if on_curve.any():
         curves = fill.line_curves[lsplit][on_curve]
