@@ -477,6 +477,94 @@ def test_one_augment_scratch_serves_many_rounds(seed):
         assert shared[k].tolist() == rest[k].tolist()
 
 
+def _walk_by_dictionary(xy, tris, mate, rng, qmin):
+    """A walk written independently of the kernel: sides looked up in a dictionary of
+    directed edges, each pair's quad tested with Fractions (strictly convex, every corner
+    sine at least ``qmin``, no corner wider than 150 degrees between two boundary sides),
+    one ``rng.permutation(3)`` per walking triangle.  Returns (tris, mate, flipped)."""
+    tris, mate = [list(map(int, t)) for t in tris], mate.copy()
+
+    def twin(t, k):
+        u, w = tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]
+        for s, r in enumerate(tris):
+            for j in range(3):
+                if (r[(j + 1) % 3], r[(j + 2) % 3]) == (w, u):
+                    return s, j
+        return -1, -1
+
+    def cross(p, c, n):
+        p, c, n = ([Fraction(float(x)) for x in xy[v]] for v in (p, c, n))
+        return (n[0] - c[0]) * (p[1] - c[1]) - (n[1] - c[1]) * (p[0] - c[0])
+
+    def sine(p, c, n):
+        u, w = xy[n] - xy[c], xy[p] - xy[c]
+        return (u[0] * w[1] - u[1] * w[0]) / (math.hypot(*u) * math.hypot(*w))
+
+    def wide(p, c, n):
+        u, w = xy[n] - xy[c], xy[p] - xy[c]
+        return math.degrees(math.atan2(u[0] * w[1] - u[1] * w[0], u @ w)) > 150.0 or cross(p, c, n) <= 0
+
+    def allowed(t, k):
+        s, j = twin(t, k)
+        a, b, c = tris[t][k], tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]
+        d = tris[s][j]
+        quad = [a, b, d, c]
+        if any(cross(quad[i - 1], quad[i], quad[(i + 1) % 4]) <= 0 for i in range(4)):
+            return False
+        if min(sine(quad[i - 1], quad[i], quad[(i + 1) % 4]) for i in range(4)) < qmin:
+            return False
+        # Corner b between t's side a-b and s's side b-d, corner c between d-c and c-a.
+        if twin(t, (k + 2) % 3)[0] < 0 and twin(s, tris[s].index(c))[0] < 0 and wide(a, b, d):
+            return False
+        return not (twin(t, (k + 1) % 3)[0] < 0 and twin(s, tris[s].index(b))[0] < 0 and wide(d, c, a))
+
+    touched, flipped = set(), []
+    for t in np.flatnonzero(mate < 0).tolist():
+        if t in touched:
+            continue
+        for k in rng.permutation(3).tolist():
+            s, _ = twin(t, k)
+            if s < 0 or s in touched or mate[s] < 0 or mate[s] in touched or not allowed(t, k):
+                continue
+            old = int(mate[s])
+            a, b, c = tris[t][k], tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]
+            d = next(v for v in tris[s] if v not in (b, c))
+            tris[t], tris[s] = [a, b, d], [a, d, c]
+            mate[old], mate[t], mate[s] = -1, s, t
+            touched.update((t, s, old))
+            flipped += [t, s]
+            break
+    return np.array(tris, dtype=np.int32), mate, flipped
+
+
+@pytest.mark.parametrize("seed", [3, 81, 147, 208, 311])
+def test_walks_flip_as_a_walk_by_dictionary(seed):
+    """The compiled walk (orders drawn ahead, the generator set back to the rows used)
+    flips, pairs and frees as a walk over a dictionary of edges with exact convexity and
+    one permutation call per walking triangle, round after round, and leaves the
+    generator where those calls leave it."""
+    from meshwright.core.mesh import build_neighbors
+    from meshwright.quad.pairing import _walk_left_overs
+
+    rng, xy, tris, nbr, raw = _random_delaunay(seed, 40, 90)
+    mate = np.full(len(tris), -1, dtype=np.int32)
+    pk.greedy_pairs(raw, nbr.ravel(), mate, 0.5)
+    mine, theirs = np.random.default_rng(seed), np.random.default_rng(seed)
+    walked = 0
+    for _ in range(5):
+        want_tris, want_mate, want_flips = _walk_by_dictionary(xy, tris, mate, theirs, 0.3)
+        flipped = _walk_left_overs(tris, nbr, mate, raw, mine, 0.3)
+        assert flipped.tolist() == want_flips
+        assert tris.tolist() == want_tris.tolist() and mate.tolist() == want_mate.tolist()
+        assert nbr.tolist() == build_neighbors(tris).tolist()
+        assert mine.integers(1 << 30) == theirs.integers(1 << 30)
+        walked += len(flipped)
+        if not len(flipped):
+            break
+        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
+    assert walked > 0
+
+
 @pytest.mark.parametrize("seed", [3, 81, 147, 208])
 def test_walk_rounds_refill_only_the_flipped_rows(seed):
     """After walks (flips that pair two triangles and free a third), a chain round that

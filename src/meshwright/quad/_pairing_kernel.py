@@ -57,6 +57,7 @@ __all__ = [
     "score_of",
     "side_scores",
     "split_neighbours",
+    "walk_flips",
 ]
 
 
@@ -651,6 +652,98 @@ def nonconvex_quads(xy, quads):
             out[k] = i
             k += 1
     return out[:k].copy()
+
+
+@njit(cache=True)
+def walk_flips(tri, nbr, mate, raw, order, qmin):
+    """One walk of the unpaired triangles (:func:`meshwright.quad.pairing._walk_left_overs`),
+    in place on ``tri`` and ``nbr`` ((t, 3) int32, not flat: the caller's arrays, written
+    whatever their layout) and ``mate``.
+
+    Each unpaired triangle t, in index order, that no flip of this walk touched yet tries
+    its sides in the order of the next row of ``order`` (w, 3) int64 (one row per such
+    t, however it fares): across side k a paired neighbour s, untouched, whose side
+    score ``raw`` is at least ``qmin`` >= 0 (neither triangle was flipped in this walk and
+    a flip keeps every side's boundary status, so the table's score is still theirs).
+    The diagonal between t = (a, b, c) and s = (b, d, c) is flipped: t becomes (a, b, d),
+    s (a, d, c), they are paired and s's old partner freed.  Returns (the triangles
+    flipped, (2 flips,) int64; the rows of ``order`` used)."""
+    nt = mate.shape[0]
+    touched = np.zeros(nt, dtype=np.int8)
+    left = np.flatnonzero(mate < 0)
+    flipped = np.empty(2 * left.shape[0], dtype=np.int64)  # one flip at most per walking triangle
+    nf = 0
+    used = 0
+    for i in range(left.shape[0]):
+        t = left[i]
+        if touched[t] != 0:
+            continue
+        if used >= order.shape[0]:
+            break
+        row = used
+        used += 1
+        for r in range(3):
+            k = order[row, r]
+            s = nbr[t, k]
+            if s < 0 or touched[s] != 0:
+                continue
+            old = mate[s]
+            if old < 0 or touched[old] != 0:
+                continue
+            if not raw[3 * t + k] >= qmin:
+                continue  # the union is not an allowed quad (not strictly convex, or flat at the boundary)
+            k1 = (k + 1) % 3
+            k2 = (k + 2) % 3
+            a = tri[t, k]
+            b = tri[t, k1]
+            c = tri[t, k2]
+            # s's first side leading back to t, and the first places of b and c in s.
+            jt = 2 if nbr[s, 2] == t else 0
+            jt = 1 if nbr[s, 1] == t else jt
+            jt = 0 if nbr[s, 0] == t else jt
+            jb = 2 if tri[s, 2] == b else 0
+            jb = 1 if tri[s, 1] == b else jb
+            jb = 0 if tri[s, 0] == b else jb
+            jc = 2 if tri[s, 2] == c else 0
+            jc = 1 if tri[s, 1] == c else jc
+            jc = 0 if tri[s, 0] == c else jc
+            d = tri[s, jt]
+            n_ca = nbr[t, k1]
+            n_ab = nbr[t, k2]
+            n_bd = nbr[s, jc]
+            n_dc = nbr[s, jb]
+            tri[t, 0] = a
+            tri[t, 1] = b
+            tri[t, 2] = d
+            tri[s, 0] = a
+            tri[s, 1] = d
+            tri[s, 2] = c
+            # Only the two triangles and the back-pointers of two outer neighbours change.
+            nbr[t, 0] = n_bd
+            nbr[t, 1] = s
+            nbr[t, 2] = n_ab
+            nbr[s, 0] = n_dc
+            nbr[s, 1] = n_ca
+            nbr[s, 2] = t
+            if n_bd >= 0:
+                for j in range(3):
+                    if nbr[n_bd, j] == s:
+                        nbr[n_bd, j] = t
+            if n_ca >= 0:
+                for j in range(3):
+                    if nbr[n_ca, j] == t:
+                        nbr[n_ca, j] = s
+            mate[old] = -1
+            mate[t] = s
+            mate[s] = t
+            touched[t] = 1
+            touched[s] = 1
+            touched[old] = 1
+            flipped[nf] = t
+            flipped[nf + 1] = s
+            nf += 2
+            break
+    return flipped[:nf].copy(), used
 
 
 @njit(cache=True)
