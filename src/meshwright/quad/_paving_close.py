@@ -39,7 +39,6 @@ from __future__ import annotations
 import numpy as np
 
 from meshwright.core.errors import MeshingError
-from meshwright.core.predicates import orient2d_batch
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad import _paving_long as pl
 from meshwright.quad import _paving_polish as pp
@@ -133,12 +132,8 @@ def min_sine(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
 
 def convex(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
     """(q,) bool: strictly convex and counter-clockwise (exact orient2d at all corners)."""
-    q = np.asarray(quads, dtype=np.int64).reshape(-1, 4)
-    ok = np.ones(len(q), dtype=bool)
-    for k in range(4):
-        if len(q):
-            ok &= orient2d_batch(xy, np.ascontiguousarray(q[:, [k, (k + 1) % 4, (k + 2) % 4]])) > 0.0
-    return ok
+    q = np.ascontiguousarray(np.asarray(quads, dtype=np.int64).reshape(-1, 4))
+    return pk.convex_quads(np.ascontiguousarray(xy, dtype=np.float64), q)
 
 
 def edges_of(fronts) -> tuple[np.ndarray, np.ndarray]:

@@ -28,7 +28,7 @@ from meshwright.quad._paving_grid import grid_crossings, grid_nodes_in_quads, se
 from meshwright.sizing.background import interpolate_walk
 
 __all__ = [
-    "adjust_row", "check_row", "corner_min_sine", "facing_pairs", "row_crossings", "row_nodes",
+    "adjust_row", "check_row", "convex_quads", "corner_min_sine", "facing_pairs", "row_crossings", "row_nodes",
     "serpentine_order", "sweep_axis", "walk_spacing",
 ]
 
@@ -359,6 +359,22 @@ def corner_min_sine(p, a, b, c, d):
         s = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
         worst = min(worst, s)
     return worst
+
+
+@njit(cache=True)
+def convex_quads(pts, q):
+    """(q,) bool: which quads (q, 4) int64 are strictly convex and counter-clockwise
+    (exact ``orient2d`` > 0 at every corner; in one call, not four gathered batches)."""
+    out = np.ones(q.shape[0], dtype=np.bool_)
+    for c in range(q.shape[0]):
+        for k in range(4):
+            a = q[c, k]
+            b = q[c, (k + 1) % 4]
+            d = q[c, (k + 2) % 4]
+            if not orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[d, 0], pts[d, 1]) > 0.0:
+                out[c] = False
+                break
+    return out
 
 
 @njit(cache=True)
