@@ -17,11 +17,42 @@ from meshwright.quad._paving_kernel import corner_min_sine
 
 __all__ = ["polish_nodes", "polish_rounds", "vertex_cells"]
 
+WIDE = 1.0 + 1e-9  # relative margin of _below's test without the sine's own rounding
+
 
 @njit
 def _quad_min_sine(p, q, c):
     """Smallest corner sine of quad c (:func:`corner_min_sine`)."""
     return corner_min_sine(p, q[c, 0], q[c, 1], q[c, 2], q[c, 3])
+
+
+@njit
+def _below(p, q, c, floor):
+    """Whether quad c's smallest corner sine (:func:`_quad_min_sine`) is below ``floor``.
+    A corner whose cross product ``cr`` and squared sides ``ll`` (their product) give
+    ``cr^2 >= floor^2 ll`` with a relative margin of :data:`WIDE` has a sine above
+    ``floor`` whatever the rounding of the sine's own hypot and division (errors of a
+    few 1e-16); only a quad with a corner not clearly above is computed (most quads
+    are clearly above, and the hypot of every corner was most of the setup)."""
+    if floor > 0.0:
+        f2 = floor * floor * WIDE
+        clear = True
+        for k in range(4):
+            u = q[c, (k + 3) % 4]
+            w = q[c, k]
+            z = q[c, (k + 1) % 4]
+            ux = p[z, 0] - p[w, 0]
+            uy = p[z, 1] - p[w, 1]
+            wx = p[u, 0] - p[w, 0]
+            wy = p[u, 1] - p[w, 1]
+            cr = ux * wy - uy * wx
+            ll = (ux * ux + uy * uy) * (wx * wx + wy * wy)
+            if not (cr > 0.0 and 1e-200 < ll < 1e200 and cr * cr >= f2 * ll):
+                clear = False
+                break
+        if clear:
+            return False
+    return _quad_min_sine(p, q, c) < floor
 
 
 @njit
@@ -207,14 +238,14 @@ def vertex_cells(q, n):
 def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
     """The passes of :func:`meshwright.quad._paving_close.polish` in place: in each, the
     free nodes of the quads whose smallest corner sine is below ``floor``, in ascending
-    order, get one :func:`polish_nodes` visit; the smallest sines are kept per quad and
-    recomputed around the nodes that moved.  Stops after ``rounds`` passes or one that
+    order, get one :func:`polish_nodes` visit; which quads are below is kept per quad
+    (:func:`_below`) and decided again around the nodes that moved.  Stops after ``rounds`` passes or one that
     moves nothing."""
     nq = q.shape[0]
     n = p.shape[0]
-    worst = np.empty(nq)
+    low = np.empty(nq, dtype=np.bool_)
     for c in range(nq):
-        worst[c] = _quad_min_sine(p, q, c)
+        low[c] = _below(p, q, c, floor)
     mark = np.zeros(n, dtype=np.bool_)
     settled = np.zeros(n, dtype=np.bool_)
     nodes = np.empty(n, dtype=np.int64)
@@ -226,7 +257,7 @@ def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
     g = np.empty((3 * most, 5))
     for _ in range(rounds):
         for c in range(nq):
-            if worst[c] < floor:
+            if low[c]:
                 for k in range(4):
                     mark[q[c, k]] = True
         m = 0
@@ -247,5 +278,5 @@ def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
             if p[v, 0] != before[i, 0] or p[v, 1] != before[i, 1]:
                 for t in range(cell_ptr[v], cell_ptr[v + 1]):
                     c = cell_idx[t]
-                    worst[c] = _quad_min_sine(p, q, c)
+                    low[c] = _below(p, q, c, floor)
     return p
