@@ -1034,3 +1034,22 @@ def test_pairing_keeps_the_seam_node_of_a_closed_parametric_curve():
     mesh = quadrangulate(dom, 0.1, method="pairing")
     p = mesh.points
     assert np.min(np.hypot(p[:, 0] - 1.0, p[:, 1])) <= 1e-15
+
+
+@pytest.mark.parametrize("seed", [0, 5, 9])
+def test_compact_nodes_keep_used_nodes_in_order(seed):
+    """Unused nodes are dropped, the kept ones keep their order and coordinates, and every
+    block is renumbered to the same points (oracle: np.unique over the blocks)."""
+    rng = np.random.default_rng(seed)
+    n = 50
+    xy = rng.random((n, 2))
+    quads = rng.integers(0, n, (12, 4)).astype(np.int32)
+    tris = rng.integers(0, n, (3 * (seed % 2), 3)).astype(np.int32)
+    lines = rng.integers(0, n, (5, 2)).astype(np.int32)
+    pts, q, t, ln, remap = pk.compact_nodes(xy, quads, tris.reshape(-1, 3), lines)
+    used = np.unique(np.concatenate([quads.ravel(), tris.ravel(), lines.ravel()]))
+    assert len(used) < n  # some node is dropped
+    assert np.array_equal(pts, xy[used])
+    for new, old in ((q, quads), (t, tris.reshape(-1, 3)), (ln, lines)):
+        assert new.dtype == np.int32 and np.array_equal(pts[new], xy[old])
+    assert remap.tolist() == [int(np.searchsorted(used, v)) if v in used else -1 for v in range(n)]

@@ -43,6 +43,7 @@ __all__ = [
     "augment",
     "augment_changed",
     "augment_scratch",
+    "compact_nodes",
     "corner_flat",
     "corner_ok",
     "dual_neighbours",
@@ -744,6 +745,47 @@ def walk_flips(tri, nbr, mate, raw, order, qmin):
             nf += 2
             break
     return flipped[:nf].copy(), used
+
+
+@njit(cache=True)
+def compact_nodes(xy, quads, tris, lines):
+    """Drop the nodes of ``xy`` (n, 2) that no quad (q, 4), triangle (t, 3) or line
+    (k, 2) uses, keeping the others' order.  Returns (points, quads, triangles, lines
+    renumbered (int32), old -> new map (n,) int32 with -1 for a dropped node)."""
+    n = xy.shape[0]
+    remap = np.full(n, -1, dtype=np.int32)
+    for i in range(quads.shape[0]):
+        for k in range(4):
+            remap[quads[i, k]] = 0
+    for i in range(tris.shape[0]):
+        for k in range(3):
+            remap[tris[i, k]] = 0
+    for i in range(lines.shape[0]):
+        for k in range(2):
+            remap[lines[i, k]] = 0
+    m = 0
+    for v in range(n):
+        if remap[v] == 0:
+            remap[v] = m
+            m += 1
+    pts = np.empty((m, 2), dtype=np.float64)
+    for v in range(n):
+        if remap[v] >= 0:
+            pts[remap[v], 0] = xy[v, 0]
+            pts[remap[v], 1] = xy[v, 1]
+    q = np.empty((quads.shape[0], 4), dtype=np.int32)
+    for i in range(quads.shape[0]):
+        for k in range(4):
+            q[i, k] = remap[quads[i, k]]
+    t = np.empty((tris.shape[0], 3), dtype=np.int32)
+    for i in range(tris.shape[0]):
+        for k in range(3):
+            t[i, k] = remap[tris[i, k]]
+    ln = np.empty((lines.shape[0], 2), dtype=np.int32)
+    for i in range(lines.shape[0]):
+        for k in range(2):
+            ln[i, k] = remap[lines[i, k]]
+    return pts, q, t, ln, remap
 
 
 @njit(cache=True)
