@@ -167,14 +167,24 @@ DEFAULT_G = {"front": 1.1, "frontal-delaunay": 1.1, "weatherill": 1.2, "delaunay
 
 @pytest.mark.parametrize("method", sorted(DEFAULT_G))
 def test_default_grading_per_method(method):
-    """``grading="auto"`` is 1.1 for the relaxing methods, 1.2 for Weatherill, none for
-    Delaunay refinement: the default mesh is the one made with that grading given."""
+    """``grading="auto"`` is 1.1 for the relaxing methods where they relax, 1.2 for
+    Weatherill and for a mesh not relaxed (``relax=False``, a region's area bound), none
+    for Delaunay refinement: the default mesh is the one made with that grading given."""
     assert set(DEFAULT_G) == set(mw.MESH_METHODS)
+
+    def same(a, b):
+        np.testing.assert_array_equal(a.points, b.points)
+        np.testing.assert_array_equal(a.cells["triangle"], b.cells["triangle"])
+
     dom, size = slit()
-    auto = mw.triangulate(dom, size, method=method)
-    given = mw.triangulate(dom, size, method=method, grading=DEFAULT_G[method])
-    np.testing.assert_array_equal(auto.points, given.points)
-    np.testing.assert_array_equal(auto.cells["triangle"], given.cells["triangle"])
+    same(mw.triangulate(dom, size, method=method), mw.triangulate(dom, size, method=method, grading=DEFAULT_G[method]))
+    if method in METHODS:
+        same(mw.triangulate(dom, size, method=method, relax=False),
+             mw.triangulate(dom, size, method=method, relax=False, grading=1.2))
+        bounded = polygon(SQUARE, [ring((0.5, 0.5), 0.1, 0.016)], regions=[(0.2, 0.2, 1, 0.01)])
+        same(mw.triangulate(bounded, 0.08, method=method), mw.triangulate(bounded, 0.08, method=method, grading=1.2))
+        assert len(mw.triangulate(bounded, 0.08, method=method, grading=1.1).cells["triangle"]) != \
+            len(mw.triangulate(bounded, 0.08, method=method).cells["triangle"])
 
 
 @pytest.mark.parametrize("method", METHODS)

@@ -30,9 +30,9 @@ boundary as the domain discretises it, Weatherill's ``dP`` from it (18.1.3), and
 ``frontal-delaunay`` and ``front`` the chapter's background, the triangulated boundary
 nodes with their point distribution function (18.3).
 
-Grading from the boundary (``grading=g``, default the registry entry's ``grading``:
-:data:`DEFAULT_GRADING` = 1.2, :data:`RELAXED_GRADING` = 1.1 for ``front`` and
-``frontal-delaunay``, none for ``delaunay``, whose refinement grades by itself): where the
+Grading from the boundary (``grading=g``, default :data:`DEFAULT_GRADING` = 1.2;
+:data:`RELAXED_GRADING` = 1.1 where ``front`` and ``frontal-delaunay`` relax their mesh;
+none for ``delaunay``, whose refinement grades by itself): where the
 discretised boundary is finer than the size (polygon vertices given closer, curves split
 for their turning, a fine wall), every method follows ``h(x) = min(size(x), min_i (dP_i +
 (g - 1) |x - x_i|))`` over the boundary points ``x_i`` with their spacing ``dP_i``
@@ -107,9 +107,10 @@ BOUNDARY_SIZE = "boundary"  # the named size: the chapter's spacing from the bou
 TURN_PER_ELEMENT = math.pi / 16  # radians a curve turns along one element of the default size
 _AREA_SOURCES = 2_000_000  # most sources the default size spreads over area-bounded regions
 DEFAULT_GRADING = DEFAULT_GROWTH  # g of the grading from the boundary: |grad h| <= g - 1, as the default size's
-# The relaxing methods' g (their registry entries): frontal points keep their shape only as
-# well as the size varies across a triangle.  benchmarks/grading2d.py's four domains, mean
-# radius ratio relaxed at g = 1.2 -> 1.1, front / frontal-delaunay: holes30 0.9635 -> 0.9758 /
+# The relaxing methods' g where they relax (their registry entries, _auto_grading): frontal
+# points keep their shape only as well as the size varies across a triangle.
+# benchmarks/grading2d.py's four domains, mean radius ratio relaxed at g = 1.2 -> 1.1,
+# front / frontal-delaunay: holes30 0.9635 -> 0.9758 /
 # 0.9712 -> 0.9778 (Gmsh Frontal-Delaunay 0.9750), slit 0.9744 -> 0.9789 / 0.9686 -> 0.9794
 # (0.9729), radii and naca up 0.009-0.012 (already above Gmsh's), for 1.4-2.5x the triangles
 # (Gmsh's count or fewer, but 2.1x Gmsh's on the naca's wide far field).  Relaxation cannot
@@ -121,10 +122,10 @@ RELAXED_GRADING = 1.1
 # rounding segment counts leaves spacings down to 2/3 of it on pieces 1.5 sizes long, which
 # must not change a boundary that already follows the size.
 FINER = 0.6
-# grading's default: the registry entry's ``grading`` (DEFAULT_GRADING, or RELAXED_GRADING for
-# the relaxing methods) for the methods that place points by a size, none for a method that
-# grades itself (Delaunay refinement follows the local feature size by its own
-# splits; a graded field only adds 1.5-3.5x the triangles there and a Python size callback).
+# grading's default (_auto_grading): DEFAULT_GRADING, or the registry entry's where the mesh is
+# relaxed, for the methods that place points by a size, none for a method that grades itself
+# (Delaunay refinement follows the local feature size by its own splits; a graded field only
+# adds 1.5-3.5x the triangles there and a Python size callback).
 GRADING_AUTO = "auto"
 
 
@@ -173,9 +174,10 @@ class MeshMethod(NamedTuple):
         Whether :func:`triangulate` relaxes the method's mesh by default
         (:mod:`meshwright.tri.relax`: where no bound is asked for and the size is isotropic).
     grading : float
-        Growth factor ``g`` of the grading from the boundary under ``grading="auto"``
-        (:data:`DEFAULT_GRADING`; :data:`RELAXED_GRADING` for the relaxing methods, whose
-        mean shape follows how fast the size grows); unused when ``grades_itself``.
+        Growth factor ``g`` of the grading from the boundary under ``grading="auto"`` where
+        the mesh is relaxed (:data:`DEFAULT_GRADING`; :data:`RELAXED_GRADING` for the
+        relaxing methods, whose mean shape follows how fast the size grows); a mesh not
+        relaxed grades at :data:`DEFAULT_GRADING`, and one that ``grades_itself`` not at all.
     """
 
     name: str
@@ -492,6 +494,20 @@ def _grading(grading) -> float | str | None:
     return float(grading)
 
 
+def _auto_grading(m: MeshMethod, relax: bool | None, dom: Domain) -> float | None:
+    """``grading="auto"``: None for a method that grades itself; the registry entry's
+    ``grading`` where the method's mesh is relaxed (``relax`` from :func:`relax_flag` not
+    False and no region with an area bound: the default without bounds); else
+    :data:`DEFAULT_GRADING`, since where a bound sets the spacing the mesh stays as the
+    bound made it (on la.poly's regional bounds, ``size="boundary"``, the front's closing
+    triangles reach 2.15x their bound at g = 1.1 against 1.98x at 1.2)."""
+    if m.grades_itself:
+        return None
+    if relax is False or any(r[3] is not None and r[3] > 0 for r in dom.regions):
+        return DEFAULT_GRADING
+    return m.grading
+
+
 def _is_stretched(field) -> bool:
     """Whether ``field`` is a 2-D background grid with stretching somewhere."""
     return isinstance(field, BackgroundGrid) and field.dim == 2 and bool(np.any(field.stretch != 1.0))
@@ -651,9 +667,10 @@ def triangulate(
         only when that loop is convex (its own hull).
     grading : float, None or "auto"
         Growth factor ``g >= 1`` of the size away from the boundary.  ``"auto"`` (the
-        default): the method's registry entry's ``grading``, :data:`DEFAULT_GRADING` = 1.2
-        (``"weatherill"``) or :data:`RELAXED_GRADING` = 1.1 (``"front"``,
-        ``"frontal-delaunay"``: gentler, for their mean shape), except for a method whose
+        default): :data:`DEFAULT_GRADING` = 1.2, or the method's registry entry's
+        ``grading`` where its mesh is relaxed (:data:`RELAXED_GRADING` = 1.1 for
+        ``"front"`` and ``"frontal-delaunay"`` without ``relax=False`` or a bound:
+        gentler, for their mean shape), except for a method whose
         registry entry ``grades_itself`` (``"delaunay"``), which follows a given size as
         given since its refinement grades from the boundary by itself (the default size's
         growth stays 1.2 for every method).  Where the boundary is finer than ``size``, the
@@ -720,9 +737,9 @@ def triangulate(
     relax = relax_flag(relax, m, angle, max_area, conforming)
     grading = _grading(grading)
     growth = DEFAULT_GRADING if grading == GRADING_AUTO else grading
-    if grading == GRADING_AUTO:
-        grading = None if m.grades_itself else m.grading
     dom, field = _domain_and_field(domain, size, convex_hull, max_area, m.grades_itself, growth=growth)
+    if grading == GRADING_AUTO:
+        grading = _auto_grading(m, relax, dom)
     _check_work(dom, field, max_area, cap)
     disc = dom.discretize(field)
     graded = _graded(field, disc, grading, not (size is None and dom.size is None))
