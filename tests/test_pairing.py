@@ -471,7 +471,9 @@ def test_one_augment_scratch_serves_many_rounds(seed):
     # Each row's pred, base and flags, and head, tail, link are back at rest (marks keep
     # old stamps; sides, partners and visit positions are written before they are read).
     rest = pk.augment_scratch(nt)
-    cols = [pk._PRED, pk._BASE, pk._FLAG]
+    from meshwright.quad import _pairing_match as pm
+
+    cols = [pm._PRED, pm._BASE, pm._FLAG]
     assert shared[0][:, cols].tolist() == rest[0][:, cols].tolist()
     for k in (5, 6, 7):
         assert shared[k].tolist() == rest[k].tolist()
