@@ -187,6 +187,70 @@ def test_default_grading_per_method(method):
             len(mw.triangulate(bounded, 0.08, method=method).cells["triangle"])
 
 
+def gmsh_frontal_delaunay(points, segments, size):
+    """Gmsh's Frontal-Delaunay (algorithm 6, sizes extended from the boundary, its default)
+    on the given boundary, every point at ``size``: (points (n, 2), triangles (m, 3))."""
+    gmsh = pytest.importorskip("gmsh")
+    nbrs = {}
+    for a, b in segments.tolist():
+        nbrs.setdefault(a, []).append(b)
+        nbrs.setdefault(b, []).append(a)
+    loops, seen = [], set()
+    for start in nbrs:
+        if start in seen:
+            continue
+        loop, prev, v = [start], None, start
+        while True:
+            seen.add(v)
+            nxt = nbrs[v][0] if nbrs[v][0] != prev else nbrs[v][1]
+            if nxt == start:
+                break
+            loop.append(nxt)
+            prev, v = v, nxt
+        loops.append(loop)
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NumThreads", 1)
+        gmsh.option.setNumber("Mesh.Algorithm", 6)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.model.add("gmsh oracle")
+        tag = {v: gmsh.model.geo.addPoint(*points[v], 0.0, size) for v in nbrs}
+        curves = []
+        for loop in loops:
+            lines = [gmsh.model.geo.addLine(tag[a], tag[b]) for a, b in zip(loop, loop[1:] + loop[:1])]
+            curves.append(gmsh.model.geo.addCurveLoop(lines))
+        outer = int(np.argmax([np.ptp(points[loop], axis=0).prod() for loop in loops]))
+        gmsh.model.geo.addPlaneSurface([curves[outer]] + [c for i, c in enumerate(curves) if i != outer])
+        gmsh.model.geo.synchronize()
+        gmsh.model.mesh.generate(2)
+        node_tags, xyz, _ = gmsh.model.mesh.getNodes()
+        _, elem_nodes = gmsh.model.mesh.getElementsByType(2)
+        order = np.empty(int(node_tags.max()) + 1, dtype=np.int64)
+        order[node_tags.astype(np.int64)] = np.arange(len(node_tags))
+        return xyz.reshape(-1, 3)[:, :2], order[elem_nodes.astype(np.int64)].reshape(-1, 3)
+    finally:
+        gmsh.finalize()
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("name", ["radii", "wall", pytest.param("slit", marks=pytest.mark.xfail(
+    strict=True, reason="measured 0.9759 (front) / 0.9761 against Gmsh's 0.9789: on this small square, 12 sizes "
+    "across, Gmsh's sizes interpolated from the slit keep the whole inside near 0.4 size (2,485 triangles against "
+    "1,555 / 1,501); benchmarks/grading2d.py's wider slit reaches Gmsh's mean (0.9789 / 0.9794 against 0.9729)"))])
+def test_mean_shape_at_least_gmsh(name, method):
+    """Issue 13's target: mean 2r/R at least Gmsh Frontal-Delaunay's on the same boundary
+    and size (measured: radii 0.9814 / 0.9798 against 0.9750, wall 0.9824 / 0.9798 against
+    0.9665, front / frontal-delaunay)."""
+    dom, size = DOMAINS[name]()
+    disc = dom.discretize(size)
+    gp, gt = gmsh_frontal_delaunay(disc.points, disc.segments, size)
+    mesh = mw.triangulate(dom, size, method=method)
+    ours = radius_ratio(mesh.points, mesh.cells["triangle"]).mean()
+    theirs = radius_ratio(gp, gt).mean()
+    assert ours >= theirs, (ours, theirs, len(mesh.cells["triangle"]), len(gt))
+
+
 @pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("name", sorted(DOMAINS))
 def test_gentler_default_grading_raises_the_mean_shape(name, method):
