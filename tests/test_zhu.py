@@ -15,11 +15,12 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from meshwright.core.errors import InputError
+from meshwright.core.errors import InputError, MeshingError
 from meshwright.geometry import airfoil_in_farfield, circle, circles, naca_loop, polygon
 from meshwright.quad import QUAD_METHODS, quadrangulate
 from meshwright.quad.pairing import _open_ears, pair_domain
 from meshwright.quad.parity import ParityError, make_loops_even
+from meshwright.quad import _zhu_kernel as zk
 from meshwright.quad.zhu import PairFront, two_colour, zhu_front
 from meshwright.sizing import gradation
 from meshwright.sizing.field import as_size_field
@@ -190,6 +191,19 @@ def test_every_sub_front_stays_even_after_each_quad_and_both_figure_cases_occur(
         pytest.fail("the pair front did not finish in 2000 pairs")
     assert code == fk.R_DONE
     assert new_node and split
+
+
+def test_scratch_smaller_than_the_faces_is_refused_not_outgrown():
+    """The kernel's search never replaces its scratch (its arrays stay the caller's): scratch
+    without room for every face is an error before any pair is made."""
+    dom = circles(centers=[(0.5, 0.5)], radii=[0.2], box=(0, 0, 1, 1))
+    ct, field = _classified(dom, 0.12)
+    pf = PairFront(ct, field)
+    fs = pf.fr.fs
+    pf.scratch = zk.new_scratch(fs.qmeta[zk.Q_DEPTH], len(fs.face) - 1)
+    with pytest.raises(MeshingError, match="scratch"):
+        pf.run()
+    assert int(fs.meta[fk.M_NT]) == 0
 
 
 def test_pairs_tile_the_domain_exactly():

@@ -63,6 +63,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.borrowed import borrowed
+from meshwright.core.errors import MeshingError
 from meshwright.core.spatial.cell_quadtree import Q_DEPTH, Q_NODES, Q_ROOM, STACK_PER_LEVEL
 from meshwright.quad._pairing_kernel import corner_flat
 from meshwright.tri._front_kernel import (
@@ -106,13 +107,12 @@ from meshwright.tri._front_kernel import (
     pop_ready,
 )
 
-__all__ = ["FAR", "FLAT", "LEFT", "R_PAUSE", "SCRATCH", "colour_nodes", "new_scratch", "zhu_advance"]
+__all__ = ["FAR", "FLAT", "LEFT", "R_PAUSE", "colour_nodes", "new_scratch", "zhu_advance"]
 
 LEFT = -1  # F_TRIES of a face the pair front left to the triangle front
 FAR = 2.5  # no apex farther than FAR rho (metric) from a base end
 FLAT = 1e-6  # no existing apex whose triangle's quality (metric) is below this: flat to round-off
 R_PAUSE = 6  # the triangle count reached the caller's max_tris (R_* codes of the front kernel otherwise)
-SCRATCH = 256  # initial room of the candidate search's scratch arrays
 
 
 @njit(cache=True)
@@ -343,9 +343,20 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
     while True:
         if fresh:
             fresh = False
-            gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1, items, nodes, cand, ckey = _gather(
+            gni, gnn, gnc, gclose, gok, grho, g11, g21, g22, gu0, gu1, gitems, gnodes, gcand, gckey = _gather(
                 ga, gb, gf, gp, gshape, last, False, fs, par, col, gwant, items, nodes, cand, ckey, stack, fstack
             )
+            # _gather hands back its scratch arrays unless it outgrew one (then a larger one
+            # of its own).  new_scratch leaves room for every face, so that never happens,
+            # and the search keeps the caller's borrowed arrays: loop-carried arrays that
+            # might be the kernel's own cost reference-count calls on every trial (issue 12).
+            if (
+                gitems.shape[0] != items.shape[0]
+                or gnodes.shape[0] != nodes.shape[0]
+                or gcand.shape[0] != cand.shape[0]
+                or gckey.shape[0] != ckey.shape[0]
+            ):
+                raise MeshingError("pair front: a candidate search outgrew its scratch arrays")
             if lvl == 0:
                 px = pts[p, 0]
                 py = pts[p, 1]
@@ -448,25 +459,30 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
     return ok, items, nodes, cand, ckey, items2, nodes2, cand2, ckey2
 
 
-def new_scratch(depth, size=SCRATCH):
+def new_scratch(depth, faces):
     """The kernel's scratch arrays, made by the caller (see :func:`zhu_advance`).
 
     Parameters
     ----------
     depth : int
         The front's quadtree depth (``fs.qmeta[Q_DEPTH]``).
-    size : int
-        Room for query items, nodes and candidates.
+    faces : int
+        The front's face capacity (``len(fs.face)``; make new scratch when it grows).  A
+        query returns each live item once, so at most ``faces`` items and twice as many
+        nodes and candidates: the search never outgrows these arrays (``np.empty``: pages
+        no search reaches are never touched).
 
     Returns
     -------
     tuple
-        ``(items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack)``: four
-        (size,) int32 / int32 / int32 / float64 arrays for each triangle of a pair, the
-        quadtree query's stacks (s,) int64 and (s, 3) float64, s = STACK_PER_LEVEL (depth + 2).
+        ``(items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack)``: for
+        each triangle of a pair (faces,) int32 items and (2 faces,) int32 / int32 / float64
+        nodes, candidates and keys; the quadtree query's stacks (s,) int64 and (s, 3)
+        float64, s = STACK_PER_LEVEL (depth + 2).
     """
     s = STACK_PER_LEVEL * (int(depth) + 2)
-    per_triangle = [(np.empty(size, np.int32), np.empty(size, np.int32), np.empty(size, np.int32), np.empty(size))
+    n = 2 * int(faces)
+    per_triangle = [(np.empty(n // 2, np.int32), np.empty(n, np.int32), np.empty(n, np.int32), np.empty(n))
                     for _ in range(2)]
     return (*per_triangle[0], *per_triangle[1], np.empty(s, np.int64), np.empty((s, 3)))
 
@@ -480,25 +496,28 @@ def zhu_advance(fs, par, col, tpair, max_tris, scratch):
     ``col`` (pcap,) int8 and ``tpair`` (tcap,) int8 as in the module docstring, at least
     as long as ``fs.pts`` and ``fs.tri``; ``max_tris``: pause before the triangle count
     would pass it (a caller stepping pair by pair); ``scratch``: :func:`new_scratch`'s
-    tuple, which the caller keeps.  The scratch is the caller's, not allocated here: a
-    kernel's own arrays carry a reference count, and every inlined helper they are handed
-    to pays an increment and a decrement per array and call (``core.borrowed``); an array
-    a query outgrows is replaced by a larger one of the kernel's for the rest of the call.
+    tuple, which the caller keeps (sized for ``fs``'s faces).  The scratch is the caller's,
+    not allocated here: a kernel's own arrays carry a reference count, and every inlined
+    helper they are handed to pays an increment and a decrement per array and call
+    (``core.borrowed``).
     """
     fs, par, col, tpair, scratch = borrowed(fs), borrowed(par), borrowed(col), borrowed(tpair), borrowed(scratch)
     pts, face, falive, qmeta, qhead, hkey = fs.pts, fs.face, fs.falive, fs.qmeta, fs.qhead, fs.hkey
     hface, wkey, wface, tri, meta = fs.hface, fs.wkey, fs.wface, fs.tri, fs.meta
+    items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack = scratch
+    depth = qmeta[Q_DEPTH]
+    node_room = qmeta[Q_ROOM]
+    if (
+        stack.shape[0] < STACK_PER_LEVEL * (depth + 2)
+        or fstack.shape[0] < STACK_PER_LEVEL * (depth + 2)
+        or items.shape[0] < face.shape[0]
+    ):
+        raise MeshingError("pair front: scratch arrays smaller than new_scratch makes them")
     for i in range(meta[M_NW]):
         if falive[wface[i]]:
             heap_push(hkey, hface, meta, wkey[i], wface[i])
     meta[M_NW] = 0
     wmin = np.inf
-    items, nodes, cand, ckey, items2, nodes2, cand2, ckey2, stack, fstack = scratch
-    depth = qmeta[Q_DEPTH]
-    node_room = qmeta[Q_ROOM]
-    if stack.shape[0] < STACK_PER_LEVEL * (depth + 2) or fstack.shape[0] < STACK_PER_LEVEL * (depth + 2):
-        stack = np.empty(STACK_PER_LEVEL * (depth + 2), dtype=np.int64)
-        fstack = np.empty((STACK_PER_LEVEL * (depth + 2), 3))
     sync_every = int(par[P_SYNC_EVERY])
     max_defer = int(par[P_MAX_DEFER])
     # One return: each return statement exits through its own copy of the IR's variable

@@ -201,8 +201,8 @@ class PairFront:
         self.coloured = self.pairing = col0 is not None
         self.stuck = 0
         self.nt_pairs = 0
-        # The kernel's scratch, kept across its calls (it replaces what it outgrows).
-        self.scratch = zk.new_scratch(self.fr.fs.qmeta[zk.Q_DEPTH])
+        # The kernel's scratch, kept across its calls (made anew when the faces grow).
+        self.scratch = zk.new_scratch(self.fr.fs.qmeta[zk.Q_DEPTH], len(self.fr.fs.face))
         if self.pairing:
             self.col[: len(pts0)] = col0
             _loop_order(self.fr.fs, faces)
@@ -223,6 +223,8 @@ class PairFront:
                 self.fr.room()
                 self.col = _grow(self.col, len(self.fr.fs.pts), -1)
                 self.tpair = _grow(self.tpair, len(self.fr.fs.tri), 0)
+                if len(self.scratch[0]) < len(self.fr.fs.face):
+                    self.scratch = zk.new_scratch(self.fr.fs.qmeta[zk.Q_DEPTH], len(self.fr.fs.face))
             elif code == fk.R_SYNC:
                 lo_i, hi_i = int(m[fk.M_SYNC]), int(m[fk.M_NP])
                 fs.met[lo_i:hi_i] = tf.metric_at(self.field, fs.pts[lo_i:hi_i])
