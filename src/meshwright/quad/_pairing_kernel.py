@@ -260,7 +260,7 @@ def rescore(raw, xy, tri, nbr, changed):
 @njit(cache=True)
 def split_neighbours(nbr, split, nt):
     """Neighbours after :func:`meshwright.quad.pairing._split_left_overs` cut each
-    triangle ``split[i]`` (m,) int64 of the ``nt`` old ones at its centroid g: part k of
+    triangle ``split[i]`` (m,) int64, ascending, of the ``nt`` old ones at its centroid g: part k of
     old triangle (v0, v1, v2) is (v_k, v_{k+1}, g), part 0 kept at the old index, part 1
     at ``nt + i``, part 2 at ``nt + m + i``.  Part k's side opposite g is the old side
     opposite v_{k+2} (same neighbour, or the neighbour's part on it when that one was cut
@@ -268,11 +268,10 @@ def split_neighbours(nbr, split, nt):
     k + 1 and k - 1.  Returns the new flat ``nbr`` (3 (nt + 2 m),) int32; ``nbr`` is not
     modified."""
     m = split.shape[0]
-    out = np.full(3 * (nt + 2 * m), -1, dtype=np.int32)
+    out = np.empty(3 * (nt + 2 * m), dtype=np.int32)
     out[: 3 * nt] = nbr[: 3 * nt]
-    slot = np.full(nt, -1, dtype=np.int64)
-    for i in range(m):
-        slot[split[i]] = i
+    # The cut triangles' slots by a search in ``split`` (sorted, as the split returns it),
+    # not a table over all nt triangles: a call cuts a handful.
     for i in range(m):
         t = split[i]
         part = (t, nt + i, nt + m + i)
@@ -287,10 +286,11 @@ def split_neighbours(nbr, split, nt):
             j = 0
             while nbr[3 * u + j] != t:
                 j += 1
-            if slot[u] >= 0:
+            su = np.searchsorted(split, u)
+            if su < m and split[su] == u:
                 # u was cut too: its part on this edge is part (j + 1) % 3 of u.
                 w = (j + 1) % 3
-                out[3 * pk_ + 2] = u if w == 0 else (nt + slot[u] if w == 1 else nt + m + slot[u])
+                out[3 * pk_ + 2] = u if w == 0 else (nt + su if w == 1 else nt + m + su)
             else:
                 out[3 * pk_ + 2] = u
                 out[3 * u + j] = pk_
