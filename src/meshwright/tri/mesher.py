@@ -113,7 +113,7 @@ DEFAULT_GRADING = DEFAULT_GROWTH  # g of the grading from the boundary: |grad h|
 # front / frontal-delaunay: holes30 0.9635 -> 0.9758 /
 # 0.9712 -> 0.9778 (Gmsh Frontal-Delaunay 0.9750), slit 0.9744 -> 0.9789 / 0.9686 -> 0.9794
 # (0.9729), radii and naca up 0.009-0.012 (already above Gmsh's), for 1.4-2.5x the triangles
-# (Gmsh's count or fewer, but 2.1x Gmsh's on the naca's wide far field).  Relaxation cannot
+# (up to Gmsh's count, but 2.1x Gmsh's on the naca's wide far field).  Relaxation cannot
 # buy it instead: on holes30 more swap rounds and smoothing passes over every node gained
 # under 0.001.  A size given already graded (no boundary spacing under FINER times it)
 # meshes as before.
