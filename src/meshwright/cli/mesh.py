@@ -24,7 +24,7 @@ from meshwright.core.errors import FormatError, InputError, SizeError
 from meshwright.geometry import BUILTIN_DOMAINS, builtin, load_domain, read_poly
 from meshwright.sizing import BackgroundGrid
 from meshwright.tri import MESH_METHODS, triangulate
-from meshwright.tri.mesher import BOUNDARY_SIZE, DEFAULT_GRADING, GRADING_AUTO
+from meshwright.tri.mesher import BOUNDARY_SIZE, DEFAULT_GRADING, GRADING_AUTO, RELAXED_GRADING
 from meshwright.tri.weatherill import DEFAULT_ALPHA
 
 NAME = "mesh"
@@ -77,8 +77,9 @@ def add_arguments(parser) -> None:
     grading = parser.add_mutually_exclusive_group()
     grading.add_argument(
         "--grading", type=grading_value, default=GRADING_AUTO, metavar="G",
-        help=f"growth of the size away from a boundary finer than it, G >= 1 (default {DEFAULT_GRADING:g}, "
-        "none for the delaunay method, which grades by itself; Gmsh's Mesh.MeshSizeExtendFromBoundary)",
+        help=f"growth of the size away from a boundary finer than it, G >= 1 (default {DEFAULT_GRADING:g}; "
+        f"{RELAXED_GRADING:g} for front and frontal-delaunay when they relax; none for the delaunay method, "
+        "which grades by itself; Gmsh's Mesh.MeshSizeExtendFromBoundary)",
     )
     grading.add_argument(
         "--no-grading", dest="grading", action="store_const", const=None,
