@@ -1055,3 +1055,27 @@ def test_compact_nodes_keep_used_nodes_in_order(seed):
     for new, old in ((q, quads), (t, tris.reshape(-1, 3)), (ln, lines)):
         assert new.dtype == np.int32 and np.array_equal(pts[new], xy[old])
     assert remap.tolist() == [int(np.searchsorted(used, v)) if v in used else -1 for v in range(n)]
+
+
+@pytest.mark.parametrize("seed", [1, 4, 12])
+def test_mate_sides_are_the_pairs_entries_of_a_dictionary_table(seed):
+    """For a pairing made elsewhere, side k of t holds its partner exactly where the
+    partner runs that side the other way and the edge is not blocked (oracle: a dictionary
+    of directed edges), -1 everywhere else."""
+    rng, xy, tris, nbr, raw = _random_delaunay(seed, 30, 60)
+    n, nt = len(xy), len(tris)
+    mate = np.full(nt, -1, dtype=np.int32)
+    pk.greedy_pairs(raw, nbr.ravel(), mate, -1.0)
+    # A few pairs that share no side, and blocked edges (some of them pairs' sides).
+    for t, s in ((0, nt - 1), (1, nt - 2)):
+        if mate[t] < 0 and mate[s] < 0 and s not in nbr[t]:
+            mate[t], mate[s] = s, t
+    edges = {(int(r[(k + 1) % 3]), int(r[(k + 2) % 3])): (i, k) for i, r in enumerate(tris) for k in range(3)}
+    blocked = {(min(e), max(e)) for e in edges if rng.random() < 0.3}
+    bkey = np.array(sorted(a * n + b for a, b in blocked), dtype=np.int64)
+    got = pk.mate_sides(tris.ravel(), mate, n, bkey).reshape(-1, 3)
+    for (u, w), (t, k) in edges.items():
+        twin = edges.get((w, u))
+        want = int(mate[t]) if twin and twin[0] == mate[t] >= 0 and (min(u, w), max(u, w)) not in blocked else -1
+        assert got[t, k] == want
+    assert (got >= 0).any() and any(mate[t] >= 0 and (got[t] < 0).all() for t in range(nt))

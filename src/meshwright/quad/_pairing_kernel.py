@@ -49,6 +49,7 @@ __all__ = [
     "dual_neighbours",
     "greedy_pairs",
     "grow_rings",
+    "mate_sides",
     "nonconvex_quads",
     "pair_quads",
     "pair_score",
@@ -512,6 +513,42 @@ def grow_rings(quads, near, rings):
             if was[quads[i, 0]] or was[quads[i, 1]] or was[quads[i, 2]] or was[quads[i, 3]]:
                 for k in range(4):
                     out[quads[i, k]] = True
+    return out
+
+
+@njit(cache=True)
+def mate_sides(tri, mate, n, bkey):
+    """The entries of :func:`dual_neighbours`' table that :func:`pair_quads` reads, for a
+    pairing made elsewhere (the pair front's, every triangle paired): side k of triangle t
+    holds ``mate[t]`` where the partner runs that side the other way and it is not a
+    blocked edge (``bkey`` as there), every other entry -1.  The pairs' own vertices give
+    it, in one pass over the pairs instead of the whole table's (2.6 ms on the disk
+    h = 0.01); it is no check of the mesh, which the final checks of the quads make."""
+    nt = mate.shape[0]
+    nn = n
+    for i in range(3 * nt):
+        nn = max(nn, tri[i] + 1)
+    ends = np.zeros(nn, dtype=np.int8)
+    for i in range(bkey.shape[0]):
+        ends[bkey[i] // n] = 1
+        ends[bkey[i] % n] = 1
+    out = np.full(3 * nt, -1, dtype=np.int32)
+    for t in range(nt):
+        s = mate[t]
+        if s < 0:
+            continue
+        for k in range(3):
+            u = tri[3 * t + (k + 1) % 3]
+            w = tri[3 * t + (k + 2) % 3]
+            for j in range(3):
+                if tri[3 * s + (j + 1) % 3] != w or tri[3 * s + (j + 2) % 3] != u:
+                    continue
+                if ends[u] != 0 and ends[w] != 0 and max(u, w) < n:
+                    key = min(u, w) * np.int64(n) + max(u, w)
+                    i = np.searchsorted(bkey, key)
+                    if i < bkey.shape[0] and bkey[i] == key:
+                        continue
+                out[3 * t + k] = s
     return out
 
 
