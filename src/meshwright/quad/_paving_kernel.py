@@ -187,6 +187,12 @@ def check_row(pts, f, quads, owner, n_old, sa, sb, nodes):
         Paving nodes (indices into ``f``) that are corners of a quad that is not strictly
         convex or holds a paving node, or ends of a new edge that meets another new edge or
         a paving-boundary edge, or grew such a new node; all False when the row is valid.
+
+    Notes
+    -----
+    The grid kernels of :mod:`meshwright.quad._paving_grid` are compiled into this one,
+    and Numba's cache checks only this file's stamp: a cached copy keeps their old code
+    until this file changes too.
     """
     nq = quads.shape[0]
     big = pts.shape[0]
