@@ -156,8 +156,11 @@ def _trial(i, nc, n_close, p, p_ok, cand, pts, par, rho, l11, l21, l22, u0, u1, 
     over-long triangle, the ideal point, then every candidate in list order) and the new
     sides' clearance of that round; -1 to skip.  Rounds after the first ask validity only."""
     per = nc + n_close + 1
-    clear = par[P_CLEAR_E] * rho if i < per else 0.0
-    i = i % per
+    clear = par[P_CLEAR_E] * rho
+    if i >= per:
+        # The second round (i < 2 per): a subtraction, not a 64-bit division per trial.
+        clear = 0.0
+        i -= per
     if i == n_close:
         return (np.int64(p) if p_ok else np.int64(-1)), clear
     close = i < n_close
