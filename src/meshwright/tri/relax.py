@@ -47,7 +47,7 @@ from numba import njit
 from meshwright.core.errors import InputError
 from meshwright.core.predicates import orient2d
 from meshwright.core.validate_input import as_cells, as_exact_points, as_node_indices, check_count
-from meshwright.tri.smoothing import incident_triangles, smooth
+from meshwright.tri.smoothing import incident_triangles, smooth_nodes
 
 __all__ = ["relax", "relax_mesh", "KEEP", "ROUGH", "ROUNDS", "SWAP_PASSES", "SMOOTH_PASSES"]
 
@@ -132,30 +132,38 @@ def neighbours(tri, off, inc, marker):
     n = off.shape[0] - 1
     nbr = np.full((m, 3), -1, dtype=np.int32)
     bnode = np.zeros(n, dtype=np.bool_)
+    width = 0
     for x in range(n):
-        for j in range(off[x], off[x + 1]):
-            t = inc[j]
+        width = max(width, off[x + 1] - off[x])
+    # Per star, the corner before x and the one after it in each triangle, read once (the
+    # twin search reads the first width times).
+    before = np.empty(width, dtype=np.int64)
+    after = np.empty(width, dtype=np.int64)
+    slot = np.empty(width, dtype=np.int64)
+    for x in range(n):
+        lo = off[x]
+        d = off[x + 1] - lo
+        for j in range(d):
+            t = inc[lo + j]
             c = 0
             while tri[t, c] != x:
                 c += 1
-            z = tri[t, (c + 1) % 3]
+            before[j] = tri[t, (c + 2) % 3]
+            after[j] = tri[t, (c + 1) % 3]
+            slot[j] = (c + 2) % 3
+        for j in range(d):
+            t = inc[lo + j]
+            z = after[j]
             found = -1
-            for jj in range(off[x], off[x + 1]):
-                u = inc[jj]
-                if tri[u, 0] == x:
-                    before = tri[u, 2]
-                elif tri[u, 1] == x:
-                    before = tri[u, 0]
-                else:
-                    before = tri[u, 1]
-                if before == z:
-                    found = u
+            for jj in range(d):
+                if before[jj] == z:
+                    found = inc[lo + jj]
                     break
             if found < 0:
                 bnode[x] = True
                 bnode[z] = True
             elif marker[found] == marker[t]:
-                nbr[t, (c + 2) % 3] = found
+                nbr[t, slot[j]] = found
     return nbr, bnode
 
 
@@ -339,23 +347,67 @@ def relax(
 
 
 def _smooth_near(xy, tri, rough, hold) -> np.ndarray:
-    """Guarded smoothing (:func:`meshwright.tri.smoothing.smooth`) of the free nodes of the
-    ``rough`` (m,) bool triangles, on the sub-mesh of their stars only: a mesh that is good
-    almost everywhere (a uniform disk: a few hundred swaps among 289k triangles) pays for
-    what changed, not for a pass over every node.  ``xy`` is updated in place; returns the
-    rows of the sub-mesh, (k,) int32."""
-    active = np.zeros(len(xy), dtype=bool)
-    active[tri[rough].ravel()] = True
-    active &= ~hold
-    rows = np.flatnonzero(active[tri].any(axis=1)).astype(np.int32)
-    if not len(rows):
-        return rows
-    sub = tri[rows]
-    nodes, local = np.unique(sub, return_inverse=True)
-    local = local.reshape(sub.shape).astype(np.int32)
-    xy[nodes] = smooth(xy[nodes], local, np.zeros((0, 2), dtype=np.int32), passes=SMOOTH_PASSES,
-                       fixed=~active[nodes])
+    """Guarded smoothing (:func:`meshwright.tri.smoothing.smooth_nodes`) of the free nodes
+    of the ``rough`` (m,) bool triangles; the other nodes hold.  A mesh that is good almost
+    everywhere (a uniform disk: a few hundred swaps among 289k triangles) pays for what
+    changed, not for a pass over every node.  ``xy`` is updated in place; returns the rows of
+    the triangles with a free corner, (k,) int32 ascending."""
+    free = _free_nodes(tri, rough, hold)
+    rows = _rows_touching(tri, free)
+    if len(rows):
+        off, inc = _incident_rows(tri, rows, len(xy))
+        smooth_nodes(xy, tri, off, inc, free, SMOOTH_PASSES)
     return rows
+
+
+@njit(cache=True)
+def _free_nodes(tri, rough, hold):
+    """(n,) bool: the corners of the ``rough`` (m,) bool triangles not in ``hold`` (n,) bool."""
+    free = np.zeros(hold.shape[0], dtype=np.bool_)
+    for t in range(tri.shape[0]):
+        if rough[t]:
+            for k in range(3):
+                free[tri[t, k]] = True
+    for v in range(hold.shape[0]):
+        if hold[v]:
+            free[v] = False
+    return free
+
+
+@njit(cache=True)
+def _incident_rows(tri, rows, n):
+    """Node -> triangle CSR (:func:`meshwright.tri.smoothing.incident_triangles`) of the
+    triangles ``rows`` (k,) int32 ascending only, with their numbers in ``tri``: complete for
+    a node all of whose triangles are listed, each node's ascending.  Reads k rows, not m
+    (the disk's rounds list a few thousand of its 289k triangles)."""
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    for i in range(rows.shape[0]):
+        t = rows[i]
+        for k in range(3):
+            offsets[tri[t, k] + 1] += 1
+    for v in range(n):
+        offsets[v + 1] += offsets[v]
+    fill = offsets[:-1].copy()
+    out = np.empty(3 * rows.shape[0], dtype=np.int32)
+    for i in range(rows.shape[0]):
+        t = rows[i]
+        for k in range(3):
+            v = tri[t, k]
+            out[fill[v]] = t
+            fill[v] += 1
+    return offsets, out
+
+
+@njit(cache=True)
+def _rows_touching(tri, free):
+    """The triangles with a corner in ``free`` (n,) bool, (k,) int32 ascending."""
+    out = np.empty(tri.shape[0], dtype=np.int32)
+    k = 0
+    for t in range(tri.shape[0]):
+        if free[tri[t, 0]] or free[tri[t, 1]] or free[tri[t, 2]]:
+            out[k] = t
+            k += 1
+    return out[:k].copy()
 
 
 def relax_mesh(mesh, fixed: np.ndarray | None = None, rounds: int = ROUNDS):

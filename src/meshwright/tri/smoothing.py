@@ -70,7 +70,7 @@ def node_adjacency(triangles: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarra
     """
     tri = np.ascontiguousarray(triangles, dtype=np.int64)
     tri_offsets, tri_indices = incident_triangles(tri, n)
-    nbr_offsets, nbr_indices = _star_neighbours(tri, tri_offsets, tri_indices, n)
+    nbr_offsets, nbr_indices = _star_neighbours(tri, tri_offsets, tri_indices, np.ones(n, dtype=np.bool_))
     return nbr_offsets, nbr_indices, tri_offsets, tri_indices
 
 
@@ -96,19 +96,24 @@ def incident_triangles(tri, n):
 
 
 @njit(cache=True)
-def _star_neighbours(tri, tri_offsets, tri_indices, n):
-    """Distinct neighbours of every node, ascending, from its triangle star (CSR).
+def _star_neighbours(tri, tri_offsets, tri_indices, want):
+    """Distinct neighbours of every node with ``want`` (n,) bool, ascending, from its
+    triangle star (CSR; the other nodes' runs are empty).
 
     One pass over the stars with a stamp array: linear, where deduplicating the 6m directed
     edges by ``np.unique`` sorted them (0.45 s of a 40k-quad pairing's 1.5 s).  Ascending
     order per node, as that sort gave, so sums over neighbours keep their order.
     """
+    n = want.shape[0]
     stamp = np.full(n, -1, dtype=np.int64)
     offsets = np.zeros(n + 1, dtype=np.int64)
     out = np.empty(2 * tri_indices.shape[0], dtype=np.int32)
     k = 0
     for v in range(n):
         start = k
+        if not want[v]:
+            offsets[v + 1] = k
+            continue
         for j in range(tri_offsets[v], tri_offsets[v + 1]):
             t = tri_indices[j]
             for c in range(3):
@@ -444,3 +449,38 @@ def smooth(
         if moved == 0:
             break
     return xy
+
+
+def smooth_nodes(xy: np.ndarray, tris: np.ndarray, tri_offsets: np.ndarray, tri_indices: np.ndarray,
+                 free: np.ndarray, passes: int) -> None:
+    """Guarded smoothing (:func:`smooth`'s interior passes, ``relax`` 1) of the ``free``
+    (n,) bool nodes of a mesh, all others fixed, in place; for callers that checked their
+    arrays (:func:`meshwright.tri.relax.relax`).
+
+    The same moves as :func:`smooth` of the sub-mesh of the free nodes' stars, renumbered in
+    ascending order, with no boundary edges and every other node fixed: a free node's star
+    and its neighbours (ascending) are the same there, and so is the order of the visits.
+    Without the sub-mesh's extraction, unique and checks, which were most of a relaxation
+    round's set-up.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64
+        Coordinates, moved in place.
+    tris : (m, 3) int32
+        Counter-clockwise triangles.
+    tri_offsets, tri_indices : (n + 1,) int64, (k,) int32
+        Node -> triangle CSR of ``tris`` (:func:`incident_triangles`), each node's
+        ascending; complete for every free node (the others' runs are not read).
+    free : (n,) bool
+        Nodes that may move.
+    passes : int
+        Passes at most (fewer when one moves nothing).
+    """
+    nbr_offsets, nbr_indices = _star_neighbours(tris, tri_offsets, tri_indices, free)
+    kind = np.where(free, 0, 2).astype(np.int8)
+    q = np.empty(len(tris))
+    known = np.zeros(len(tris), dtype=bool)
+    for _ in range(passes):
+        if not _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, 1.0, q, known):
+            break
