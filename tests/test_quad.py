@@ -499,3 +499,28 @@ def test_guarded_smoothing_matches_a_python_sweep(seed, settle):
                 pts[v] = [x0, y0]
         last, now = now, [False] * len(pts)
     assert np.allclose(got, np.array(pts), rtol=0, atol=1e-9)
+
+
+def test_simple_ccw_quads_match_rational_orientations():
+    """simple_ccw_quads (one compiled pass) against Fraction orientations: a quad is simple
+    and counter-clockwise iff the diagonal from corner 0 or from corner 1 leaves two strictly
+    counter-clockwise triangles.  Random corners on a coarse grid (many collinear and
+    repeated corners) and the same grid shifted by 1e-17-scale offsets (near-collinear)."""
+    from meshwright.core.validate_quad import simple_ccw_quads
+
+    def orient(p, a, b, c):
+        ax, ay = map(Fraction, p[a])
+        bx, by = map(Fraction, p[b])
+        cx, cy = map(Fraction, p[c])
+        return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+
+    rng = np.random.default_rng(11)
+    for shift in (0.0, 1e-17, 3e-16):
+        p = rng.integers(0, 4, size=(12, 2)).astype(float) * 0.1
+        p[::3] += shift
+        q = rng.integers(0, 12, size=(1500, 4))
+        got = simple_ccw_quads(p, q.astype(np.int32))
+        expect = [any(orient(p, c[k], c[k + 1], c[k + 2]) > 0 and orient(p, c[k + 2], c[(k + 3) % 4], c[k]) > 0
+                      for k in (0, 1)) for c in q.tolist()]
+        assert got.dtype == np.bool_ and got.tolist() == expect
+        assert 0 < sum(expect) < len(expect)

@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.errors import ValidationError
-from meshwright.core.predicates import orient2d_batch
+from meshwright.core.predicates import orient2d, orient2d_batch
 
 __all__ = ["check_orientation_nonconvex", "one_sided_edges", "simple_ccw_quads"]
 
@@ -37,10 +37,24 @@ def _fmt(points: np.ndarray, cell: np.ndarray) -> str:
 
 
 @njit(cache=True)
-def _cover(n, ea, eb, la, lb):
-    """Flags of the directed edges ``ea[e] -> eb[e]`` (ids below ``n``) whose reverse is
-    not among them, and of the lines ``la[i] - lb[i]`` that are no such edge either way."""
-    m = ea.shape[0]
+def _cover(n, q, t, la, lb):
+    """The cells' directed edges ``a -> b`` (quads' (m, 4) int64 ``q`` first, then the
+    triangles' (k, 3) int64 ``t``; ids below ``n``) whose reverse is no cell's edge, as an
+    (e, 2) int64 array, and the flags of the lines ``la[i] - lb[i]`` that are no cell's edge
+    either way.  The edge lists are built here, not gathered and concatenated by NumPy
+    (that was half the check's time on a disk of 36,000 quads)."""
+    mq = q.shape[0]
+    m = 4 * mq + 3 * t.shape[0]
+    ea = np.empty(m, dtype=np.int64)
+    eb = np.empty(m, dtype=np.int64)
+    for c in range(mq):
+        for k in range(4):
+            ea[4 * c + k] = q[c, k]
+            eb[4 * c + k] = q[c, (k + 1) % 4]
+    for c in range(t.shape[0]):
+        for k in range(3):
+            ea[4 * mq + 3 * c + k] = t[c, k]
+            eb[4 * mq + 3 * c + k] = t[c, (k + 1) % 3]
     ptr = np.zeros(n + 1, dtype=np.int64)
     for e in range(m):
         ptr[ea[e] + 1] += 1
@@ -52,12 +66,22 @@ def _cover(n, ea, eb, la, lb):
         head[fill[ea[e]]] = eb[e]
         fill[ea[e]] += 1
     lone = np.ones(m, dtype=np.bool_)
+    count = 0
     for e in range(m):
         u = ea[e]
         for j in range(ptr[eb[e]], ptr[eb[e] + 1]):
             if head[j] == u:
                 lone[e] = False
                 break
+        if lone[e]:
+            count += 1
+    edges = np.empty((count, 2), dtype=np.int64)
+    count = 0
+    for e in range(m):
+        if lone[e]:
+            edges[count, 0] = ea[e]
+            edges[count, 1] = eb[e]
+            count += 1
     orphan = np.ones(la.shape[0], dtype=np.bool_)
     for i in range(la.shape[0]):
         for u, w in ((la[i], lb[i]), (lb[i], la[i])):
@@ -65,7 +89,7 @@ def _cover(n, ea, eb, la, lb):
                 if head[j] == w:
                     orphan[i] = False
                     break
-    return lone, orphan
+    return edges, orphan
 
 
 def one_sided_edges(n_points: int, quads: np.ndarray, triangles: np.ndarray, lines=None):
@@ -90,14 +114,31 @@ def one_sided_edges(n_points: int, quads: np.ndarray, triangles: np.ndarray, lin
     (j,) int64
         Only with ``lines``: the rows of ``lines`` that are no cell's edge.
     """
-    q = np.asarray(quads, dtype=np.int64).reshape(-1, 4)
-    t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-    ea = np.concatenate([q.ravel(), t.ravel()])
-    eb = np.concatenate([q[:, [1, 2, 3, 0]].ravel(), t[:, [1, 2, 0]].ravel()])
+    q = np.ascontiguousarray(quads, dtype=np.int64).reshape(-1, 4)
+    t = np.ascontiguousarray(triangles, dtype=np.int64).reshape(-1, 3)
     ln = np.zeros((0, 2), dtype=np.int64) if lines is None else np.asarray(lines, dtype=np.int64).reshape(-1, 2)
-    lone, orphan = _cover(np.int64(n_points), ea, eb, np.ascontiguousarray(ln[:, 0]), np.ascontiguousarray(ln[:, 1]))
-    edges = np.stack([ea[lone], eb[lone]], axis=1)
+    edges, orphan = _cover(np.int64(n_points), q, t, np.ascontiguousarray(ln[:, 0]), np.ascontiguousarray(ln[:, 1]))
     return edges if lines is None else (edges, np.flatnonzero(orphan))
+
+
+@njit(cache=True)
+def _simple_ccw(points, q):
+    """(m,) bool: quads ``q`` (m, 4) int64 split into two strictly counter-clockwise
+    triangles by the diagonal from corner 0 or from corner 1 (exact ``orient2d``; one pass,
+    not four gathered batches)."""
+    out = np.zeros(q.shape[0], dtype=np.bool_)
+    for c in range(q.shape[0]):
+        for k in range(2):
+            a = q[c, k]
+            b = q[c, k + 1]
+            d = q[c, k + 2]
+            e = q[c, (k + 3) % 4]
+            if (orient2d(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0], points[d, 1]) > 0.0
+                    and orient2d(points[d, 0], points[d, 1], points[e, 0], points[e, 1],
+                                 points[a, 0], points[a, 1]) > 0.0):
+                out[c] = True
+                break
+    return out
 
 
 def simple_ccw_quads(points: np.ndarray, quads: np.ndarray) -> np.ndarray:
@@ -112,15 +153,7 @@ def simple_ccw_quads(points: np.ndarray, quads: np.ndarray) -> np.ndarray:
     -------
     (m,) bool
     """
-    q = np.asarray(quads, dtype=np.int64)
-    ok = np.zeros(len(q), dtype=bool)
-    for k in (0, 1):
-        first = np.ascontiguousarray(q[:, [k, k + 1, k + 2]])
-        second = np.ascontiguousarray(q[:, [k + 2, (k + 3) % 4, k]])
-        s1 = np.asarray(orient2d_batch(points, first))
-        s2 = np.asarray(orient2d_batch(points, second))
-        ok |= (s1 > 0) & (s2 > 0)
-    return ok
+    return _simple_ccw(points, np.ascontiguousarray(quads, dtype=np.int64).reshape(-1, 4))
 
 
 def check_orientation_nonconvex(mesh) -> None:
