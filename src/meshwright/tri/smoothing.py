@@ -145,6 +145,38 @@ def _radius_ratio(ax, ay, bx, by, cx, cy):
     return 4.0 * area2 * area2 / (s * la * lb * lc)
 
 
+# The guard's float filter: _radius_ratio with sqrt for hypot (a third of the price) is
+# within a few units in the last place of it wherever every squared edge is a normal float
+# well inside the range and the ratio is not tiny; FILTER is far above that error, so a
+# ratio more than FILTER (relative) from the bound decides the comparison as hypot's would.
+FILTER = 1e-12
+UNSURE = -2.0  # the filter's ratio: outside its safe range, ask _radius_ratio
+_TINY = 1e-200  # ratios under this are left to _radius_ratio (underflow in the products)
+_SAFE_LO = 1e-290  # squared edges outside [_SAFE_LO, _SAFE_HI]: sqrt's error is not bounded
+_SAFE_HI = 1e290
+
+
+@njit(inline="always")
+def _filter_ratio(ax, ay, bx, by, cx, cy):
+    """:func:`_radius_ratio` by sqrt, or :data:`UNSURE` where the filter's bound may not hold
+    (0.0 where area2 <= 0, as there)."""
+    a2 = (bx - cx) ** 2 + (by - cy) ** 2
+    b2 = (cx - ax) ** 2 + (cy - ay) ** 2
+    c2 = (ax - bx) ** 2 + (ay - by) ** 2
+    if min(a2, b2, c2) < _SAFE_LO or max(a2, b2, c2) > _SAFE_HI:
+        return UNSURE
+    area2 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    if area2 <= 0.0:
+        return 0.0
+    la = np.sqrt(a2)
+    lb = np.sqrt(b2)
+    lc = np.sqrt(c2)
+    r = 4.0 * area2 * area2 / ((la + lb + lc) * la * lb * lc)
+    if r < _TINY:
+        return UNSURE
+    return r
+
+
 @njit(cache=True)
 def _worst_around(xy, tris, tri_offsets, tri_indices, i, px, py):
     """Worst radius ratio of the triangles around node ``i`` if it sat at (px, py).
@@ -189,13 +221,16 @@ def _spring_step(xy, nbr_offsets, nbr_indices, i, relax):
 def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, relax, q, known):
     """One Gauss-Seidel pass over the free interior nodes; returns how many moved.
 
-    ``q`` (m,) float64 caches each triangle's radius ratio at the current coordinates (-1.0:
-    not strictly counter-clockwise), valid where ``known`` (m,) bool: a node's worst triangle
-    before a move is read from it instead of recomputed (a third of the guard's work), and an
-    accepted trial writes its values back.  A trial stops at its first triangle that refuses
-    it.  Same decisions, bit for bit, as :func:`_worst_around` before and after: the values
-    come from the same formula on the same coordinates, and a move is taken exactly when
-    every triangle stays counter-clockwise with a ratio positive and not below ``before``.
+    The decisions are :func:`_worst_around`'s, before and after, bit for bit: a move is taken
+    exactly when every triangle of the star stays strictly counter-clockwise (exact) with a
+    radius ratio (:func:`_radius_ratio`, hypot) positive and not below the star's worst
+    before.  Cheaper: ``q`` (m,) float64 caches each triangle's filter ratio
+    (:func:`_filter_ratio`; -1.0 not strictly counter-clockwise) at the current coordinates,
+    valid where ``known`` (m,) bool, so a node's worst before is read, not recomputed; a trial
+    compares filter ratios and asks hypot's only when the two sides are within
+    :data:`FILTER` (then for the star's worst before, too); it stops at its first refusing
+    triangle; an accepted trial writes its values back.  A star with an unsure ratio takes
+    :func:`_worst_around`'s way for the visit.
     """
     width = 0
     for i in range(xy.shape[0]):
@@ -225,10 +260,28 @@ def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indice
                 if orient2d(ax, ay, bx, by, cx, cy) <= 0.0:
                     q[t] = -1.0
                 else:
-                    q[t] = _radius_ratio(ax, ay, bx, by, cx, cy)
+                    q[t] = _filter_ratio(ax, ay, bx, by, cx, cy)
                 known[t] = True
             if q[t] < before:
                 before = q[t]
+        if before == UNSURE or 0.0 < before < _TINY:
+            # Outside the filter's range: hypot's ratios for the whole visit.
+            exact = _worst_around(xy, tris, tri_offsets, tri_indices, i, x0, y0)
+            for _ in range(MAX_HALVINGS + 1):
+                after = _worst_around(xy, tris, tri_offsets, tri_indices, i, x0 + dx, y0 + dy)
+                if after >= exact and after > 0.0:
+                    xy[i, 0] = x0 + dx
+                    xy[i, 1] = y0 + dy
+                    for s in range(tri_offsets[i], tri_offsets[i + 1]):
+                        known[tri_indices[s]] = False
+                    moved += 1
+                    break
+                dx *= 0.5
+                dy *= 0.5
+            continue
+        exact = 2.0  # hypot's worst before, computed at the first close call
+        lo = before * (1.0 - FILTER)
+        hi = before * (1.0 + FILTER)
         for _ in range(MAX_HALVINGS + 1):
             px = x0 + dx
             py = y0 + dy
@@ -247,10 +300,17 @@ def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indice
                 if orient2d(ax, ay, bx, by, cx, cy) <= 0.0:
                     ok = False
                     break
-                r = _radius_ratio(ax, ay, bx, by, cx, cy)
-                if r < before or r <= 0.0:
-                    ok = False
+                r = _filter_ratio(ax, ay, bx, by, cx, cy)
+                if r == 0.0 or (before > 0.0 and r < lo):
+                    ok = False  # hypot's ratio is 0.0 too, or below the bound
                     break
+                if r == UNSURE or (before > 0.0 and r <= hi):
+                    if exact == 2.0:
+                        exact = _worst_around(xy, tris, tri_offsets, tri_indices, i, x0, y0)
+                    rh = _radius_ratio(ax, ay, bx, by, cx, cy)
+                    if rh < exact or rh <= 0.0:
+                        ok = False
+                        break
                 trial[k] = r
                 k += 1
             if ok:
