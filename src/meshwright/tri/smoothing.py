@@ -218,7 +218,7 @@ def _spring_step(xy, nbr_offsets, nbr_indices, i, relax):
 
 
 @njit(cache=True)
-def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, relax, q, known):
+def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, relax, q, known, hint):
     """One Gauss-Seidel pass over the free interior nodes; returns how many moved.
 
     The decisions are :func:`_worst_around`'s, before and after, bit for bit: a move is taken
@@ -229,8 +229,10 @@ def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indice
     valid where ``known`` (m,) bool, so a node's worst before is read, not recomputed; a trial
     compares filter ratios and asks hypot's only when the two sides are within
     :data:`FILTER` (then for the star's worst before, too); it stops at its first refusing
-    triangle; an accepted trial writes its values back.  A star with an unsure ratio takes
-    :func:`_worst_around`'s way for the visit.
+    triangle, and ``hint`` (n,) int64 (kept across passes) names the slot of a node's star
+    that refused last, asked first next time (a move is taken only when every triangle
+    agrees, so the order decides nothing); an accepted trial writes its values back.  A star
+    with an unsure ratio takes :func:`_worst_around`'s way for the visit.
     """
     width = 0
     for i in range(xy.shape[0]):
@@ -282,13 +284,20 @@ def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indice
         exact = 2.0  # hypot's worst before, computed at the first close call
         lo = before * (1.0 - FILTER)
         hi = before * (1.0 + FILTER)
+        lo_s = tri_offsets[i]
+        d = tri_offsets[i + 1] - lo_s
+        start = hint[i]  # a triangle that refused once often refuses again
+        if start >= d:
+            start = 0
         for _ in range(MAX_HALVINGS + 1):
             px = x0 + dx
             py = y0 + dy
             ok = True
-            k = 0
-            for s in range(tri_offsets[i], tri_offsets[i + 1]):
-                t = tri_indices[s]
+            for jj in range(d):
+                k = jj + start
+                if k >= d:
+                    k -= d
+                t = tri_indices[lo_s + k]
                 u, v, w = tris[t, 0], tris[t, 1], tris[t, 2]
                 ax, ay, bx, by, cx, cy = xy[u, 0], xy[u, 1], xy[v, 0], xy[v, 1], xy[w, 0], xy[w, 1]
                 if u == i:
@@ -299,10 +308,12 @@ def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indice
                     cx, cy = px, py
                 if orient2d(ax, ay, bx, by, cx, cy) <= 0.0:
                     ok = False
+                    start = k
                     break
                 r = _filter_ratio(ax, ay, bx, by, cx, cy)
                 if r == 0.0 or (before > 0.0 and r < lo):
                     ok = False  # hypot's ratio is 0.0 too, or below the bound
+                    start = k
                     break
                 if r == UNSURE or (before > 0.0 and r <= hi):
                     if exact == 2.0:
@@ -310,9 +321,10 @@ def _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indice
                     rh = _radius_ratio(ax, ay, bx, by, cx, cy)
                     if rh < exact or rh <= 0.0:
                         ok = False
+                        start = k
                         break
                 trial[k] = r
-                k += 1
+            hint[i] = start
             if ok:
                 xy[i, 0] = px
                 xy[i, 1] = py
@@ -489,8 +501,9 @@ def smooth(
 
     q = np.empty(len(tris))
     known = np.zeros(len(tris), dtype=bool)
+    hint = np.zeros(len(xy), dtype=np.int64)
     for _ in range(passes):
-        moved = _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, relax, q, known)
+        moved = _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, relax, q, known, hint)
         if len(sliding):
             # Sliding nodes only ever jump to projected (on-curve) positions; a refused
             # move is retried at half the step and finally skipped, so none leaves its curve.
@@ -541,6 +554,7 @@ def smooth_nodes(xy: np.ndarray, tris: np.ndarray, tri_offsets: np.ndarray, tri_
     kind = np.where(free, 0, 2).astype(np.int8)
     q = np.empty(len(tris))
     known = np.zeros(len(tris), dtype=bool)
+    hint = np.zeros(len(xy), dtype=np.int64)
     for _ in range(passes):
-        if not _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, 1.0, q, known):
+        if not _smooth_interior(xy, tris, nbr_offsets, nbr_indices, tri_offsets, tri_indices, kind, 1.0, q, known, hint):
             break
