@@ -532,6 +532,8 @@ def _gather(a, b, fid, p, o, wide, grow, fs, par, col, want, items, nodes, cand,
     pax, pay = _to_metric(l11, l21, l22, ax - px, ay - py)
     pbx, pby = _to_metric(l11, l21, l22, bx - px, by - py)
     around2 = min(pax * pax + pay * pay, pbx * pbx + pby * pby) if fid >= 0 else 0.0
+    if nodes.shape[0] < 2 * ni:
+        nodes = np.empty(2 * ni, dtype=np.int32)
     for i in range(ni):
         g = items[i]
         r = np.int64(face[g, F_A])
@@ -539,11 +541,6 @@ def _gather(a, b, fid, p, o, wide, grow, fs, par, col, want, items, nodes, cand,
         for v in (r, s):
             if vint[v, V_STAMP] != stamp:
                 vint[v, V_STAMP] = stamp
-                if nn >= nodes.shape[0]:
-                    bigger = np.empty(2 * nodes.shape[0], dtype=np.int32)
-                    for j in range(nn):
-                        bigger[j] = nodes[j]
-                    nodes = bigger
                 nodes[nn] = v
                 nn += 1
         # The face's own twin (the other side of an interior segment) lies on the face:
