@@ -811,7 +811,7 @@ def test_enhancement_counts_and_result_stay_convex():
 
 def test_registry_entry_declares_what_pairing_honours():
     m = QUAD_METHODS["pairing"]
-    assert m.smooths and not m.needs_size and m.segments and m.points and not m.regions
+    assert m.smooths and not m.needs_size and m.segments and m.points and m.regions
 
 
 def test_cap_on_points_is_an_error_naming_it():
@@ -823,8 +823,9 @@ def test_cap_on_points_is_an_error_naming_it():
 def test_bad_arguments_are_refused_at_the_door():
     with pytest.raises(InputError, match="smooth"):
         quadrangulate(circle(), 0.1, method="pairing", smooth=-1)
-    square = polygon([(0, 0), (1, 0), (1, 1), (0, 1)], regions=[(0.5, 0.5, 3)])
-    with pytest.raises(InputError, match="region"):
+    # Region markers are honoured, region area bounds are not (a size field is the way).
+    square = polygon([(0, 0), (1, 0), (1, 1), (0, 1)], regions=[(0.5, 0.5, 3, 0.01)])
+    with pytest.raises(InputError, match=r"region 0 at \(0\.5, 0\.5\) has max_area 0\.01"):
         quadrangulate(square, 0.1, method="pairing")
 
 

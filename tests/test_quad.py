@@ -353,27 +353,30 @@ def test_quadtree_random_star_polygons(radii, log_scale, rel_size, passes):
     assert mesh.area() == pytest.approx(abs(polygon(pts).area()), rel=1e-9)
 
 
+@pytest.mark.parametrize("method", ["quadtree", "pairing", "zhu"])
 @pytest.mark.parametrize("all_quad", [True, False])
-def test_region_markers_flood_from_seeds_and_stop_at_segments(all_quad):
+def test_region_markers_flood_from_seeds_and_stop_at_segments(all_quad, method):
     dom = polygon(
         [(0, 0), (0.5, 0), (1, 0), (1, 1), (0.5, 1), (0, 1)],
         segments=[[(0.5, 0), (0.5, 1)]],
         regions=[(0.25, 0.5, 3, None), (0.75, 0.5, 5, None)],
     )
-    mesh = quadrangulate(dom, 0.1, all_quad=all_quad)
+    mesh = quadrangulate(dom, 0.1, all_quad=all_quad, method=method)
     mesh.validate()
     for kind in mesh.cells.keys() - {"line"}:
         centre = mesh.points[mesh.cells[kind]].mean(axis=1)
         np.testing.assert_array_equal(mesh.cell_data["marker"][kind], np.where(centre[:, 0] < 0.5, 3, 5))
 
 
-def test_region_marker_of_an_island():
-    # Square with a square hole holding a square island (seeded, marker 7).
+@pytest.mark.parametrize("method", ["quadtree", "pairing", "zhu"])
+def test_region_marker_of_an_island(method):
+    # Square with a square hole holding a square island (seeded, marker 7): the island is
+    # meshed and marked, the ring between hole and island is not.
     island = [(0.4, 0.4), (0.6, 0.4), (0.6, 0.6), (0.4, 0.6)]
     hole = [(0.2, 0.2), (0.8, 0.2), (0.8, 0.8), (0.2, 0.8)]
     dom = polygon([(0, 0), (1, 0), (1, 1), (0, 1)], holes=[hole, island], regions=[(0.5, 0.5, 7, None)])
     for h in (0.05, 0.01):
-        mesh = quadrangulate(dom, h)
+        mesh = quadrangulate(dom, h, method=method)
         mesh.validate()
         mk = mesh.cell_data["marker"]["quad"]
         inside = np.all((mesh.points[mesh.quads] >= 0.4) & (mesh.points[mesh.quads] <= 0.6), axis=(1, 2))

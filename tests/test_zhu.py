@@ -315,7 +315,7 @@ def test_all_quad_conforming_with_scaled_jacobian_above_0_2(name):
 
 def test_registry_entry_and_doors():
     m = QUAD_METHODS["zhu"]
-    assert m.segments and m.points and not m.regions and m.smooths and not m.reports_progress
+    assert m.segments and m.points and m.regions and m.smooths and not m.reports_progress
     with pytest.raises(InputError, match="front"):
         pair_domain(circle(), 0.2, front="quads")
     with pytest.raises(InputError, match="progress"):

@@ -181,13 +181,13 @@ QUAD_METHODS: dict[str, QuadMethod] = {
         QuadMethod(
             "pairing", "advancing-front triangles paired into quads, then shape enhancement (Zhu et al., 18.5.1)",
             _pairing, needs_size=False, smooths=True, reports_progress=False, segments=True, points=True,
-            regions=False,
+            regions=True,
         ),
         QuadMethod(
             "zhu", "pairs made two triangles at a time by the advancing front, every sub-front even, then shape "
             "enhancement (Zhu et al., 18.5.1 steps 1-9)",
             _zhu, needs_size=False, smooths=True, reports_progress=False, segments=True, points=True,
-            regions=False,
+            regions=True,
         ),
         QuadMethod(
             "paving", "rows of quads paved inward from the boundaries, voids paired (Blacker-Stephenson, 18.5.2)",
