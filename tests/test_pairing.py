@@ -221,7 +221,7 @@ def test_augmenting_path_repairs_a_stranding_pairing():
 
     nbr[:] = build_neighbors(tris)
     mate = np.array([-1, 2, 1, -1], dtype=np.int32)  # the middle pair strands both ends
-    gained = pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, 0.0, 100, pk.augment_scratch(4))
+    gained = pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel(), None), nbr.ravel(), mate, 0.0, 100, pk.augment_scratch(4))
     assert gained == 1
     assert mate.tolist() == [1, 0, 3, 2]
 
@@ -306,7 +306,7 @@ def test_side_score_table_classifies_every_side(seed, npts):
     tris = mw.delaunay(xy).triangles.astype(np.int32)
     nbr = build_neighbors(tris).astype(np.int32)
     nbr[rng.random(nbr.shape) < 0.1] = -1  # blocked sides (one side of a pair is enough to check)
-    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel()).reshape(-1, 3)
+    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel(), None).reshape(-1, 3)
 
     def wide(p, c, n):  # corner c (previous p, next n) wider than 150 degrees, or reflex
         a = math.degrees(math.atan2(*reversed([(n[0] - c[0]) * (p[0] - c[0]) + (n[1] - c[1]) * (p[1] - c[1]),
@@ -374,7 +374,7 @@ def test_augmenting_paths_reach_a_maximum_pairing(seed, npts):
     ]
     assert all(t in adj[s] for t in range(nt) for s in adj[t])  # an allowed pair is allowed both ways
     mate = np.full(nt, -1, dtype=np.int32)
-    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, -1.0, 10**6, pk.augment_scratch(nt))
+    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel(), None), nbr.ravel(), mate, -1.0, 10**6, pk.augment_scratch(nt))
     for t in range(nt):
         if mate[t] >= 0:
             assert mate[mate[t]] == t and int(mate[t]) in adj[t]
@@ -428,7 +428,7 @@ def test_augmenting_paths_reach_a_maximum_pairing_through_blossoms(seed, qmin):
     ]
     assert all(t in adj[s] for t in range(nt) for s in adj[t])  # an allowed pair is allowed both ways
     mate = np.full(nt, -1, dtype=np.int32)
-    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel()), nbr.ravel(), mate, qmin, 10**6, pk.augment_scratch(nt))
+    pk.augment(pk.side_scores(xy, tris.ravel(), nbr.ravel(), None), nbr.ravel(), mate, qmin, 10**6, pk.augment_scratch(nt))
     for t in range(nt):
         if mate[t] >= 0:
             assert mate[mate[t]] == t and int(mate[t]) in adj[t]
@@ -445,7 +445,7 @@ def _random_delaunay(seed, lo, hi):
     xy = rng.random((int(rng.integers(lo, hi)), 2))
     tris = mw.delaunay(xy).triangles.astype(np.int32)
     nbr = build_neighbors(tris).astype(np.int32)
-    return rng, xy, tris, nbr, pk.side_scores(xy, tris.ravel(), nbr.ravel())
+    return rng, xy, tris, nbr, pk.side_scores(xy, tris.ravel(), nbr.ravel(), None)
 
 
 @pytest.mark.parametrize("seed", [81, 104, 147, 208])
@@ -563,7 +563,7 @@ def test_walks_flip_as_a_walk_by_dictionary(seed):
         walked += len(flipped)
         if not len(flipped):
             break
-        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
+        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped, None)
     assert walked > 0
 
 
@@ -587,10 +587,10 @@ def test_walk_rounds_refill_only_the_flipped_rows(seed):
         flipped = _walk_left_overs(tris, nbr, mate, raw, walk, 0.5)
         if not len(flipped):
             break
-        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
+        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped, None)
         # The next walk reads its scores from the table: rescoring the flipped triangles
         # must leave it equal to a table scored afresh.
-        assert np.array_equal(raw, pk.side_scores(xy, tris.ravel(), nbr.ravel()))
+        assert np.array_equal(raw, pk.side_scores(xy, tris.ravel(), nbr.ravel(), None))
         fresh = mate.copy()
         got = pk.augment_changed(raw, nbr.ravel(), mate, 0.5, 4, shared, flipped)
         want = pk.augment(raw, nbr.ravel(), fresh, 0.5, 4, pk.augment_scratch(nt))

@@ -39,7 +39,9 @@ skipped: the enhancement and the quad smoothing below reshape the quads themselv
    steps (:data:`PAIR_BOUNDS`) down to plain convexity, and a last round admits, as the
    chapter does before enhancement, pairs with a corner of 180 degrees or more (step 5
    below repairs or reverts them).  No round pairs across a boundary or interior segment,
-   or leaves a boundary node in one quad at a corner wider than 150 degrees.
+   or leaves a boundary node in one quad at a corner wider than 150 degrees, nor a
+   segment's fixed node between its segment and the side to another fixed segment node
+   or interior point (no later step moves either).
 3. **Side elimination** of left-over triangles
    (:func:`~meshwright.quad._pairing_kernel.augment`): an unpaired triangle and another
    one reached through an alternating chain of pairs exchange partners along the chain, so
@@ -117,6 +119,7 @@ from meshwright.quad.parity import make_loops_even
 from meshwright.quad.zhu import zhu_front
 from meshwright.quad.enhancement import (
     ENHANCE_SMOOTH,
+    _fixed_nodes,
     enhance,
     min_scaled_jacobian,
     smooth_quads,
@@ -399,7 +402,7 @@ class _PairState(NamedTuple):
     nothing to pair, only the pairs' shared sides, :func:`~meshwright.quad._pairing_kernel.mate_sides`:
     no chain round reads them), partners, chain gains, the raw side scores of the triangles (:func:`~meshwright.quad._pairing_kernel.side_scores`)
     and the chain searches' work arrays (:func:`~meshwright.quad._pairing_kernel.augment_scratch`,
-    at rest, with rows to spare for the centroid splits)."""
+    at rest, with rows to spare for the centroid splits), the nodes that never move (the scores' ``pinned``)."""
 
     xy: np.ndarray
     tris: np.ndarray
@@ -408,20 +411,25 @@ class _PairState(NamedTuple):
     chains: int
     raw: np.ndarray
     scratch: tuple | None
+    pinned: np.ndarray | None
 
 
 def _pair_rounds(
     xy, tris, bkey, n, bounds, max_visit, walks, seed, stale_walks=STALE_WALKS, early_visit=EARLY_VISIT, mate=None,
+    pinned=None,
 ) -> _PairState:
     """Ears opened, greedy and chain rounds per bound (searches of ``early_visit``
     triangles before the last), then the walks (steps 1-3), stopped after ``stale_walks``
     rounds without fewer unpaired triangles; ``mate`` (t,) int32, the pairs made already
-    (the pair front's), is completed in place (nothing to do when it pairs everything)."""
+    (the pair front's), is completed in place (nothing to do when it pairs everything);
+    ``pinned`` (n,) bool, the nodes that never move (None: none), for the flat-corner rule
+    (:func:`~meshwright.quad._pairing_kernel.side_scores`)."""
     mate = np.full(len(tris), -1, dtype=np.int32) if mate is None else mate
     if (mate >= 0).all():
         # Nothing to pair: the quads need only each pair's shared side, not the whole
         # neighbour table (the pair front's disk h=0.01: 2.6 ms).
-        return _PairState(xy, tris, pk.mate_sides(tris.ravel(), mate, n, bkey).reshape(-1, 3), mate, 0, None, None)
+        shared = pk.mate_sides(tris.ravel(), mate, n, bkey).reshape(-1, 3)
+        return _PairState(xy, tris, shared, mate, 0, None, None, pinned)
     nbr = _neighbours(tris, bkey, n)
     xy, tris, changed = _open_ears(xy, tris, nbr, mate)
     if changed:
@@ -429,7 +437,7 @@ def _pair_rounds(
         # A split ear appends two triangles: unpaired, as the table's other free entries.
         mate = np.concatenate([mate, np.full(len(tris) - len(mate), -1, dtype=np.int32)])
     chains = 0
-    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel())
+    raw = pk.side_scores(xy, tris.ravel(), nbr.ravel(), pinned)
     # Rows to spare for the centroid splits' new triangles (two per left-over and round),
     # so _centre_rounds need not allocate and fill the O(triangles) arrays again.
     scratch = pk.augment_scratch(len(tris), 64 + len(tris) // 256)
@@ -447,13 +455,13 @@ def _pair_rounds(
         flipped = _walk_left_overs(tris, nbr, mate, raw, rng, max(float(bounds[-1]), 0.0))
         if not len(flipped):
             break
-        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped)
+        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), flipped, pinned)
         # Every chain round since the last bound's was at bounds[-1], and only the flips
         # changed sides and partners: the search table is refilled around them alone.
         chains += int(pk.augment_changed(raw, nbr.ravel(), mate, float(bounds[-1]), int(max_visit), scratch, flipped))
         left = int((mate < 0).sum())
         best, stale = (left, 0) if left < best else (best, stale + 1)
-    return _PairState(xy, tris, nbr, mate, chains, raw, scratch)
+    return _PairState(xy, tris, nbr, mate, chains, raw, scratch, pinned)
 
 
 def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairState:
@@ -465,7 +473,7 @@ def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairSt
     its cut triangles (:func:`~meshwright.quad._pairing_kernel.augment_changed`).  ``st``'s
     arrays are not modified, but its table then holds the centred rows: a chain round on
     ``st`` afterwards must refill every row (``augment``)."""
-    xy, tris, nbr, mate, chains, raw, scratch = st
+    xy, tris, nbr, mate, chains, raw, scratch = st[:7]
     for _ in range(centres):
         if not (mate < 0).any():
             break
@@ -478,7 +486,7 @@ def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairSt
         nbr = pk.split_neighbours(nbr.ravel(), cut, nt).reshape(-1, 3)
         raw = np.concatenate([raw, np.empty(3 * (len(tris) - nt))])
         parts = np.concatenate([cut, nt + np.arange(len(tris) - nt, dtype=np.int64)])
-        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), parts)
+        pk.rescore(raw, xy, tris.ravel(), nbr.ravel(), parts, st.pinned)
         # The parts and the left-overs not cut: the only triangles the greedy pass can pair
         # (with each other or with a neighbour), so the rows that change lie around them.
         free = np.flatnonzero(mate < 0)
@@ -488,7 +496,7 @@ def _centre_rounds(st: _PairState, bkey, n, qmin, max_visit, centres) -> _PairSt
             chains += int(pk.augment(raw, nbr.ravel(), mate, float(qmin), int(max_visit), scratch))
         else:
             chains += int(pk.augment_changed(raw, nbr.ravel(), mate, float(qmin), int(max_visit), scratch, free))
-    return _PairState(xy, tris, nbr, mate, chains, raw, scratch)
+    return _PairState(xy, tris, nbr, mate, chains, raw, scratch, st.pinned)
 
 
 def _quads_of(st: _PairState):
@@ -629,9 +637,22 @@ def pair_domain(
     bkey = np.unique(lkey[:, 0] * n + lkey[:, 1])
     mate = np.full(len(tri_in), -1, dtype=np.int32)
     mate[zpairs[:, 0]], mate[zpairs[:, 1]] = zpairs[:, 1], zpairs[:, 0]
+    # Interior segments' and points' nodes the smoothing never moves (ends, polyline
+    # vertices, the points): a flat corner between such a node's segment and the side to
+    # another one (two nearly collinear segments a size apart) stays flat, so no pair may
+    # form it.  Loop nodes are left out: on a thin loop domain under a size jump
+    # (stress-pairing-7df4e2241e4e) their refusals left fans no chord split made convex.
+    # A domain of loops alone pins nothing (no NumPy pass over its nodes: the benchmarks).
+    loop = domain.curve_loop[line_curve] >= 0
+    pinned = None
+    if n_free or not loop.all():
+        pinned = _fixed_nodes(xy, lines, line_curve, domain, fixed_pts)[0]
+        if not smooth_boundary:
+            pinned[lines.ravel()] = True
+        pinned[lines[loop].ravel()] = False
     paired = _pair_rounds(
         xy, tri_in, bkey, n, PAIR_BOUNDS, MAX_VISIT, MAX_WALKS, seed, DOMAIN_STALE_WALKS,
-        DOMAIN_EARLY_VISIT, mate,
+        DOMAIN_EARLY_VISIT, mate, pinned,
     )
 
     def attempt(st):
