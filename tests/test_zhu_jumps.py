@@ -3,10 +3,10 @@ domains 72 and 96, min scaled Jacobian 0.0012 / 0.00035 where pairing made 0.15 
 
 The cause: pair_domain hands zhu_front an ungraded boundary, so beside the fine pieces
 in the jump's disc lies one coarse segment, and the front closes it on a node near its
-fine end: a sliver of about fine / coarse radians that no enhancement opens.  With
-``grade=True`` the boundary halves towards the fine end (pairing's front has had it since
-1d21a42) and domains 72 / 96 mesh with min SJ 0.142 / 0.054.  Until pair_domain passes
-``grade=not fixed_boundary`` to zhu_front too, the test hands it by a monkeypatch.
+fine end: a sliver of about fine / coarse radians that no enhancement opens.  pair_domain
+now hands zhu_front ``grade=not fixed_boundary`` as it does the triangle front (since
+1d21a42): the boundary halves towards the fine end and domains 72 / 96 mesh with min SJ
+0.142 / 0.054 (0.0012 / 0.00035 without).
 
 Oracles: the scaled Jacobian from the corners with ``math`` (test_zhu's helper), convexity
 and conformity by test_zhu's exact checks; the domain is built here from the case's
@@ -15,14 +15,11 @@ numbers, not by the stress script.
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 import pytest
 
 from meshwright import geometry as g
-from meshwright.quad import pairing, quadrangulate
-from meshwright.quad.zhu import zhu_front
+from meshwright.quad import quadrangulate
 from test_zhu import _check_all_quad, _min_scaled_jacobian
 
 # Stress cases of seed 15001 (scripts/stress2d.py generate()), as build() scales them:
@@ -63,7 +60,7 @@ FACTOR = 1e-4
 
 
 @pytest.mark.parametrize("index", sorted(CASES))
-def test_zhu_at_corner_jump_graded(monkeypatch, index):
+def test_zhu_at_corner_jump_graded(index):
     outer, holes, segments, points, scale, shift, h, centre, seed, bound = CASES[index]
 
     def tr(p):
@@ -78,7 +75,6 @@ def test_zhu_at_corner_jump_graded(monkeypatch, index):
         d = np.hypot(xy[..., 0] - corner[0], xy[..., 1] - corner[1])
         return np.where(d < radius, size * FACTOR, size)
 
-    monkeypatch.setattr(pairing, "zhu_front", functools.partial(zhu_front, grade=True))
     dom = g.polygon(tr(outer), holes=[tr(x) for x in holes], segments=[tr(x) for x in segments], points=tr(points))
     mesh = quadrangulate(dom, step, method="zhu", all_quad=True, seed=seed)
     mesh.validate()

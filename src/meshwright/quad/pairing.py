@@ -586,7 +586,9 @@ def pair_domain(
         # boundary nodes with their point distribution function.
         field = BackgroundGrid.from_boundary(ct.points, ct.segments()[0], ct.triangles(False))
     if front == "pairs":
-        pts, tris, zpairs, _ = zhu_front(ct, field, max_points=cap)
+        # Graded like the triangle front below: a coarse boundary segment beside a size
+        # jump's fine pieces would close on a node near its fine end (a sliver).
+        pts, tris, zpairs, _ = zhu_front(ct, field, max_points=cap, grade=not fixed_boundary)
     else:
         pts, tris, zpairs = *advancing_front(ct, field, max_points=cap, finish=False, grade=not fixed_boundary), np.zeros((0, 2), np.int64)
     base = ct.to_mesh(segment_markers=disc.segment_markers, fill=(pts, tris))
