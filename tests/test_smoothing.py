@@ -175,7 +175,8 @@ def test_guarded_passes_match_a_plain_reference(seed, jitter, scale):
     on jittered grids, on a regular one and one jittered by 1e-12 (a move's ratio equal or
     within the filter's margin of the bound: hypot decides) and on grids at the ends of the
     exact predicates' range (2**-140 and 2**190 wide)."""
-    from meshwright.tri.relax import _incident_rows, _rows_touching
+    from meshwright.tri.relax import _rows_touching
+    from meshwright.tri.smoothing import incident_rows
     from meshwright.tri.smoothing import smooth_nodes
 
     pts, tris = grid_mesh(9, jitter, seed)
@@ -191,6 +192,6 @@ def test_guarded_passes_match_a_plain_reference(seed, jitter, scale):
     assert np.array_equal(got, expect)
     xy = pts.copy()
     rows = _rows_touching(tris, free)
-    off, inc = _incident_rows(tris, rows, len(pts))
+    off, inc = incident_rows(tris, rows, len(pts))
     smooth_nodes(xy, tris, off, inc, free, 3)
     assert np.array_equal(xy, expect)

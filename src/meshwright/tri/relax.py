@@ -47,7 +47,7 @@ from numba import njit
 from meshwright.core.errors import InputError
 from meshwright.core.predicates import orient2d
 from meshwright.core.validate_input import as_cells, as_exact_points, as_node_indices, check_count
-from meshwright.tri.smoothing import incident_triangles, smooth_nodes
+from meshwright.tri.smoothing import incident_rows, incident_triangles, smooth_nodes
 
 __all__ = ["relax", "relax_mesh", "KEEP", "ROUGH", "ROUNDS", "SWAP_PASSES", "SMOOTH_PASSES"]
 
@@ -355,7 +355,7 @@ def _smooth_near(xy, tri, rough, hold) -> np.ndarray:
     free = _free_nodes(tri, rough, hold)
     rows = _rows_touching(tri, free)
     if len(rows):
-        off, inc = _incident_rows(tri, rows, len(xy))
+        off, inc = incident_rows(tri, rows, len(xy))
         smooth_nodes(xy, tri, off, inc, free, SMOOTH_PASSES)
     return rows
 
@@ -372,30 +372,6 @@ def _free_nodes(tri, rough, hold):
         if hold[v]:
             free[v] = False
     return free
-
-
-@njit(cache=True)
-def _incident_rows(tri, rows, n):
-    """Node -> triangle CSR (:func:`meshwright.tri.smoothing.incident_triangles`) of the
-    triangles ``rows`` (k,) int32 ascending only, with their numbers in ``tri``: complete for
-    a node all of whose triangles are listed, each node's ascending.  Reads k rows, not m
-    (the disk's rounds list a few thousand of its 289k triangles)."""
-    offsets = np.zeros(n + 1, dtype=np.int64)
-    for i in range(rows.shape[0]):
-        t = rows[i]
-        for k in range(3):
-            offsets[tri[t, k] + 1] += 1
-    for v in range(n):
-        offsets[v + 1] += offsets[v]
-    fill = offsets[:-1].copy()
-    out = np.empty(3 * rows.shape[0], dtype=np.int32)
-    for i in range(rows.shape[0]):
-        t = rows[i]
-        for k in range(3):
-            v = tri[t, k]
-            out[fill[v]] = t
-            fill[v] += 1
-    return offsets, out
 
 
 @njit(cache=True)
