@@ -52,6 +52,23 @@ def test_quad_oracle_rejects_each_defect():
         S.quad_oracle(SQ_POINTS, {"quad": SQ_QUADS}, OUTER, [], np.vstack([OUTER, [[0.25, 0.25]]]))
 
 
+def test_unforced_min_sj_skips_corners_between_two_lines():
+    # A kite with a 10-degree corner at node 0 between two line cells (forced: SJ sin 10
+    # deg); its far corner on the bisector, 1.3 out.
+    t = math.radians(10.0)
+    far = [1.3 * math.cos(t / 2), 1.3 * math.sin(t / 2)]
+    pts = np.array([[0, 0], [1, 0], far, [math.cos(t), math.sin(t)]], float)
+    quads = np.array([[0, 1, 2, 3]])
+    q = pts[quads[0]]
+    sj = [float(np.cross(q[k] - q[k - 1], q[(k + 1) % 4] - q[k])
+                / (np.linalg.norm(q[k] - q[k - 1]) * np.linalg.norm(q[(k + 1) % 4] - q[k]))) for k in range(4)]
+    both = np.array([[3, 0], [0, 1]])
+    assert S.unforced_min_sj(pts, quads, both) == pytest.approx(min(sj[1:]))
+    # With one of the two sides not a line cell the sharp corner counts.
+    assert S.unforced_min_sj(pts, quads, both[:1]) == pytest.approx(math.sin(t))
+    assert S.unforced_min_sj(pts, quads, np.array([[3, 0], [0, 1], [1, 2], [2, 3]])) == math.inf
+
+
 def test_sharpest_corner_of_the_loops():
     assert S.sharpest_corner(_case()) == pytest.approx(90.0)
     # A hole with a 5-degree corner at (0.2, 0.2): its sides leave along 0 and 5 degrees.
