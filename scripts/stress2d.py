@@ -524,8 +524,13 @@ class _Worker:
 
     def close(self):
         if self.proc is not None and self.proc.is_alive():
-            self.conn.send(None)
+            try:
+                self.conn.send(None)
+            except OSError:  # the worker is gone (it took the interrupt too)
+                pass
             self.proc.join(5)
+            if self.proc.is_alive():  # busy with a mesh: a run cut short does not wait for it
+                self.kill()
 
 
 def _jobs(rng, args, mw):
@@ -660,13 +665,22 @@ def main(argv=None) -> int:
             print(f"{len(tally['domains'])} domains, {tally['runs']} meshes, {tally['fails']} failures, "
                   f"{time.perf_counter() - t0:.0f} s", flush=True)
 
+    stopped = False
     try:
         _run_all(_jobs(rng, args, mw), workers, args.timeout, report)
+    except KeyboardInterrupt:
+        # A run cut short (Ctrl-C, `timeout -s INT`) still reports what it meshed.
+        stopped = True
     finally:
         for w in workers:
             w.close()
-    print(f"done: {args.count} domains drawn, {len(tally['domains'])} meshed, {tally['runs']} meshes, "
-          f"{tally['fails']} failures in {time.perf_counter() - t0:.0f} s")
+    if stopped:
+        last = max(tally["domains"], default=-1)
+        print(f"interrupted: {len(tally['domains'])} domains meshed (highest index {last}), {tally['runs']} "
+              f"meshes, {tally['fails']} failures in {time.perf_counter() - t0:.0f} s")
+    else:
+        print(f"done: {args.count} domains drawn, {len(tally['domains'])} meshed, {tally['runs']} meshes, "
+              f"{tally['fails']} failures in {time.perf_counter() - t0:.0f} s")
     for m, c in per.items():
         low = sorted(sj for sj, _, mm, _, _ in tally["low"] if mm == m)
         sharp = math.degrees(math.asin(SJ_FLOOR))
