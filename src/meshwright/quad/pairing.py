@@ -156,6 +156,8 @@ FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped 
 EAR_FLOOR = 1e-6  # ... or split open, unless a triangle of the split is flatter than this (radius ratio 2r/R)
 FRONTS = ("pairs", "triangles")  # pair_domain's fronts: Zhu's pair by pair, or triangles then matching
 CHORD_RINGS = 2  # rings of nodes around a chord refinement's new nodes smoothed again
+POLISH_BELOW = 0.3  # quads with a corner sine below this (about 17.5 degrees) get paving's max-min search ...
+POLISH_ROUNDS = 8  # ... this many passes
 
 
 class PairingReport(NamedTuple):
@@ -725,6 +727,7 @@ def pair_domain(
                 or min_scaled_jacobian(other.points, other.quads) > min_scaled_jacobian(fill.points, fill.quads)
             ):
                 fill = other
+    fill = _polish(fill, fixed_pts)
     _check(fill.points, fill.quads, fill.triangles)
     n_tri, n_pairs, chains, n_left, reverted, counts = stats
     report = PairingReport(added, n_tri, n_pairs, chains, n_left, reverted, counts, split, len(fill.triangles))
@@ -743,6 +746,29 @@ def pairing_fill(job, front="triangles"):
         job.domain, job.field, all_quad=job.all_quad, smooth=ENHANCE_SMOOTH, seed=job.seed,
         max_points=job.max_points, front=front,
     )[0]
+
+
+def _polish(fill, fixed_pts):
+    """``fill`` with the free nodes of its quads below :data:`POLISH_BELOW` moved by
+    paving's max-min pattern search (:func:`meshwright.quad._paving_close.polish`).
+
+    The Laplacian of the enhancement stalls beside a sliver (the average of a node's
+    neighbours does not open its corner), and a chord refinement's cuts are smoothed only
+    around the chords; the search moves a node only where its quads' smallest corner
+    sine rises, so no quad inverts.  Line nodes, the fixed points and the nodes of
+    left-over triangles (the search reads quads only) stay."""
+    # _paving_close imports this module (pair_triangles): a module-level import would be
+    # a cycle.
+    from meshwright.quad._paving_close import polish
+
+    quads = np.ascontiguousarray(fill.quads, dtype=np.int64)
+    if not len(quads) or not pk.may_be_below(fill.points, quads, POLISH_BELOW):
+        return fill
+    fixed = np.zeros(len(fill.points), dtype=bool)
+    fixed[fill.lines.ravel()] = True
+    fixed[fixed_pts] = True
+    fixed[fill.triangles.ravel()] = True
+    return fill._replace(points=polish(fill.points, quads, fixed, POLISH_BELOW, POLISH_ROUNDS))
 
 
 def _check(xy, quads, tris) -> None:
