@@ -25,9 +25,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from meshwright.quad._pairing_kernel import corner_flat, quad_ok, quad_sj
+from meshwright.quad._pairing_kernel import corner_flat, corner_ok, quad_ok, quad_sj
 
-__all__ = ["balance_corners", "enhance_pass", "node_quads"]
+__all__ = ["balance_corners", "enhance_pass", "node_quads", "resplit_pass"]
 
 
 @njit(cache=True)
@@ -481,5 +481,97 @@ def balance_corners(xy, quad, alive, bnd, tri_node, off, idx):
             xy[m, 0] = ox
             xy[m, 1] = oy
             continue
+        done += 1
+    return done
+
+
+@njit(inline="always")
+def _tri_sine(xy, a, b, c):
+    """Smallest corner sine of triangle (a, b, c) (counter-clockwise: all positive)."""
+    return min(_sine(xy[c, 0], xy[c, 1], xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1]),
+               _sine(xy[a, 0], xy[a, 1], xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1]),
+               _sine(xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1], xy[a, 0], xy[a, 1]))
+
+
+@njit(cache=True)
+def resplit_pass(xy, quad, tri, bnd, off, idx, loff, lidx, target, gain):
+    """One pass of triangle-quad re-splitting: a left-over triangle and a quad across one
+    of its sides form a pentagon, which splits into a triangle and a quad in five ways
+    (a diagonal from each corner); where the pair's worst corner sine (the triangle's
+    three, the quad's four) is under ``target``, the split whose worst corner sine gains
+    more than ``gain`` over it, the best over the triangle's three sides, replaces the
+    pair.
+
+    The triangle's corners become corners of the quads the chord refinement cuts it
+    into, so a sliver triangle leaves slivers there that no smoothing opens when its
+    nodes are fixed.  Only triangles and quads not changed before in the pass are read
+    (the node -> quad table ``off``, ``idx`` is the pass's start).  Every new triangle is
+    counter-clockwise and every new quad strictly convex (exact ``orient2d``), without a
+    flat corner between boundary nodes.  A line (``loff``, ``lidx``: node -> the nodes it
+    shares a line cell with) is never crossed: an interior segment has quads on both
+    sides.  ``quad`` (m, 4) and ``tri`` (t, 3) are modified in place; returns the number
+    of pairs re-split.
+    """
+    done = 0
+    lock = np.zeros(quad.shape[0], dtype=np.int8)
+    p = np.empty(5, dtype=np.int64)
+    best_p = np.empty(5, dtype=np.int64)
+    for t in range(tri.shape[0]):
+        ts = _tri_sine(xy, tri[t, 0], tri[t, 1], tri[t, 2])
+        best = -2.0
+        best_q = -1
+        best_i = -1
+        for e in range(3):
+            u = np.int64(tri[t, e])
+            v = np.int64(tri[t, (e + 1) % 3])
+            w = np.int64(tri[t, (e + 2) % 3])
+            line = False
+            for s in range(loff[u], loff[u + 1]):
+                line |= lidx[s] == v
+            if line:
+                continue
+            q = -1
+            j = -1
+            for s in range(off[v], off[v + 1]):
+                r = idx[s]
+                for k in range(4):
+                    if quad[r, k] == v and quad[r, (k + 1) % 4] == u:
+                        q = r
+                        j = k
+            if q < 0 or lock[q] != 0:
+                continue
+            x = np.int64(quad[q, (j + 2) % 4])
+            y = np.int64(quad[q, (j + 3) % 4])
+            old = min(ts, quad_sj(xy, v, u, x, y))
+            if old >= target:
+                continue
+            # Pentagon counter-clockwise: u, x, y, v, w; the present split is i = 3.
+            p[0], p[1], p[2], p[3], p[4] = u, x, y, v, w
+            floor = max(best, old + gain)
+            for i in range(5):
+                if i == 3:
+                    continue
+                a, b, c = p[i], p[(i + 1) % 5], p[(i + 2) % 5]
+                d, f = p[(i + 3) % 5], p[(i + 4) % 5]
+                if not (_tri_sine(xy, a, b, c) > floor and _sj_above(xy, c, d, f, a, floor)):
+                    continue
+                if not (corner_ok(xy, a, b, c) and quad_ok(xy, c, d, f, a)):
+                    continue
+                if _flat_boundary_corner(xy, bnd, c, d, f, a):
+                    continue
+                floor = min(_tri_sine(xy, a, b, c), quad_sj(xy, c, d, f, a))
+                best = floor
+                best_q = q
+                best_i = i
+                for k in range(5):
+                    best_p[k] = p[k]
+        if best_q < 0:
+            continue
+        i = best_i
+        tri[t, 0], tri[t, 1], tri[t, 2] = best_p[i], best_p[(i + 1) % 5], best_p[(i + 2) % 5]
+        q = best_q
+        quad[q, 0], quad[q, 1] = best_p[(i + 2) % 5], best_p[(i + 3) % 5]
+        quad[q, 2], quad[q, 3] = best_p[(i + 4) % 5], best_p[i]
+        lock[q] = 1
         done += 1
     return done

@@ -47,6 +47,7 @@ __all__ = [
     "enhance",
     "min_scaled_jacobian",
     "nonconvex",
+    "resplit_leftovers",
     "smooth_quads",
     "unpair_nonconvex",
 ]
@@ -56,6 +57,8 @@ ENHANCE_SMOOTH = 5  # Laplacian passes of the enhancement (and again after a spl
 ENHANCE_SETTLE = 1e-2  # ... after the first, only where a node moved more than this times an edge
 ACCEPT = 0.4  # element elimination may lower the local worst scaled Jacobian, but not below this
 SWAP_GAIN = 0.02  # a diagonal swap must raise the pair's worst scaled Jacobian by more than this
+RESPLIT_BELOW = 0.2  # a left-over triangle and a quad are re-split only under this worst corner sine
+RESPLIT_PASSES = 4  # cap on re-splitting passes (each stops early when nothing changes)
 
 
 def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
@@ -111,6 +114,73 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
             break
     kept = np.flatnonzero(alive == 1)
     return xy, qd[kept], kept, tuple(int(c) for c in total)
+
+
+def resplit_leftovers(points, quads, triangles, boundary, lines, passes=RESPLIT_PASSES):
+    """Left-over triangles re-split with a quad beside them (before the chord refinement).
+
+    A triangle and the quad across one of its interior sides form a pentagon; where the
+    pair's worst corner sine is under :data:`RESPLIT_BELOW`, it is re-split along the
+    pentagon diagonal that raises it most (by more than :data:`SWAP_GAIN`), judged over
+    the triangle's three sides (:func:`meshwright.quad._enhance_kernel.resplit_pass`).
+    The chord refinement keeps a triangle's corners as corners of its quads, so a sliver
+    triangle at fixed nodes would leave slivers no smoothing opens.  No node moves.
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+    quads : (q, 4) int32
+        Strictly convex, counter-clockwise; not modified.
+    triangles : (t, 3) int32
+        Counter-clockwise; not modified.
+    boundary : (n,) bool
+        Nodes on the boundary or on interior segments (or fixed): no new quad has a
+        corner wider than 150 degrees between three of them.
+    lines : (k, 2) int
+        Boundary and interior-segment edges: never crossed (an interior segment has
+        quads on both sides).
+    passes : int
+        Cap on passes.
+
+    Returns
+    -------
+    quads : (q, 4) int32
+        Same rows, some re-cut: every one strictly convex (exact).
+    triangles : (t, 3) int32
+        Same rows, some moved: every one counter-clockwise (exact).
+    count : int
+        Pairs re-split.
+
+    Raises
+    ------
+    InputError
+        Points not (n, 2) finite, a row out of range, ``boundary`` not (n,) bool,
+        ``passes`` not a count.
+    """
+    xy = as_points(points, "points")
+    qd = np.ascontiguousarray(as_cells(quads, "quads", 4, len(xy)), dtype=np.int32).copy()
+    td = np.ascontiguousarray(as_cells(triangles, "triangles", 3, len(xy)), dtype=np.int32).copy()
+    b = np.asarray(boundary)
+    if b.shape != (len(xy),) or b.dtype != bool:
+        raise InputError(f"boundary must be a ({len(xy)},) bool array, got {b.dtype} of shape {b.shape}")
+    passes = check_count(passes, "passes")
+    ln = as_cells(lines, "lines", 2, len(xy)).astype(np.int64)
+    total = 0
+    if not len(td) or not len(qd):
+        return qd, td, total
+    bnd = b.astype(np.int8)
+    ends = np.concatenate([ln, ln[:, ::-1]])
+    order = np.argsort(ends[:, 0], kind="stable")
+    loff = np.searchsorted(ends[order, 0], np.arange(len(xy) + 1)).astype(np.int64)
+    lidx = ends[order, 1]
+    alive = np.ones(len(qd), dtype=np.int8)
+    for _ in range(passes):
+        off, idx = ek.node_quads(qd, alive, len(xy))
+        got = ek.resplit_pass(xy, qd, td, bnd, off, idx, loff, lidx, RESPLIT_BELOW, SWAP_GAIN)
+        total += got
+        if got == 0:
+            break
+    return qd, td, total
 
 
 def nonconvex(xy: np.ndarray, quads: np.ndarray) -> np.ndarray:
