@@ -75,17 +75,18 @@ def _corner_table(points, cells, exact):
 
 @njit(cache=True)
 def _star_min(cs, cells, cell_ptr, cell_idx, v):
-    """Smallest corner sine over the cells around ``v``, read from the table ``cs``, and
-    the corner holding it (``4 * cell + corner``; -1 when no sine is below 1)."""
+    """Smallest corner sine over the cells around ``v``, read from the flat corner table
+    ``cs`` (4 m,) with the flat cells (4 m,), and the corner holding it (``4 * cell +
+    corner``; -1 when no sine is below 1)."""
     worst = 1.0
     at = -1
     for t in range(cell_ptr[v], cell_ptr[v + 1]):
-        c = cell_idx[t]
-        nv = 4 if cells[c, 3] >= 0 else 3
+        c = 4 * np.int64(cell_idx[t])
+        nv = 4 if cells[c + 3] >= 0 else 3
         for k in range(nv):
-            if cs[c, k] < worst:
-                worst = cs[c, k]
-                at = 4 * c + k
+            if cs[c + k] < worst:
+                worst = cs[c + k]
+                at = c + k
     return worst, at
 
 
@@ -178,6 +179,10 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
     sines-only specialisation compiles neither the exact tests nor the kernel's clipping.
     """
     interior = nodes.shape[0] == 0
+    # Flat views: an index is a shift and an add, no row stride read from the array (spilled).
+    P = points.reshape(-1)
+    C = cells.reshape(-1)
+    S = cs.reshape(-1)
     kept = 0
     woke = False
     for it in range(points.shape[0] if interior else nodes.shape[0]):
@@ -190,17 +195,17 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
             if settle > 0.0 and cur[v] == 0:
                 continue
             for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
-                tx += points[nbr_idx[t], 0]
-                ty += points[nbr_idx[t], 1]
+                tx += P[2 * nbr_idx[t]]
+                ty += P[2 * nbr_idx[t] + 1]
             k = nbr_ptr[v + 1] - nbr_ptr[v]
             tx = tx / k
             ty = ty / k
         else:
             v = nodes[it]
-        x0 = points[v, 0]
-        y0 = points[v, 1]
+        x0 = P[2 * v]
+        y0 = P[2 * v + 1]
         # A refused trial puts v back exactly, so every trial shares one ``before``.
-        before, worst = _star_min(cs, cells, cell_ptr, cell_idx, v)
+        before, worst = _star_min(S, C, cell_ptr, cell_idx, v)
         moved = False
         for trial in range(3):
             if trial < 2:
@@ -224,43 +229,43 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                 found, px, py = _kernel_target(points, cells, cell_ptr, cell_idx, v, box[0], box[1], box[2], box[3])
                 if not found:
                     break
-            points[v, 0] = px
-            points[v, 1] = py
+            P[2 * v] = px
+            P[2 * v + 1] = py
             ok = True
             if worst >= 0:
                 c = worst >> 2
                 k = worst & 3
-                nv = 4 if cells[c, 3] >= 0 else 3
-                if nv == 3 or cells[c, (k + 2) & 3] != v:
-                    a = cells[c, k - 1 if k > 0 else nv - 1]
-                    b = cells[c, k]
-                    d = cells[c, k + 1 if k + 1 < nv else 0]
+                nv = 4 if C[4 * c + 3] >= 0 else 3
+                if nv == 3 or C[4 * c + ((k + 2) & 3)] != v:
+                    a = C[4 * c + (k - 1 if k > 0 else nv - 1)]
+                    b = C[4 * c + k]
+                    d = C[4 * c + (k + 1 if k + 1 < nv else 0)]
                     if cv is not None:
-                        sn, convex = _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
-                                                 points[d, 0], points[d, 1])
+                        sn, convex = _measure_xy(P[2 * a], P[2 * a + 1], P[2 * b], P[2 * b + 1],
+                                                 P[2 * d], P[2 * d + 1])
                         ok = not (sn < before or (cv[c, k] == 1 and not convex))
                     else:
-                        sn, _, _ = _cross_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
-                                             points[d, 0], points[d, 1])
+                        sn, _, _ = _cross_xy(P[2 * a], P[2 * a + 1], P[2 * b], P[2 * b + 1],
+                                             P[2 * d], P[2 * d + 1])
                         ok = not sn < before
             i = 0
             if ok:
                 for t in range(cell_ptr[v], cell_ptr[v + 1]):
                     c = cell_idx[t]
-                    if cells[c, 3] < 0:
+                    if C[4 * c + 3] < 0:
                         for k in range(3):
-                            a = cells[c, k - 1 if k > 0 else 2]
-                            b = cells[c, k]
-                            d = cells[c, k + 1 if k < 2 else 0]
+                            a = C[4 * c + (k - 1 if k > 0 else 2)]
+                            b = C[4 * c + k]
+                            d = C[4 * c + (k + 1 if k < 2 else 0)]
                             convex = True
                             if cv is not None:
-                                sn, convex = _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
-                                                         points[d, 0], points[d, 1])
+                                sn, convex = _measure_xy(P[2 * a], P[2 * a + 1], P[2 * b], P[2 * b + 1],
+                                                         P[2 * d], P[2 * d + 1])
                                 if not convex and cv[c, k] == 1:
                                     ok = False
                             else:
-                                sn, _, _ = _cross_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
-                                                     points[d, 0], points[d, 1])
+                                sn, _, _ = _cross_xy(P[2 * a], P[2 * a + 1], P[2 * b], P[2 * b + 1],
+                                                     P[2 * d], P[2 * d + 1])
                             if sn < before:
                                 ok = False
                             if not ok:
@@ -275,20 +280,20 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                     # three corners that v changes from the four sides they share (v->q,
                     # v->p, q->o, p->o).  A side read backwards is negated, which changes
                     # no magnitude: the sines and cross products are _cross_xy's, bit for bit.
-                    kv = (cells[c, 1] == v) * 1 + (cells[c, 2] == v) * 2 + (cells[c, 3] == v) * 3
+                    kv = (C[4 * c + 1] == v) * 1 + (C[4 * c + 2] == v) * 2 + (C[4 * c + 3] == v) * 3
                     kq = (kv + 1) & 3
                     kp = (kv + 3) & 3
-                    q = cells[c, kq]
-                    o = cells[c, (kv + 2) & 3]
-                    p = cells[c, kp]
-                    aqx = points[q, 0] - px
-                    aqy = points[q, 1] - py
-                    apx = points[p, 0] - px
-                    apy = points[p, 1] - py
-                    qox = points[o, 0] - points[q, 0]
-                    qoy = points[o, 1] - points[q, 1]
-                    pox = points[o, 0] - points[p, 0]
-                    poy = points[o, 1] - points[p, 1]
+                    q = C[4 * c + kq]
+                    o = C[4 * c + ((kv + 2) & 3)]
+                    p = C[4 * c + kp]
+                    aqx = P[2 * q] - px
+                    aqy = P[2 * q + 1] - py
+                    apx = P[2 * p] - px
+                    apy = P[2 * p + 1] - py
+                    qox = P[2 * o] - P[2 * q]
+                    qoy = P[2 * o + 1] - P[2 * q + 1]
+                    pox = P[2 * o] - P[2 * p]
+                    poy = P[2 * o + 1] - P[2 * p + 1]
                     lq = aqx * aqx + aqy * aqy
                     lp = apx * apx + apy * apy
                     l0 = aqx * apy
@@ -311,13 +316,13 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                     b2 = 1
                     if cv is not None:
                         if not (cr0 > 0.0 and cr0 >= CCW_ERRBOUND_A * (abs(l0) + abs(r0))):
-                            s0, ok0 = _measure_xy(points[p, 0], points[p, 1], px, py, points[q, 0], points[q, 1])
+                            s0, ok0 = _measure_xy(P[2 * p], P[2 * p + 1], px, py, P[2 * q], P[2 * q + 1])
                             b0 = 1 if ok0 else 0
                         if not (cr1 > 0.0 and cr1 >= CCW_ERRBOUND_A * (abs(l1) + abs(r1))):
-                            s1, ok1 = _measure_xy(px, py, points[q, 0], points[q, 1], points[o, 0], points[o, 1])
+                            s1, ok1 = _measure_xy(px, py, P[2 * q], P[2 * q + 1], P[2 * o], P[2 * o + 1])
                             b1 = 1 if ok1 else 0
                         if not (cr2 > 0.0 and cr2 >= CCW_ERRBOUND_A * (abs(l2) + abs(r2))):
-                            s2, ok2 = _measure_xy(points[o, 0], points[o, 1], points[p, 0], points[p, 1], px, py)
+                            s2, ok2 = _measure_xy(P[2 * o], P[2 * o + 1], P[2 * p], P[2 * p + 1], px, py)
                             b2 = 1 if ok2 else 0
                         if (b0 == 0 and cv[c, kv] == 1) or (b1 == 0 and cv[c, kq] == 1) or (b2 == 0 and cv[c, kp] == 1):
                             ok = False
@@ -335,20 +340,20 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
             if ok:
                 for j in range(i):
                     sc = slot[j] >> 1
-                    cs[sc >> 2, sc & 3] = old[j]
+                    S[sc] = old[j]
                     if cv is not None:
                         cv[sc >> 2, sc & 3] = slot[j] & 1
                 moved = True
                 break
-            points[v, 0] = x0
-            points[v, 1] = y0
+            P[2 * v] = x0
+            P[2 * v + 1] = y0
         if not moved:
             continue
         kept += 1
         if interior and settle > 0.0:
             w = nbr_idx[nbr_ptr[v]]
-            ref = (points[w, 0] - x0) ** 2 + (points[w, 1] - y0) ** 2
-            shift = (points[v, 0] - x0) ** 2 + (points[v, 1] - y0) ** 2
+            ref = (P[2 * w] - x0) ** 2 + (P[2 * w + 1] - y0) ** 2
+            shift = (P[2 * v] - x0) ** 2 + (P[2 * v + 1] - y0) ** 2
             if shift > settle * settle * ref:
                 woke = True
                 cur[v] = 1
