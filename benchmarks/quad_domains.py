@@ -10,8 +10,8 @@ Runs :func:`meshwright.quadrangulate` (all-quad, the default) on the domains the
 meshes: every built-in domain at its own size and at half of it, the ``.poly`` files of
 ``tests/data`` at their default size, and the constructed cases of ``tests/test_pairing.py``
 and ``tests/test_quad.py`` (holes, interior segments and points, a graded size jumping from
-0.03 to 0.08, nested hole and island).  A method that refuses a domain's features (paving:
-interior segments and points) is listed as refused, not failed.  Per case: the quad
+0.03 to 0.08, nested hole and island).  A method that refuses a domain's features (every method:
+a region's area bound) is listed as refused, not failed.  Per case: the quad
 count, whether the mesh is all-quad (no triangle cell), the min and mean scaled
 Jacobian and the min / max interior angle (meshwright's
 :func:`~meshwright.core.quality.quad_quality`), and the wall time (one run, after a

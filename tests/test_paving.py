@@ -217,9 +217,10 @@ def test_caps_are_errors_naming_the_stuck_front():
 
 def test_registry_entry_and_the_door():
     m = QUAD_METHODS["paving"]
-    assert m.needs_size and m.smooths and not m.segments and not m.points and not m.regions
-    square = polygon([(0, 0), (1, 0), (1, 1), (0, 1)], points=[(0.5, 0.5)])
-    with pytest.raises(InputError, match="interior points"):
+    assert m.needs_size and m.smooths and m.segments and m.points and m.regions
+    # Area bounds of regions are refused by every quad method (markers are honoured).
+    square = polygon([(0, 0), (1, 0), (1, 1), (0, 1)], regions=[(0.5, 0.5, 1, 0.01)])
+    with pytest.raises(InputError, match="max_area"):
         quadrangulate(square, 0.1, method="paving")
     with pytest.raises(InputError, match="domain"):
         pave_domain("circle", 0.1)

@@ -91,13 +91,13 @@ def _case(**over):
 
 def test_documented_refusals_are_not_failures():
     seg = _case(segments=[[[0.2, 0.5], [0.8, 0.5]]])
-    assert S._refusal(seg, "paving") == "does not honour interior segments"
+    assert S._refusal(seg, "paving") is None
     assert S._refusal(seg, "pairing") is None
-    assert S._refusal(_case(points=[[0.5, 0.5]]), "paving") == "does not honour interior points"
+    assert S._refusal(_case(points=[[0.5, 0.5]]), "paving") is None
     assert S._refusal(_case(size={"kind": "boundary"}), "quadtree") == "needs a size"
     assert S._refusal(_case(size={"kind": "boundary"}), "zhu") is None
-    with pytest.raises(S.Refused, match="interior segments"):
-        S.check(seg, "paving")
+    with pytest.raises(S.Refused, match="needs a size"):
+        S.check(_case(size={"kind": "boundary"}, methods=["quadtree"]), "quadtree")
     with pytest.raises(S.Refused, match="needs a size"):
         S.check(_case(size={"kind": "boundary"}), "paving")
     stretched = {"kind": "background", "h": 0.3, "stretch": 3.0, "direction": 0.5}

@@ -466,15 +466,21 @@ def facing_order(ids, fid, pos, p, nrm, reach, sizes):
     return u[order], v[order]
 
 
-def fill_voids(xy, voids, field, seed):
+def fill_voids(xy, voids, field, seed, obstacles=None):
     """Quads (and left-over triangles) of the region bounded by the stopped paving
     boundaries, by advancing-front triangles paired and enhanced (18.5.1); node ids of
-    ``xy``, new nodes appended.  Returns (xy, quads, triangles)."""
+    ``xy``, new nodes appended.  ``obstacles``
+    (:class:`~meshwright.quad._paving_obstacles.Obstacles`, optional): interior segment
+    pieces and points inside the voids, which become constraints and nodes of the
+    triangulation (no pair crosses a piece).  Returns (xy, quads, triangles)."""
     from meshwright.tri.cdt import cdt_build
     from meshwright.tri.front import advancing_front
 
     ring = np.concatenate(voids).astype(np.int64, copy=False)
-    nodes = np.unique(ring)
+    if obstacles is None:
+        nodes = np.unique(ring)
+    else:
+        nodes = np.unique(np.concatenate([ring, obstacles.seg_a, obstacles.seg_b, obstacles.points]))
     # Each void's edges in order, numbered by rank among the nodes (a dict and a pair
     # per edge in Python cost 0.2 s on a sliver's 2,000 open parts).
     seg = np.searchsorted(nodes, np.column_stack([ring, np.concatenate([shift_next(f) for f in voids])]))
@@ -485,6 +491,10 @@ def fill_voids(xy, voids, field, seed):
     slit = np.isin(seg[:, 1] * n + seg[:, 0], fwd)
     keep = ~slit | (seg[:, 0] < seg[:, 1])
     seg, sides = seg[keep], np.where(slit[keep], 0, 1)
+    if obstacles is not None and len(obstacles.seg_a):
+        # Interior segment pieces: constraints with the region on both sides.
+        inner = np.searchsorted(nodes, np.column_stack([obstacles.seg_a, obstacles.seg_b]))
+        seg, sides = np.concatenate([seg, inner]), np.concatenate([sides, np.zeros(len(inner), dtype=sides.dtype)])
     ct = cdt_build(xy[nodes], seg, seed=seed)
     ct.classify(segment_sides=sides)
     # Rows keep their boundary's spacing while the field may grow away from the walls:

@@ -191,8 +191,8 @@ QUAD_METHODS: dict[str, QuadMethod] = {
         ),
         QuadMethod(
             "paving", "rows of quads paved inward from the boundaries, voids paired (Blacker-Stephenson, 18.5.2)",
-            _paving, needs_size=True, smooths=True, reports_progress=False, segments=False, points=False,
-            regions=False,
+            _paving, needs_size=True, smooths=True, reports_progress=False, segments=True, points=True,
+            regions=True,
         ),
     )
 }

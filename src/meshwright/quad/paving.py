@@ -69,6 +69,19 @@ Steps, as the chapter numbers them
    below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles), up to
    :data:`MEND_ROUNDS` passes more while a quad the chord split bent is still not convex.
 
+*Interior segments, points and regions.*  A segment whose pieces connect to a loop is a
+*hard line* (FASTQ): the paving boundaries are the face cycles of the loops and those
+pieces, each piece run once each way (:mod:`meshwright.quad._paving_hard`), so rows grow
+from both sides of it as from the boundary and its nodes never move.  Segments that meet no loop, and interior points, are
+*obstacles* (:mod:`meshwright.quad._paving_obstacles`): a row whose quads come within
+the size of one is refused (the boundary stops, no shallower row creeps up to it), no
+closure takes a region that holds one, and the void fill triangulates the stopped
+boundaries with them as constraints and nodes (a free segment as a zero-area hole would
+need closures of two-sided fronts of a few nodes).  A hard-line paving that fails (the
+result is checked: every piece a cell side each way) is redone with all segments as
+obstacles.  Region markers are the mesher's flood fill over the line cells.  Domains with
+none of these take the path above, node for node.
+
 Invariants: every paving boundary has an even node count and the unmeshed region on its
 left; every quad committed is strictly convex by exact ``orient2d``; no paving-boundary
 edge crosses another.  Every loop is capped: rounds of rows (:data:`MAX_ROUNDS` plus the
@@ -117,10 +130,12 @@ from meshwright.quad._paving_close import (
     facing_order,
     fill_voids,
     front_slots,
-    polish,
     shift_next,
     signed_area,
 )
+from meshwright.quad._paving_finish import Finish, finish
+from meshwright.quad._paving_hard import attached_pieces, face_cycles, pieces_two_sided
+from meshwright.quad._paving_obstacles import Obstacles
 from meshwright.quad.parity import make_loops_even
 from meshwright.quad.smoothing import smooth_cells
 from meshwright.sizing.field import as_size_field
@@ -246,6 +261,8 @@ class _Paver:
         self.joints = 0
         # Parts of partly closed paving boundaries, left to the void fill.
         self.open_parts: list[np.ndarray] = []
+        # Interior segments and points (None when the domain has none): see pave_domain.
+        self.obs: Obstacles | None = None
 
     def _reserve(self, k: int) -> None:
         """Room for ``k`` nodes beyond ``self.n`` (the arrays doubled when full)."""
@@ -356,6 +373,10 @@ class _Paver:
                 edges = (*edges_of(others + [f]), np.concatenate(others + [f]) if others else f)
             bad = np.flatnonzero(pk.check_row(self.trial_points(new_xy), f, quads, owner, np.int64(self.n), *edges))
             if not len(bad):
+                if self.obs is not None and self.obs.row_refused(self.trial_points(new_xy), quads, self.h, self.n):
+                    # A shallower row would only creep up to the obstacle in thin quads:
+                    # the paving boundary stops, and the void fill meets the obstacle.
+                    return None
                 self.tucks += self.pending[0]
                 self.wedges += self.pending[1]
                 return new_xy, quads, front
@@ -494,6 +515,8 @@ class _Paver:
         whole boundary cost a minute)."""
         if len(f) > limit or encloses(self.pts, f, others):
             return False
+        if self.obs is not None and self.obs.inside(self.xy, f):
+            return False
         oa, ob = edges_of(others)
         sizes = self.size_at(np.asarray(f, dtype=np.int64)) if len(f) > LONG_LOOP else None
         done = close_loop(self.xy, f, self.field, oa, ob, 4 * len(f), partial=True, sizes=sizes)
@@ -599,7 +622,8 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     Parameters
     ----------
     domain : Domain
-        Validated, without interior segments or points.
+        Validated; its interior segments and points are honoured (module docstring),
+        its region seeds are the caller's (:func:`meshwright.quadrangulate`).
     field : number, callable, SizeField or BackgroundGrid
         Size field (the row depth and spacing); isotropic (a stretched background grid
         is refused).
@@ -630,13 +654,8 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
         A cap was hit (the stuck paving boundary named), or the result failed its own
         exact check.
     """
-    from meshwright.quad.chords import chord_split
-    from meshwright.quad.mesher import QuadFill
-
     if not isinstance(domain, Domain):
         raise InputError(f"domain must be a meshwright.geometry.Domain, got {type(domain).__name__}")
-    if domain.constraints or len(domain.points):
-        raise InputError("paving does not honour interior segments or interior points; the domain has some")
     field = as_size_field(field)
     stretch = np.asarray(getattr(field, "stretch", 1.0), dtype=np.float64)
     if (stretch > 1.0).any():
@@ -652,16 +671,41 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
         check_count(max_rounds, "max_rounds", 1)
     disc, added = make_loops_even(domain, domain.discretize(field), fixed_boundary)
     loops = boundary_loops(domain, disc)
-    pv = _Paver(disc.points, field, cap)
-    if pv.n > cap:
-        raise MeshingError(f"the boundary alone has {pv.n} nodes, above max_points = {cap}")
+    if len(disc.points) > cap:
+        raise MeshingError(f"the boundary alone has {len(disc.points)} nodes, above max_points = {cap}")
     x0, y0, x1, y1 = domain.bbox
     seg_len = np.hypot(*(disc.points[disc.segments[:, 1]] - disc.points[disc.segments[:, 0]]).T)
     if max_rounds is None:
         rounds = MAX_ROUNDS + int(np.hypot(x1 - x0, y1 - y0) / max(float(seg_len.min()), 1e-300))
     else:
         rounds = check_count(max_rounds, "max_rounds", 1)
-    active = [(f, name) for f, name in zip(loops, [_loop_name(i) for i in range(len(loops))])]
+    names = [_loop_name(i) for i in range(len(loops))]
+    obs = Obstacles.of(domain, disc)
+    job = (domain, disc, field, cap, rounds, seed, all_quad)
+    hard = attached_pieces(loops, obs.seg_a, obs.seg_b) if obs is not None else np.zeros(0, dtype=bool)
+    if hard.any():
+        fronts, src = face_cycles(disc.points, loops, obs.seg_a[hard], obs.seg_b[hard])
+        try:
+            fill, counts = _pave(*job, fronts, [names[i] if i >= 0 else "a segment cycle" for i in src],
+                                 obs.only(~hard), obs)
+            return fill, PavingReport(added, *counts)
+        except MeshingError:
+            # Rows along hard lines met a case they do not handle (a piece lost by a
+            # closure): the segments as obstacles of rows from the loops, which the
+            # void fill meets.
+            pass
+    fill, counts = _pave(*job, loops, names, obs, obs)
+    return fill, PavingReport(added, *counts)
+
+
+def _pave(domain, disc, field, cap, rounds, seed, all_quad, starts, names, obs, all_obs):
+    """Steps 1-8 of :func:`pave_domain` from the paving boundaries ``starts`` (named
+    ``names``) with the obstacles ``obs`` (of the rows) and ``all_obs`` (every interior
+    segment piece and point, checked on the result).  Returns (QuadFill, the counts of
+    :class:`PavingReport` after ``nodes_added``)."""
+    pv = _Paver(disc.points, field, cap)
+    pv.obs = obs
+    active = list(zip(starts, names))
     stopped: list[np.ndarray] = []
     for rnd in range(rounds + 1):
         if not active:
@@ -722,11 +766,15 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     xy = pv.xy.copy()
     quads = np.concatenate(pv.quads) if pv.quads else np.zeros((0, 4), dtype=np.int64)
     paved = len(quads)
+    if obs is not None and paved and obs.covered(xy, quads):
+        # A seam or joint moved a paved quad onto an obstacle (no row or closure does):
+        # the whole domain goes to the void fill, which honours every obstacle.
+        quads, paved, voids = quads[:0], 0, list(starts)
     tris = np.zeros((0, 3), dtype=np.int64)
     filled = 0
     if voids:
         try:
-            xy, fq, tris = fill_voids(xy, voids, field, seed)
+            xy, fq, tris = fill_voids(xy, voids, field, seed, obs)
         except GeometryError as e:
             # The stopped paving boundaries are this method's own state, not the user's
             # geometry: a failure to triangulate them is a meshing failure.
@@ -736,45 +784,14 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
             ) from e
         filled = len(fq)
         quads = np.concatenate([quads, fq])
-    lines = disc.segments.astype(np.int32)
-    used = np.zeros(len(xy), dtype=bool)
-    used[quads.ravel()] = True
-    used[tris.ravel()] = True
-    used[: pv.n_fixed] = True
-    newid = np.cumsum(used) - 1
-    xy = np.ascontiguousarray(xy[used])
-    quads = newid[quads].astype(np.int32)
-    tris = newid[tris].astype(np.int32)
-    fill = QuadFill(xy, quads, tris, lines, disc.segment_markers.astype(np.int32), disc.segment_curve.astype(np.int32))
-    split = bool(all_quad and len(tris))
-    if split:
-        # The lines are the discretisation's segments in order: their curve parameters
-        # give the split lines' midpoints without projecting their ends.
-        fill = chord_split(fill, domain, cap, disc.segment_params)
-    fixed = np.zeros(len(fill.points), dtype=bool)
-    fixed[fill.lines.ravel()] = True
-    moved = smooth_cells(fill.points, fill.quads, fill.triangles, fixed, FINAL_SMOOTH, SETTLE)
-    if not len(fill.triangles):
-        moved = polish(moved, fill.quads, fixed, POLISH_BELOW, POLISH_ROUNDS)
-    fill = fill._replace(points=np.ascontiguousarray(moved))
-    bad = np.flatnonzero(~convex(fill.points, fill.quads))
-    if len(bad) and not len(fill.triangles):
-        # The chord split may leave bent quads that the smoothing and the first passes
-        # do not open (15 on a sliver under a size jump, one left at the end); each pass
-        # only raises a star's smallest sine, so more passes open them.
-        fill = fill._replace(points=polish(fill.points, fill.quads, fixed, POLISH_BELOW, MEND_ROUNDS))
-        bad = np.flatnonzero(~convex(fill.points, fill.quads))
-    if len(bad):
-        c = int(bad[0])
-        raise MeshingError(
-            "paving produced a non-convex quad with corners "
-            + ", ".join(fmt_point(fill.points[v]) for v in fill.quads[c])
-        )
-    report = PavingReport(
-        added, pv.rows, pv.tucks, pv.wedges, pv.seams, pv.joints, pv.closures, paved, len(voids), filled, split,
-        len(fill.triangles),
-    )
-    return fill, report
+    if all_obs is not None and not pieces_two_sided(quads, tris, all_obs.seg_a, all_obs.seg_b):
+        raise MeshingError("paving lost an interior segment piece (not a side of a cell each way)")
+    points = np.zeros(0, dtype=np.int64) if all_obs is None else all_obs.points
+    rules = Finish(FINAL_SMOOTH, SETTLE, POLISH_BELOW, POLISH_ROUNDS, MEND_ROUNDS)
+    fill, split = finish(xy, quads, tris, pv.n_fixed, disc, domain, cap, all_quad, points, rules)
+    counts = (pv.rows, pv.tucks, pv.wedges, pv.seams, pv.joints, pv.closures, paved, len(voids), filled, split,
+              len(fill.triangles))
+    return fill, counts
 
 
 def paving_fill(job):

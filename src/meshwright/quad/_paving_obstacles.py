@@ -1,0 +1,227 @@
+"""Interior segments and points as obstacles of the paving rows (:mod:`meshwright.quad.paving`).
+
+The domain's interior segments (their discretised pieces) and interior points are not
+paved over: a row whose quads come closer to one than :data:`GAP` times the size at the
+row's paving nodes is refused (its paving boundary stops there), no closure takes a
+region holding one, and the void fill (:func:`~meshwright.quad._paving_close.fill_voids`)
+triangulates the stopped paving boundaries together with the obstacles, so that the
+pairing of 18.5.1 meets every segment piece as a quad edge and every point as a node.
+
+Array layout: points (n, 2) float64; quads (q, 4) int64 counter-clockwise; obstacle
+pieces as two (m,) int64 end arrays ``oa``, ``ob`` (a point is a piece with ``oa ==
+ob``).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from meshwright.core.predicates import orient2d
+from meshwright.quad._paving_grid import segments_meet
+
+__all__ = ["GAP", "Obstacles", "quads_near"]
+
+GAP = 1.0  # sizes: a row's quads keep at least this far from an interior segment or point
+
+
+@njit
+def _dist2(px, py, ax, ay, bx, by):
+    """Squared distance from (px, py) to the closed segment (ax, ay) (bx, by)."""
+    dx = bx - ax
+    dy = by - ay
+    ll = dx * dx + dy * dy
+    t = 0.0
+    if ll > 0.0:
+        t = min(1.0, max(0.0, ((px - ax) * dx + (py - ay) * dy) / ll))
+    ex = ax + t * dx - px
+    ey = ay + t * dy - py
+    return ex * ex + ey * ey
+
+
+@njit(cache=True)
+def quads_near(pts, quads, reach, oa, ob, touch_ok):
+    """Which quads an obstacle piece meets or comes within ``reach`` of.
+
+    Parameters
+    ----------
+    pts : (n, 2) float64
+    quads : (q, 4) int64
+        Counter-clockwise.
+    reach : (q,) float64
+        Clearance each quad must keep (0: only touching counts).
+    oa, ob : (m,) int64
+        Obstacle pieces; ``oa[j] == ob[j]`` is a point.
+    touch_ok : bool
+        A quad side sharing a node with a piece does not count as meeting it (the check
+        of a finished paving, whose quads may end on a segment's node).
+
+    Returns
+    -------
+    (q,) bool
+        Meeting and containment exact (``orient2d``); the clearance in floating point,
+        a quality rule.
+    """
+    nq = quads.shape[0]
+    out = np.zeros(nq, dtype=np.bool_)
+    m = oa.shape[0]
+    if m == 0 or nq == 0:
+        return out
+    # Only pieces reaching the quads' box (grown by the largest reach) are candidates.
+    x0 = np.inf
+    x1 = -np.inf
+    y0 = np.inf
+    y1 = -np.inf
+    far = 0.0
+    for c in range(nq):
+        far = max(far, reach[c])
+        for e in range(4):
+            v = quads[c, e]
+            x0 = min(x0, pts[v, 0])
+            x1 = max(x1, pts[v, 0])
+            y0 = min(y0, pts[v, 1])
+            y1 = max(y1, pts[v, 1])
+    cand = np.empty(m, dtype=np.int64)
+    mc = 0
+    for j in range(m):
+        a = oa[j]
+        b = ob[j]
+        if max(pts[a, 0], pts[b, 0]) < x0 - far or min(pts[a, 0], pts[b, 0]) > x1 + far:
+            continue
+        if max(pts[a, 1], pts[b, 1]) < y0 - far or min(pts[a, 1], pts[b, 1]) > y1 + far:
+            continue
+        cand[mc] = j
+        mc += 1
+    for c in range(nq):
+        r = reach[c]
+        r2 = r * r
+        qx0 = np.inf
+        qx1 = -np.inf
+        qy0 = np.inf
+        qy1 = -np.inf
+        for e in range(4):
+            v = quads[c, e]
+            qx0 = min(qx0, pts[v, 0])
+            qx1 = max(qx1, pts[v, 0])
+            qy0 = min(qy0, pts[v, 1])
+            qy1 = max(qy1, pts[v, 1])
+        for i in range(mc):
+            j = cand[i]
+            a = oa[j]
+            b = ob[j]
+            if max(pts[a, 0], pts[b, 0]) < qx0 - r or min(pts[a, 0], pts[b, 0]) > qx1 + r:
+                continue
+            if max(pts[a, 1], pts[b, 1]) < qy0 - r or min(pts[a, 1], pts[b, 1]) > qy1 + r:
+                continue
+            hit = False
+            inside = True
+            for e in range(4):
+                u = quads[c, e]
+                v = quads[c, (e + 1) % 4]
+                if orient2d(pts[u, 0], pts[u, 1], pts[v, 0], pts[v, 1], pts[a, 0], pts[a, 1]) <= 0.0:
+                    inside = False
+                if touch_ok and (u == a or u == b or v == a or v == b):
+                    continue
+                if segments_meet(pts, u, v, a, b):
+                    hit = True
+                    break
+                if r > 0.0:
+                    d = min(
+                        _dist2(pts[a, 0], pts[a, 1], pts[u, 0], pts[u, 1], pts[v, 0], pts[v, 1]),
+                        _dist2(pts[b, 0], pts[b, 1], pts[u, 0], pts[u, 1], pts[v, 0], pts[v, 1]),
+                        _dist2(pts[u, 0], pts[u, 1], pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1]),
+                        _dist2(pts[v, 0], pts[v, 1], pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1]),
+                    )
+                    if d < r2:
+                        hit = True
+                        break
+            if hit or inside:
+                out[c] = True
+                break
+    return out
+
+
+class Obstacles(NamedTuple):
+    """The domain's interior segments and points, in the paving's node ids.
+
+    Attributes
+    ----------
+    oa, ob : (m,) int64
+        Segment pieces (the discretisation's), then one piece per interior point with
+        both ends the point.
+    seg_a, seg_b : (s,) int64
+        The segment pieces alone (constraints of the void fill).
+    points : (p,) int64
+        The interior points' nodes.
+    """
+
+    oa: np.ndarray
+    ob: np.ndarray
+    seg_a: np.ndarray
+    seg_b: np.ndarray
+    points: np.ndarray
+
+    @classmethod
+    def of(cls, domain, disc) -> Obstacles | None:
+        """The obstacles of ``domain`` discretised as ``disc`` (None when it has none).
+        The interior points are the discretisation's last nodes."""
+        inner = domain.curve_loop[disc.segment_curve] < 0
+        n_free = len(domain.points)
+        if not inner.any() and not n_free:
+            return None
+        seg = disc.segments[inner].astype(np.int64)
+        pts = np.arange(len(disc.points) - n_free, len(disc.points), dtype=np.int64)
+        return cls(
+            np.concatenate([seg[:, 0], pts]), np.concatenate([seg[:, 1], pts]),
+            np.ascontiguousarray(seg[:, 0]), np.ascontiguousarray(seg[:, 1]), pts,
+        )
+
+    def only(self, keep: np.ndarray) -> Obstacles | None:
+        """These obstacles with the segment pieces ``keep`` (a (s,) bool mask) and every
+        point; None when nothing is left."""
+        if keep.all():
+            return self
+        if not keep.any() and not len(self.points):
+            return None
+        sa, sb = self.seg_a[keep], self.seg_b[keep]
+        return Obstacles(
+            np.concatenate([sa, self.points]), np.concatenate([sb, self.points]), sa, sb, self.points
+        )
+
+    def probes(self, xy: np.ndarray) -> np.ndarray:
+        """(m, 2): one point of each piece (a segment piece's midpoint, a point itself):
+        a region bounded by paving boundaries holds a piece exactly when it holds its
+        probe, since no paving boundary crosses a piece and a piece meets one only at a
+        node (a segment ending on a loop)."""
+        return 0.5 * (xy[self.oa] + xy[self.ob])
+
+    def inside(self, xy: np.ndarray, loop: np.ndarray) -> bool:
+        """Whether the polygon ``loop`` (node ids, either orientation) holds an obstacle
+        (crossing count of the probes in the loop's box)."""
+        p = xy[loop]
+        q = self.probes(xy)
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        q = q[((q >= lo) & (q <= hi)).all(axis=1)]
+        if not len(q):
+            return False
+        r = np.concatenate((p[1:], p[:1]))
+        x, y = q[:, 0][None, :], q[:, 1][None, :]
+        up = (p[:, 1:2] <= y) != (r[:, 1:2] <= y)
+        t = (y - p[:, 1:2]) / np.where(up, r[:, 1:2] - p[:, 1:2], 1.0)
+        cross = up & (p[:, 0:1] + t * (r[:, 0:1] - p[:, 0:1]) > x)
+        return bool((cross.sum(axis=0) % 2).any())
+
+    def row_refused(self, pts: np.ndarray, quads: np.ndarray, h: np.ndarray, n_old: int) -> bool:
+        """Whether a candidate row's quads (new nodes from ``n_old`` on) come closer to an
+        obstacle than :data:`GAP` times the size ``h`` at their committed corners."""
+        q = np.ascontiguousarray(quads, dtype=np.int64)
+        reach = GAP * np.nanmax(np.where(q < n_old, h[q], np.nan), axis=1)
+        return bool(quads_near(pts, q, reach, self.oa, self.ob, False).any())
+
+    def covered(self, xy: np.ndarray, quads: np.ndarray) -> bool:
+        """Whether a paved quad meets or holds an obstacle piece other than at a shared
+        node (the last check before the void fill)."""
+        q = np.ascontiguousarray(quads, dtype=np.int64)
+        return bool(quads_near(xy, q, np.zeros(len(q)), self.oa, self.ob, True).any())
