@@ -202,3 +202,31 @@ def test_tangled_stars_open():
         worst = min(_measure(xy[q[i - 1]], xy[q[i]], xy[q[(i + 1) % 4]]) for q in ql for i in range(4))
         after = min(_measure(got[q[i - 1]], got[q[i]], got[q[(i + 1) % 4]]) for q in ql for i in range(4))
         assert after >= worst
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_cell_tables_match_dictionaries(seed):
+    """cell_tables against lists built cell by cell: each vertex's cells in index order,
+    and its edge neighbours in the order the Laplacian sums them (its cells in order, in
+    each the next corner, then the previous one, each neighbour once, first appearance),
+    on quads and triangles sharing vertices in random order."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(5, 40))
+    quads = np.array([rng.choice(n, 4, replace=False) for _ in range(int(rng.integers(0, 30)))], np.int64).reshape(-1, 4)
+    tris = np.array([rng.choice(n, 3, replace=False) for _ in range(int(rng.integers(0, 30)))], np.int64).reshape(-1, 3)
+    cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx = sm.cell_tables(np.zeros((n, 2)), quads, tris)
+    rows = [list(q) for q in quads.tolist()] + [list(t) for t in tris.tolist()]
+    for v in range(n):
+        mine = [c for c, row in enumerate(rows) if v in row]
+        assert cell_idx[cell_ptr[v] : cell_ptr[v + 1]].tolist() == mine
+        want = []
+        for c in mine:
+            row = rows[c]
+            i = row.index(v)
+            for w in (row[(i + 1) % len(row)], row[i - 1]):
+                if w not in want:
+                    want.append(w)
+        assert nbr_idx[nbr_ptr[v] : nbr_ptr[v + 1]].tolist() == want
+    assert cell_idx.dtype == np.int32 and nbr_idx.dtype == np.int32
+    assert cells[len(quads) :, 3].tolist() == [-1] * len(tris)

@@ -403,7 +403,11 @@ def _sweeps(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, passes, s
 
 @njit(cache=True)
 def _tables(cells, n):
-    """Vertex -> cells and vertex -> edge neighbours (deduplicated), both CSR, in O(cells)."""
+    """Vertex -> cells and vertex -> edge neighbours (deduplicated), both CSR, in O(cells).
+
+    A vertex's neighbours come in the order of its cells, each cell's next corner before
+    its previous one, each neighbour at its first appearance (the Laplacian's mean sums
+    them in that order)."""
     m = cells.shape[0]
     cell_ptr = np.zeros(n + 1, np.int64)
     for c in range(m):
@@ -414,32 +418,27 @@ def _tables(cells, n):
         cell_ptr[v + 1] += cell_ptr[v]
     fill = cell_ptr[:-1].copy()
     cell_idx = np.empty(cell_ptr[n], np.int32)
-    # Each entry's place of its vertex in the cell, so that the neighbour pass below
-    # reads the two sides there without searching the cell for the vertex.
-    place = np.empty(cell_ptr[n], np.int8)
+    # Each entry's two candidate neighbours (next corner, previous corner) are written
+    # beside it here, while the cell is at hand, so that the deduplication below reads
+    # them in order instead of going back to the cells at random.
+    pair = np.empty(2 * cell_ptr[n], np.int32)
     for c in range(m):
-        for k in range(4):
+        last = 3 if cells[c, 3] >= 0 else 2
+        for k in range(last + 1):
             v = cells[c, k]
-            if v >= 0:
-                cell_idx[fill[v]] = c
-                place[fill[v]] = k
-                fill[v] += 1
-    # Each cell gives a vertex its two edge neighbours; a stamp drops the repeats.
-    stamp = np.full(n, -1, np.int64)
+            f = fill[v]
+            cell_idx[f] = c
+            pair[2 * f] = cells[c, k + 1 if k < last else 0]
+            pair[2 * f + 1] = cells[c, k - 1 if k > 0 else last]
+            fill[v] = f + 1
+    # A stamp drops the repeats.
+    stamp = np.full(n, -1, np.int32)
     nbr_ptr = np.zeros(n + 1, np.int64)
     nbr_idx = np.empty(2 * cell_ptr[n], np.int32)
     top = 0
     for v in range(n):
-        for s in range(cell_ptr[v], cell_ptr[v + 1]):
-            c = cell_idx[s]
-            k = np.int64(place[s])
-            last = 3 if cells[c, 3] >= 0 else 2
-            w = cells[c, k + 1 if k < last else 0]
-            if stamp[w] != v:
-                stamp[w] = v
-                nbr_idx[top] = w
-                top += 1
-            w = cells[c, k - 1 if k > 0 else last]
+        for s in range(2 * cell_ptr[v], 2 * cell_ptr[v + 1]):
+            w = pair[s]
             if stamp[w] != v:
                 stamp[w] = v
                 nbr_idx[top] = w
