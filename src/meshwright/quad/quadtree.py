@@ -12,7 +12,11 @@ boundary is triangulated (:func:`meshwright.triangulate`, Delaunay refinement at
 ``GAP_MIN_ANGLE``, boundary points on the true curves).  Transition cells (a side with a
 hanging node, or a side of the core split by the gap's refinement) become fans of
 triangles around their centre.  With ``all_quad`` the tree is built at twice the size and
-the mesher's midpoint split (:mod:`meshwright.quad.subdivide`) makes every element quads.
+the midpoint split (:mod:`meshwright.quad.subdivide`) makes every element quads, with the
+finish of :mod:`meshwright.quad._quadtree_finish` around it: slivers of thin junction
+wedges merged into quads before, split centres moved off bad corners after.  With
+``size="boundary"`` on a domain carrying no size the field is the boundary's own spacing,
+graded inward (:func:`_boundary_field`).
 
 Invariants: the tree is 2:1 balanced across sides (a leaf's side neighbour is at most one
 level finer), so a side has at most one hanging node; the core's outline has no pinched
@@ -42,9 +46,11 @@ from meshwright.core.errors import InputError, MeshingError
 from meshwright.geometry.curves import Polyline
 from meshwright.geometry.domain import Domain
 from meshwright.geometry._kernels import trace_chains
-from meshwright.quad.subdivide import curve_midpoints
-from meshwright.sizing.boundary import gradation
+from meshwright.quad._quadtree_finish import CENTRE_STEPS, merge_slivers, recentre
+from meshwright.quad.subdivide import curve_midpoints, split_all
+from meshwright.sizing.boundary import boundary_size, gradation, point_distribution
 from meshwright.sizing.field import as_size_field
+from meshwright.sizing.lfs import DEFAULT_GROWTH
 
 __all__ = [
     "quadtree_fill", "quadtree_stages", "QuadtreeStages", "build_tree", "balance", "CLEARANCE", "GAP_MIN_ANGLE",
@@ -58,6 +64,7 @@ SAGITTA = 0.03  # largest curve-to-chord-midpoint distance, in segment lengths, 
 SAGITTA_ROUNDS = 8
 SAGITTA_GROWTH = 2.0  # steep: the refinement stays near the curve, away from the core's outline
 SPLIT_RATIO = math.sqrt(2.0)  # a cell is split while its side exceeds this times the target size
+FINISH_FLOOR = 0.3  # corner sine below which the all-quad finish merges slivers and moves split centres
 
 # Side d of a cell in counter-clockwise order (south, east, north, west): the neighbour's
 # offset, the cell's corners at the side's start and end (dx, dy), and the two sons of a
@@ -630,6 +637,17 @@ def _stages(dom: Domain, field, factor: float, max_nodes: int):
     return stages, disc, keep, poly, outline, top
 
 
+def _boundary_field(dom: Domain):
+    """The size of ``size="boundary"`` on a domain carrying none: each boundary and segment
+    vertex's own spacing (Weatherill's point distribution ``dP``), graded inward at
+    :data:`~meshwright.sizing.lfs.DEFAULT_GROWTH` as triangulate's front grades its
+    background, and capped at the largest spacing (a background interpolated between the
+    boundary vertices never exceeds it)."""
+    disc = dom.discretize(None)
+    dp = point_distribution(disc.points, disc.segments)
+    return boundary_size(disc.points, disc.segments, DEFAULT_GROWTH, hmax=float(np.nanmax(dp)))
+
+
 def quadtree_stages(domain, size=None, *, all_quad: bool = True, max_points: int | None = None) -> QuadtreeStages:
     """The intermediate stages of the quadtree method, for pictures and inspection.
 
@@ -686,7 +704,8 @@ def quadtree_fill(job):
     Returns
     -------
     QuadFill
-        Quads of the core, triangles of its transition fans and of the boundary gap.
+        Quads of the core, triangles of its transition fans and of the boundary gap; with
+        ``all_quad`` those split into quads (module docstring).
 
     Raises
     ------
@@ -696,7 +715,8 @@ def quadtree_fill(job):
     """
     from meshwright.quad.mesher import QuadFill
 
-    dom, field = job.domain, job.field
+    dom = job.domain
+    field = _boundary_field(dom) if job.field is None else job.field
     factor = 2.0 if job.all_quad else 1.0
     stages, disc, keep, poly, outline, top = _stages(dom, field, factor, job.max_points)
     root, lev, ci, cj, child, cells = stages.root, stages.lev, stages.ci, stages.cj, stages.child, stages.core
@@ -746,11 +766,23 @@ def quadtree_fill(job):
     points = np.ascontiguousarray(np.vstack([allxy, centres[fan_rows]]))
     if len(points) > job.max_points:
         raise MeshingError(f"the quadtree mesh has {len(points)} vertices, above max_points = {job.max_points}")
-    return QuadFill(
+    quads = pid[plain][:, :4]
+    triangles = np.concatenate([fan, gap_id[gap.cells["triangle"]]])
+    lines = gap_id[gl[boundary]]
+    if job.all_quad:
+        merged, triangles = merge_slivers(points, triangles, lines, FINISH_FLOOR)
+        quads = np.concatenate([quads, merged])
+    fill = QuadFill(
         points,
-        np.ascontiguousarray(pid[plain][:, :4], dtype=np.int32),
-        np.concatenate([fan, gap_id[gap.cells["triangle"]]]).astype(np.int32),
-        gap_id[gl[boundary]].astype(np.int32),
+        np.ascontiguousarray(quads, dtype=np.int32),
+        np.ascontiguousarray(triangles, dtype=np.int32),
+        lines.astype(np.int32),
         gm[boundary].astype(np.int32),
         line_curves,
     )
+    if not job.all_quad:
+        return fill
+    split = split_all(fill, dom, job.max_points)
+    recentre(split.points, split.quads.astype(np.int64), len(split.points) - len(quads) - len(triangles), FINISH_FLOOR,
+             CENTRE_STEPS)
+    return split
