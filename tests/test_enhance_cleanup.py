@@ -103,6 +103,15 @@ SCALE_96, SHIFT_96, SEED_96 = 375.7585332556951, [-1255.7607733324378, -573.9938
 H_96, CENTRE_96, FACTOR_96 = 0.10064766025050709, [0.2252910202250063, 0.48090199268750256], 0.0001
 
 
+# Stress seed 15001, domain 137 (kind "collinear", three holes), method zhu: a quad the
+# smoothing left non-convex is cut into a triangle with a 0.8-degree corner at a boundary
+# node; re-split after the cut, the unforced worst corner sine is 0.302 (0.142 without).
+OUTER_137 = [[0.49814748595195035, 0.17569732149116374], [0.5419009232753063, 0.28233463024596384], [0.49400703237997934, 0.3697873859675363], [0.4654078813998201, 0.42200854649091324], [0.3749130198099512, 0.5872493502084122], [0.29592136590842016, 0.7314856543421557], [0.2137679318118943, 0.8814952707846037], [-0.3342218180956541, 0.8333580200415219], [-0.47044708402809776, 0.377181510658831], [-0.9166517326143602, 0.2506477411922684], [-0.841897361546816, -0.13853159462780687], [-0.8764210126212499, -0.17407726314076036], [-0.05084209564833881, -0.8429422078403157], [0.5504388680257597, -0.7275102541417616], [0.5152459885681259, -0.38629051058972647], [0.6788267784292615, -0.3481975997515971]]
+HOLES_137 = [[[0.08678767105106978, 0.0101234834646748], [0.020268387825550592, 0.032887928434512055], [0.028252771548536105, 0.018930865316421585], [0.011227857493176195, 0.019464539546589922], [0.0062937162522698695, 0.012729157464716166], [0.03160085163686079, 0.006203426613430944], [0.010227226708920109, -0.015931718382373592], [0.05321974597148389, -0.03424665222508445]], [[-0.20578925156466502, 0.0217195448217885], [-0.2269021606925745, -0.010165978637667918], [-0.2336618131768643, -0.013233435668967508], [-0.21811120738259157, -0.025627245077530652], [-0.16136453801348344, -0.023512884958982492], [-0.14805885240224007, -0.028370015505108447], [-0.14366687459621658, -0.0011274809342817333]], [[-0.004088847735964915, -0.1784618623757907], [-0.008943732620559839, -0.17885927611707655], [-0.010032562414257647, -0.180168618037403], [-0.02262804822419117, -0.17333072536149746], [-0.018423868331772574, -0.19740438527997936]]]
+POINTS_137 = [[0.07787745180000802, -0.10576693272150717]]
+SCALE_137, SHIFT_137, H_137, SEED_137 = 3.2215456718179376, [2.397617377470062, 21.368655765287432], 0.23347495386934092, 646505
+
+
 def _unforced_worst(points, quads, lines):
     """Smallest corner sine over the corners not between two line cells (issue 12)."""
     keys = {tuple(sorted(e)) for e in lines.tolist()}
@@ -118,25 +127,34 @@ def _unforced_worst(points, quads, lines):
 
 @pytest.fixture
 def resplit_in_pairing(monkeypatch):
-    """pair_domain with the re-split between the enhancement and the smoothing: until
-    pairing.py calls resplit_leftovers there itself, the smoothing's entry does it (in
-    place, on the arrays pair_domain holds); once it does, this second call finds
-    nothing left under the bound that it can raise."""
+    """pair_domain with the re-split where pairing.py is to call resplit_leftovers: after
+    the enhancement (here at the smoothing's entry, in place on the arrays pair_domain
+    holds) and after quads left non-convex are cut back into triangles (on
+    unpair_nonconvex's result).  Remove it once pairing.py makes both calls."""
     from meshwright.quad import pairing
 
-    smooth = pairing.smooth_quads
+    smooth, unpair = pairing.smooth_quads, pairing.unpair_nonconvex
+    seen = {}
 
     def smooth_after_resplit(xy, quads, tris, lines, *args, **kwargs):
         if len(tris):
             bnd = np.zeros(len(xy), dtype=bool)
             bnd[np.asarray(lines).ravel()] = True
             bnd[np.asarray(args[2], dtype=np.int64)] = True  # fixed_pts
+            seen.update(bnd=bnd, lines=lines)
             q2, t2, _ = resplit_leftovers(xy, quads, tris, bnd, lines)
             quads[...] = q2
             tris[...] = t2
         return smooth(xy, quads, tris, lines, *args, **kwargs)
 
+    def unpair_then_resplit(xy, quads, tris):
+        quads, tris = unpair(xy, quads, tris)
+        if seen:
+            quads, tris, _ = resplit_leftovers(xy, quads, tris, seen["bnd"], seen["lines"])
+        return quads, tris
+
     monkeypatch.setattr(pairing, "smooth_quads", smooth_after_resplit)
+    monkeypatch.setattr(pairing, "unpair_nonconvex", unpair_then_resplit)
 
 
 def test_stress_domain_96_reaches_the_bound(resplit_in_pairing):
@@ -159,3 +177,17 @@ def test_stress_domain_96_reaches_the_bound(resplit_in_pairing):
     for q in m.quads.tolist():
         assert _convex(m.points, q)
     assert _unforced_worst(m.points, m.quads, m.cells["line"]) > 0.2  # 0.301 (0.109 without the re-split)
+
+
+def test_stress_domain_137_reaches_the_bound(resplit_in_pairing):
+    import meshwright as mw
+
+    def tr(p):
+        return np.asarray(p, dtype=np.float64).reshape(-1, 2) * SCALE_137 + np.asarray(SHIFT_137)
+
+    dom = mw.geometry.polygon(tr(OUTER_137), holes=[tr(h) for h in HOLES_137], points=tr(POINTS_137))
+    m = mw.quadrangulate(dom, H_137 * SCALE_137, method="zhu", seed=SEED_137, all_quad=True)
+    assert set(m.cells) == {"quad", "line"}
+    for q in m.quads.tolist():
+        assert _convex(m.points, q)
+    assert _unforced_worst(m.points, m.quads, m.cells["line"]) > 0.2  # 0.302 (0.142 without the re-split)

@@ -125,6 +125,9 @@ def resplit_leftovers(points, quads, triangles, boundary, lines, passes=RESPLIT_
     the triangle's three sides (:func:`meshwright.quad._enhance_kernel.resplit_pass`).
     The chord refinement keeps a triangle's corners as corners of its quads, so a sliver
     triangle at fixed nodes would leave slivers no smoothing opens.  No node moves.
+    Meant for the pairing's left-overs twice: after :func:`enhance`, and after
+    :func:`unpair_nonconvex` (a quad the smoothing left non-convex is cut back along the
+    diagonal that makes both triangles counter-clockwise, however thin).
 
     Parameters
     ----------
