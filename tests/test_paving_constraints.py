@@ -183,3 +183,72 @@ def test_face_cycles_of_a_wall_and_a_dangling_segment():
     directed = sorted((int(c[k]), int(c[(k + 1) % len(c)])) for c in cycles for k in range(len(c)))
     want = sorted([(0, 4), (4, 1), (1, 2), (2, 5), (5, 3), (3, 0)] + [(4, 6), (6, 4), (6, 5), (5, 6), (6, 7), (7, 6)])
     assert directed == want
+
+
+def test_a_hard_line_paving_that_loses_a_piece_is_redone_with_obstacles(monkeypatch):
+    import meshwright.quad.paving as pv_mod
+
+    calls = []
+    real = pv_mod.pieces_two_sided
+
+    def lost_once(quads, tris, sa, sb):
+        calls.append(len(sa))
+        return real(quads, tris, sa, sb) and len(calls) > 1
+
+    monkeypatch.setattr(pv_mod, "pieces_two_sided", lost_once)
+    seg = [[(0.5, 0.0), (0.5, 0.6)], [(0.2, 0.8), (0.4, 0.8)]]
+    points = [(0.8, 0.3)]
+    mesh = quadrangulate(polygon(SQUARE, segments=seg, points=points), 0.05, method="paving")
+    assert len(calls) == 2
+    _check(mesh, segments=seg, points=points, corners=SQUARE)
+
+
+def _seg_dist(p, q, a, b) -> float:
+    """Distance between closed segments p q and a b, by sampling-free formula in floats
+    (0 when they meet, decided exactly)."""
+    def meet():
+        d1, d2 = _cross(a, b, p), _cross(a, b, q)
+        d3, d4 = _cross(p, q, a), _cross(p, q, b)
+        if d1 * d2 < 0 and d3 * d4 < 0:
+            return True
+
+        def on(u, v, w):
+            return _cross(u, v, w) == 0 and min(u[0], v[0]) <= w[0] <= max(u[0], v[0]) and min(
+                u[1], v[1]) <= w[1] <= max(u[1], v[1])
+
+        return on(a, b, p) or on(a, b, q) or on(p, q, a) or on(p, q, b)
+
+    if meet():
+        return 0.0
+
+    def pd(x, u, v):
+        d = v - u
+        t = 0.0 if not d.any() else min(1.0, max(0.0, float(np.dot(x - u, d) / np.dot(d, d))))
+        return float(np.hypot(*(u + t * d - x)))
+
+    return min(pd(p, a, b), pd(q, a, b), pd(a, p, q), pd(b, p, q))
+
+
+def test_quads_near_matches_an_oracle():
+    from meshwright.quad._paving_obstacles import quads_near
+
+    rng = np.random.default_rng(7)
+    pts = rng.integers(0, 16, size=(60, 2)).astype(float) / 4.0
+    # Axis-aligned unit quads (counter-clockwise) at random corners, obstacle pieces and points.
+    base = rng.integers(0, 12, size=(30, 2)).astype(float) / 4.0
+    corners = np.concatenate([base + o for o in ([0, 0], [1, 0], [1, 1], [0, 1])])
+    xy = np.vstack([pts, corners])
+    n, nq = len(pts), len(base)
+    quads = np.column_stack([n + k * nq + np.arange(nq) for k in range(4)]).astype(np.int64)
+    oa = np.concatenate([np.arange(0, 40, 2), np.arange(40, 50)]).astype(np.int64)
+    ob = np.concatenate([np.arange(1, 40, 2), np.arange(40, 50)]).astype(np.int64)
+    reach = rng.choice([0.0, 0.1, 0.3], size=nq)
+    got = quads_near(xy, quads, reach, oa, ob, False)
+    for c in range(nq):
+        q = xy[quads[c]]
+        want = False
+        for a, b in zip(oa, ob):
+            inside = all(_cross(q[k], q[(k + 1) % 4], xy[a]) > 0 for k in range(4))
+            d = min(_seg_dist(q[k], q[(k + 1) % 4], xy[a], xy[b]) for k in range(4))
+            want = want or inside or d == 0.0 or d < reach[c]
+        assert got[c] == want, c
