@@ -74,6 +74,13 @@ def test_segments_meeting_an_edge_and_a_segment_at_small_angles():
     assert forced.any()  # the wedges' tips are the input's own angles
 
 
+
+def test_sliver_domain_corner_of_0_007_degrees():
+    # The whole domain is one wedge (thin stress domains reach 0.003 degrees): no core
+    # cell fits, the gap is the ladder, and the tip quad's centre sits 1e-4 of the way in.
+    forced = _check([(0.0, 0.0), (1.0, 0.0), (1.0, 2.0**-13)], [], [], 2.0**-4)
+    assert forced.any()
+
 def test_stress_15001_domain_45_junction_at_1_7_degrees():
     # A segment from the middle of an outer edge inward, 1.7 degrees off the edge, and
     # five more meeting at junctions inside; the default size.
