@@ -129,6 +129,7 @@ from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.field import as_size_field
 from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
+from meshwright.tri.mesher import _graded
 
 __all__ = [
     "CENTRE_KEEP", "CENTRE_ROUNDS", "CHORD_RINGS", "DOMAIN_EARLY_VISIT", "DOMAIN_STALE_WALKS", "EARLY_VISIT",
@@ -157,7 +158,8 @@ EAR_FLOOR = 1e-6  # ... or split open, unless a triangle of the split is flatter
 FRONTS = ("pairs", "triangles")  # pair_domain's fronts: Zhu's pair by pair, or triangles then matching
 CHORD_RINGS = 2  # rings of nodes around a chord refinement's new nodes smoothed again
 POLISH_BELOW = 0.3  # quads with a corner sine below this (about 17.5 degrees) get paving's max-min search ...
-POLISH_ROUNDS = 8  # ... this many passes
+POLISH_ROUNDS = 40  # ... this many passes
+GRADING = 1.2  # a given size grows from finer boundary spacing by at most GRADING - 1 per unit length
 
 
 class PairingReport(NamedTuple):
@@ -577,7 +579,18 @@ def pair_domain(
     cap = np.iinfo(np.int32).max if max_points is None else check_count(max_points, "max_points", 4)
     if front not in FRONTS:
         raise InputError(f"front must be one of {', '.join(map(repr, FRONTS))}, got {front!r}")
-    disc, added = make_loops_even(domain, domain.discretize(field), fixed_boundary)
+    disc = domain.discretize(field)
+    # Boundary vertices given closer than the size: the triangle front from them at the
+    # size closes in fans no pair can take (two boundary sides at a corner of nearly 180
+    # degrees), left over to the chords.  Graded as triangulate grades it, the boundary
+    # too unless it is to be kept.  Zhu's front is not: it grades its own front at size
+    # jumps (zhu_front(grade=...)), and a graded field there left slivers beside them.
+    graded = _graded(field, disc, GRADING, field is not None) if front == "triangles" else field
+    if graded is not field:
+        field = graded
+        if not fixed_boundary:
+            disc = domain.discretize(field)
+    disc, added = make_loops_even(domain, disc, fixed_boundary)
     curves = SegmentCurves.from_domain(domain, disc)
     ct = cdt_build(disc.points, disc.segments, seed=seed, curves=curves)
     sides = np.where(domain.curve_loop[disc.segment_curve] >= 0, 1, 0)
