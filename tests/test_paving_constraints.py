@@ -195,11 +195,19 @@ def test_a_hard_line_paving_that_loses_a_piece_is_redone_with_obstacles(monkeypa
         calls.append(len(sa))
         return real(quads, tris, sa, sb) and len(calls) > 1
 
+    paves = []
+    real_pave = pv_mod._pave
+
+    def pave(*args):
+        paves.append(args[-2] is args[-1])  # the rows' obstacles are all of them: the fallback
+        return real_pave(*args)
+
     monkeypatch.setattr(pv_mod, "pieces_two_sided", lost_once)
+    monkeypatch.setattr(pv_mod, "_pave", pave)
     seg = [[(0.5, 0.0), (0.5, 0.6)], [(0.2, 0.8), (0.4, 0.8)]]
     points = [(0.8, 0.3)]
     mesh = quadrangulate(polygon(SQUARE, segments=seg, points=points), 0.05, method="paving")
-    assert len(calls) == 2
+    assert len(calls) == 2 and paves == [False, True]
     _check(mesh, segments=seg, points=points, corners=SQUARE)
 
 

@@ -16,7 +16,7 @@ from meshwright.core.errors import MeshingError, fmt_point
 from meshwright.quad._paving_close import convex, polish
 from meshwright.quad.smoothing import smooth_cells
 
-__all__ = ["Finish", "finish"]
+__all__ = ["Finish", "fill_by_pairing", "finish"]
 
 
 class Finish(NamedTuple):
@@ -80,3 +80,31 @@ def finish(xy, quads, tris, n_fixed: int, disc, domain, cap: int, all_quad: bool
             + ", ".join(fmt_point(fill.points[v]) for v in fill.quads[c])
         )
     return fill, split
+
+
+def fill_by_pairing(out, domain, field, all_quad: bool, fixed_boundary: bool, seed, cap: int):
+    """``out`` (a paving's (QuadFill, counts)), or the pairing method's fill of the whole
+    domain where that has the larger smallest scaled Jacobian and no quad was paved.
+
+    With interior segments or points a row often fits nowhere (a size coarse beside the
+    domain's features, an obstacle near every paving boundary: most of the stress
+    harness's junction domains), and the whole domain is the void;
+    :func:`~meshwright.quad.pairing.pair_domain` (its grading of the boundary, centre
+    pairing, chord re-cuts and cleanup; line nodes fixed, as the paving keeps them) is
+    the better fill on about half of those (stress seed 15003), the void fill on the rest.
+    Counts as those of :class:`~meshwright.quad.paving.PavingReport` after ``nodes_added``.
+    """
+    from meshwright.quad.enhancement import min_scaled_jacobian
+    from meshwright.quad.pairing import pair_domain
+
+    if out[1][6]:
+        return out
+    fill, rep = pair_domain(
+        domain, field, all_quad=all_quad, smooth_boundary=False, fixed_boundary=fixed_boundary, seed=seed,
+        max_points=cap,
+    )
+    if not len(fill.quads) or min_scaled_jacobian(fill.points, fill.quads) <= min_scaled_jacobian(
+        out[0].points, out[0].quads
+    ):
+        return out
+    return fill, (0, 0, 0, 0, 0, 0, 0, 1, len(fill.quads), rep.split, len(fill.triangles))

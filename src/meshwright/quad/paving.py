@@ -133,7 +133,7 @@ from meshwright.quad._paving_close import (
     shift_next,
     signed_area,
 )
-from meshwright.quad._paving_finish import Finish, finish
+from meshwright.quad._paving_finish import Finish, fill_by_pairing, finish
 from meshwright.quad._paving_hard import attached_pieces, face_cycles, pieces_two_sided
 from meshwright.quad._paving_obstacles import Obstacles
 from meshwright.quad.parity import make_loops_even
@@ -686,16 +686,15 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     if hard.any():
         fronts, src = face_cycles(disc.points, loops, obs.seg_a[hard], obs.seg_b[hard])
         try:
-            fill, counts = _pave(*job, fronts, [names[i] if i >= 0 else "a segment cycle" for i in src],
-                                 obs.only(~hard), obs)
-            return fill, PavingReport(added, *counts)
+            out = _pave(*job, fronts, [names[i] if i >= 0 else "a segment cycle" for i in src], obs.only(~hard), obs)
+            out = fill_by_pairing(out, domain, field, all_quad, fixed_boundary, seed, cap)
+            return out[0], PavingReport(added, *out[1])
         except MeshingError:
-            # Rows along hard lines met a case they do not handle (a piece lost by a
-            # closure): the segments as obstacles of rows from the loops, which the
-            # void fill meets.
-            pass
-    fill, counts = _pave(*job, loops, names, obs, obs)
-    return fill, PavingReport(added, *counts)
+            pass  # a piece lost along hard lines (by a closure): all segments as obstacles instead
+    out = _pave(*job, loops, names, obs, obs)
+    if obs is not None:
+        out = fill_by_pairing(out, domain, field, all_quad, fixed_boundary, seed, cap)
+    return out[0], PavingReport(added, *out[1])
 
 
 def _pave(domain, disc, field, cap, rounds, seed, all_quad, starts, names, obs, all_obs):
