@@ -1,6 +1,7 @@
 """Topological clean-up of the shape enhancement (quad/enhancement.py ``resplit_leftovers``,
-quad/_enhance_kernel.py ``resplit_pass``): a left-over triangle and a quad beside it re-split
-along the pentagon diagonal that raises their worst corner sine.  Oracles: ``math`` sines
+quad/_enhance_kernel.py ``resplit_pass``, ``swap_low_pass``): a left-over triangle and a quad
+beside it re-split along the pentagon diagonal that raises their worst corner sine, and a
+low quad's side between two boundary nodes swapped in its hexagon.  Oracles: ``math`` sines
 and rational orientation, written here."""
 
 import math
@@ -93,6 +94,51 @@ def test_well_shaped_pairs_do_not_change():
     assert count == 0 and q2.tolist() == [[0, 1, 2, 3]] and t2.tolist() == [[3, 2, 4]]
 
 
+
+# A hexagon (counter-clockwise, every node on its boundary) split along 0-3 into two quads,
+# one with a corner of sine 0.124; along 1-4 both are well shaped (0.891).
+HEXAGON = [[0.6, 0.9], [-0.2, 1.0], [-0.4, 1.0], [-0.5, -1.1], [0.0, -1.3], [0.8, -0.8]]
+HEX_SIDES = np.array([[k, (k + 1) % 6] for k in range(6)])
+
+
+def _hexagon_splits(xy):
+    """Worst corner sine of each of the hexagon's three quad pairs (None: not convex)."""
+    out = {}
+    for r in range(3):
+        a = [(r + k) % 6 for k in range(4)]
+        b = [(r + 3 + k) % 6 for k in range(4)]
+        ok = _convex(xy, a) and _convex(xy, b)
+        out[frozenset([frozenset(a), frozenset(b)])] = min(_worst(xy, a), _worst(xy, b)) if ok else None
+    return out
+
+
+def test_low_quads_swap_a_side_between_boundary_nodes():
+    xy = np.array(HEXAGON)
+    quads = np.array([[0, 3, 4, 5], [3, 0, 1, 2]], dtype=np.int32)
+    splits = _hexagon_splits(xy)
+    now = frozenset(frozenset(q) for q in quads.tolist())
+    best = max((k for k in splits if splits[k] is not None), key=splits.get)
+    assert splits[now] < RESPLIT_BELOW and splits[best] > splits[now] + SWAP_GAIN
+    q2, t2, count = resplit_leftovers(xy, quads, np.zeros((0, 3), dtype=np.int32), np.ones(6, dtype=bool), HEX_SIDES)
+    assert count == 1 and len(t2) == 0
+    assert frozenset(frozenset(q) for q in q2.tolist()) == best == frozenset([frozenset([1, 2, 3, 4]), frozenset([4, 5, 0, 1])])
+    for q in q2.tolist():
+        assert _convex(xy, q)
+    assert sorted(map(tuple, np.sort(_outer_lines(q2, t2), axis=1).tolist())) == sorted(
+        map(tuple, np.sort(HEX_SIDES, axis=1).tolist()))
+
+
+def test_no_swap_across_a_line_or_at_free_nodes():
+    xy = np.array(HEXAGON)
+    quads = np.array([[0, 3, 4, 5], [3, 0, 1, 2]], dtype=np.int32)
+    none = np.zeros((0, 3), dtype=np.int32)
+    # 0-3 an interior segment: it stays.
+    q2, _, count = resplit_leftovers(xy, quads, none, np.ones(6, dtype=bool), np.concatenate([HEX_SIDES, [[0, 3]]]))
+    assert count == 0 and q2.tolist() == quads.tolist()
+    # Sides with a free node are enhance()'s to swap, not this clean-up's.
+    q2, _, count = resplit_leftovers(xy, quads, none, np.array([1, 1, 1, 0, 1, 1], dtype=bool), HEX_SIDES)
+    assert count == 0 and q2.tolist() == quads.tolist()
+
 # Stress seed 15001, domain 96 (kind "plain", a 1e4 size jump in a small disc), method zhu:
 # its chord refinement left an unforced corner of sine 0.109 next to left-over triangles;
 # with the re-split the unforced worst corner sine is 0.301 (numbers copied from the case).
@@ -112,6 +158,15 @@ POINTS_137 = [[0.07787745180000802, -0.10576693272150717]]
 SCALE_137, SHIFT_137, H_137, SEED_137 = 3.2215456718179376, [2.397617377470062, 21.368655765287432], 0.23347495386934092, 646505
 
 
+# Stress seed 15001, domain 92 (kind "plain", size "boundary", two segments, one point),
+# method zhu: a quad at a reflex boundary corner, across a side to a node the enhancement
+# never moves, has a 173.5-degree corner there; swapped across that side: 0.378 (0.113 without).
+OUTER_92 = [[0.5848840284497157, 0.011175717258352558], [0.7855155822269809, 0.06596247438517333], [0.5725209854660012, 0.5008047792007065], [0.3304502975170604, 0.5060313679392091], [0.4409885004221956, 0.8121194060134684], [0.14242554886150305, 0.662007507569608], [0.06662423246581335, 0.6800139650739496], [0.01819460002246018, 0.807882772798888], [-0.08837865819438125, 0.7723956657472464], [-0.5685915708146101, 0.6974888639479611], [-0.8995104768377411, 0.19799020887634544], [-0.45586597222556524, -0.21439573539547316], [-0.5576605352215064, -0.2881898625832298], [-0.5616886165735612, -0.520205439789457], [0.11484983542537028, -0.8443769707195311], [0.8613532782322771, -0.25279060585081903]]
+SEGMENTS_92 = [[[0.054944188088755334, -0.02388468580067815], [0.058795958283338216, 0.06853203504374454]], [[-0.15715174015158379, 0.10257622598231625], [-0.1994315844729787, 0.18356547353759028]]]
+POINTS_92 = [[-0.14106794148756258, -0.03656674048682231]]
+SCALE_92, SHIFT_92, SEED_92 = 250.4119515360177, [-1346.8109445463701, -1580.2839173954399], 633720
+
+
 def _unforced_worst(points, quads, lines):
     """Smallest corner sine over the corners not between two line cells (issue 12)."""
     keys = {tuple(sorted(e)) for e in lines.tolist()}
@@ -127,17 +182,21 @@ def _unforced_worst(points, quads, lines):
 
 @pytest.fixture
 def resplit_in_pairing(monkeypatch):
-    """pair_domain with the re-split where pairing.py is to call resplit_leftovers: after
-    the enhancement (here at the smoothing's entry, in place on the arrays pair_domain
-    holds) and after quads left non-convex are cut back into triangles (on
-    unpair_nonconvex's result).  Remove it once pairing.py makes both calls."""
+    """pair_domain with resplit_leftovers where pairing.py is to call it: after the
+    enhancement (here at the entry of the smoothing that follows it, in place on the
+    arrays pair_domain holds) and after quads left non-convex are cut back into
+    triangles (on unpair_nonconvex's result).  Remove it once pairing.py makes both calls."""
     from meshwright.quad import pairing
 
-    smooth, unpair = pairing.smooth_quads, pairing.unpair_nonconvex
+    enhance, smooth, unpair = pairing.enhance, pairing.smooth_quads, pairing.unpair_nonconvex
     seen = {}
 
+    def enhance_then_arm(*args, **kwargs):
+        seen["armed"] = True
+        return enhance(*args, **kwargs)
+
     def smooth_after_resplit(xy, quads, tris, lines, *args, **kwargs):
-        if len(tris):
+        if seen.pop("armed", False):
             bnd = np.zeros(len(xy), dtype=bool)
             bnd[np.asarray(lines).ravel()] = True
             bnd[np.asarray(args[2], dtype=np.int64)] = True  # fixed_pts
@@ -149,10 +208,11 @@ def resplit_in_pairing(monkeypatch):
 
     def unpair_then_resplit(xy, quads, tris):
         quads, tris = unpair(xy, quads, tris)
-        if seen:
+        if "bnd" in seen:
             quads, tris, _ = resplit_leftovers(xy, quads, tris, seen["bnd"], seen["lines"])
         return quads, tris
 
+    monkeypatch.setattr(pairing, "enhance", enhance_then_arm)
     monkeypatch.setattr(pairing, "smooth_quads", smooth_after_resplit)
     monkeypatch.setattr(pairing, "unpair_nonconvex", unpair_then_resplit)
 
@@ -191,3 +251,17 @@ def test_stress_domain_137_reaches_the_bound(resplit_in_pairing):
     for q in m.quads.tolist():
         assert _convex(m.points, q)
     assert _unforced_worst(m.points, m.quads, m.cells["line"]) > 0.2  # 0.302 (0.142 without the re-split)
+
+
+def test_stress_domain_92_reaches_the_bound(resplit_in_pairing):
+    import meshwright as mw
+
+    def tr(p):
+        return np.asarray(p, dtype=np.float64).reshape(-1, 2) * SCALE_92 + np.asarray(SHIFT_92)
+
+    dom = mw.geometry.polygon(tr(OUTER_92), segments=[tr(g) for g in SEGMENTS_92], points=tr(POINTS_92))
+    m = mw.quadrangulate(dom, "boundary", method="zhu", seed=SEED_92, all_quad=True)
+    assert set(m.cells) == {"quad", "line"}
+    for q in m.quads.tolist():
+        assert _convex(m.points, q)
+    assert _unforced_worst(m.points, m.quads, m.cells["line"]) > 0.2  # 0.378 (0.113 without the swap)

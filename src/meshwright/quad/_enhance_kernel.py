@@ -27,7 +27,7 @@ from numba import njit
 
 from meshwright.quad._pairing_kernel import corner_flat, corner_ok, quad_ok, quad_sj
 
-__all__ = ["balance_corners", "enhance_pass", "node_quads", "resplit_pass"]
+__all__ = ["balance_corners", "enhance_pass", "node_quads", "resplit_pass", "swap_low_pass"]
 
 
 @njit(cache=True)
@@ -574,4 +574,86 @@ def resplit_pass(xy, quad, tri, bnd, off, idx, loff, lidx, target, gain):
         quad[q, 2], quad[q, 3] = best_p[(i + 4) % 5], best_p[i]
         lock[q] = 1
         done += 1
+    return done
+
+
+@njit(cache=True)
+def swap_low_pass(xy, quad, bnd, off, idx, loff, lidx, target, gain):
+    """One pass of diagonal swapping at quads whose scaled Jacobian is under ``target``,
+    across any side that is not a line (``loff``, ``lidx`` as in :func:`resplit_pass`):
+    the two quads' hexagon takes the other diagonal that raises their worst scaled
+    Jacobian by more than ``gain``, the better of the two.
+
+    :func:`_diagonal_swap` leaves every side between two boundary nodes alone, since
+    without the lines it cannot tell an interior segment from a side across the domain;
+    at a reflex input corner next to a fixed node such a side may be the only one whose
+    swap opens a corner.  New quads are strictly convex (exact) without a flat corner
+    between boundary nodes.  ``quad`` is modified in place; returns the number of swaps.
+    """
+    done = 0
+    lock = np.zeros(quad.shape[0], dtype=np.int8)
+    h = np.empty(6, dtype=np.int64)
+    for q1 in range(quad.shape[0]):
+        if lock[q1] != 0:
+            continue
+        # Sides between two boundary nodes only: _diagonal_swap has tested every other.
+        pairs = 0
+        for k in range(4):
+            pairs += bnd[quad[q1, k]] != 0 and bnd[quad[q1, (k + 1) % 4]] != 0
+        if pairs == 0:
+            continue
+        s1 = quad_sj(xy, np.int64(quad[q1, 0]), np.int64(quad[q1, 1]), np.int64(quad[q1, 2]), np.int64(quad[q1, 3]))
+        if s1 >= target:
+            continue
+        for k in range(4):
+            u = np.int64(quad[q1, k])
+            v = np.int64(quad[q1, (k + 1) % 4])
+            if bnd[u] == 0 or bnd[v] == 0:
+                continue
+            line = False
+            for s in range(loff[u], loff[u + 1]):
+                line |= lidx[s] == v
+            if line:
+                continue
+            q2 = -1
+            j = -1
+            for s in range(off[u], off[u + 1]):
+                p = idx[s]
+                if p == q1:
+                    continue
+                for i in range(4):
+                    if quad[p, i] == u and quad[p, (i + 3) % 4] == v:
+                        q2 = p
+                        j = i
+            if q2 < 0 or lock[q2] != 0:
+                continue
+            # Hexagon counter-clockwise: u, c, d, v, a, b with q1 = (u, v, a, b), q2 = (v, u, c, d).
+            h[0] = u
+            h[1] = quad[q2, (j + 1) % 4]
+            h[2] = quad[q2, (j + 2) % 4]
+            h[3] = v
+            h[4] = quad[q1, (k + 2) % 4]
+            h[5] = quad[q1, (k + 3) % 4]
+            best = min(s1, quad_sj(xy, h[3], h[0], h[1], h[2])) + gain
+            pick = -1
+            for r in range(1, 3):
+                p0, p1, p2, p3 = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
+                t0, t1, t2, t3 = h[(r + 3) % 6], h[(r + 4) % 6], h[(r + 5) % 6], h[r]
+                if not (_sj_above(xy, p0, p1, p2, p3, best) and _sj_above(xy, t0, t1, t2, t3, best)):
+                    continue
+                if not (quad_ok(xy, p0, p1, p2, p3) and quad_ok(xy, t0, t1, t2, t3)):
+                    continue
+                if _flat_boundary_corner(xy, bnd, p0, p1, p2, p3) or _flat_boundary_corner(xy, bnd, t0, t1, t2, t3):
+                    continue
+                best = min(quad_sj(xy, p0, p1, p2, p3), quad_sj(xy, t0, t1, t2, t3))
+                pick = r
+            if pick < 0:
+                continue
+            r = pick
+            quad[q1, 0], quad[q1, 1], quad[q1, 2], quad[q1, 3] = h[r], h[r + 1], h[r + 2], h[(r + 3) % 6]
+            quad[q2, 0], quad[q2, 1], quad[q2, 2], quad[q2, 3] = h[(r + 3) % 6], h[(r + 4) % 6], h[(r + 5) % 6], h[r]
+            lock[q1] = 1
+            lock[q2] = 1
+            done += 1
+            break
     return done

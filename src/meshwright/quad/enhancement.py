@@ -117,14 +117,20 @@ def enhance(points, quads, boundary, triangles=None, passes=ENHANCE_PASSES):
 
 
 def resplit_leftovers(points, quads, triangles, boundary, lines, passes=RESPLIT_PASSES):
-    """Left-over triangles re-split with a quad beside them (before the chord refinement).
+    """Left-over triangles re-split with a quad beside them (before the chord refinement),
+    and low quads swapped across sides between two boundary nodes.
 
     A triangle and the quad across one of its interior sides form a pentagon; where the
     pair's worst corner sine is under :data:`RESPLIT_BELOW`, it is re-split along the
     pentagon diagonal that raises it most (by more than :data:`SWAP_GAIN`), judged over
     the triangle's three sides (:func:`meshwright.quad._enhance_kernel.resplit_pass`).
     The chord refinement keeps a triangle's corners as corners of its quads, so a sliver
-    triangle at fixed nodes would leave slivers no smoothing opens.  No node moves.
+    triangle at fixed nodes would leave slivers no smoothing opens.  Then a quad under
+    the same bound swaps a side between two boundary nodes that is not a line with the
+    quad across it, when the better other diagonal of their hexagon gains as much
+    (:func:`meshwright.quad._enhance_kernel.swap_low_pass`): :func:`enhance` swaps only
+    sides with a free node, as it has no lines to tell a side across the domain from an
+    interior segment.  No node moves.
     Meant for the pairing's left-overs twice: after :func:`enhance`, and after
     :func:`unpair_nonconvex` (a quad the smoothing left non-convex is cut back along the
     diagonal that makes both triangles counter-clockwise, however thin).
@@ -148,11 +154,11 @@ def resplit_leftovers(points, quads, triangles, boundary, lines, passes=RESPLIT_
     Returns
     -------
     quads : (q, 4) int32
-        Same rows, some re-cut: every one strictly convex (exact).
+        Same rows, some re-cut: every new one strictly convex (exact).
     triangles : (t, 3) int32
         Same rows, some moved: every one counter-clockwise (exact).
     count : int
-        Pairs re-split.
+        Pairs re-split and quads swapped.
 
     Raises
     ------
@@ -169,7 +175,7 @@ def resplit_leftovers(points, quads, triangles, boundary, lines, passes=RESPLIT_
     passes = check_count(passes, "passes")
     ln = as_cells(lines, "lines", 2, len(xy)).astype(np.int64)
     total = 0
-    if not len(td) or not len(qd):
+    if not len(qd):
         return qd, td, total
     bnd = b.astype(np.int8)
     ends = np.concatenate([ln, ln[:, ::-1]])
@@ -179,7 +185,10 @@ def resplit_leftovers(points, quads, triangles, boundary, lines, passes=RESPLIT_
     alive = np.ones(len(qd), dtype=np.int8)
     for _ in range(passes):
         off, idx = ek.node_quads(qd, alive, len(xy))
-        got = ek.resplit_pass(xy, qd, td, bnd, off, idx, loff, lidx, RESPLIT_BELOW, SWAP_GAIN)
+        got = ek.resplit_pass(xy, qd, td, bnd, off, idx, loff, lidx, RESPLIT_BELOW, SWAP_GAIN) if len(td) else 0
+        if got:
+            off, idx = ek.node_quads(qd, alive, len(xy))
+        got += ek.swap_low_pass(xy, qd, bnd, off, idx, loff, lidx, RESPLIT_BELOW, SWAP_GAIN)
         total += got
         if got == 0:
             break
