@@ -143,6 +143,27 @@ def quads_near(pts, quads, reach, oa, ob, touch_ok):
     return out
 
 
+@njit(cache=True)
+def _any_inside(p, q):
+    """Whether a point of ``q`` (m, 2) lies inside the closed polygon ``p`` (k, 2) by the
+    crossing count of a ray to +x (a quality rule: probes lie off the polygon's edges)."""
+    k = p.shape[0]
+    for j in range(q.shape[0]):
+        x = q[j, 0]
+        y = q[j, 1]
+        odd = False
+        for i in range(k):
+            x0 = p[i, 0]
+            y0 = p[i, 1]
+            x1 = p[(i + 1) % k, 0]
+            y1 = p[(i + 1) % k, 1]
+            if (y0 <= y) != (y1 <= y) and x0 + (y - y0) / (y1 - y0) * (x1 - x0) > x:
+                odd = not odd
+        if odd:
+            return True
+    return False
+
+
 class Obstacles(NamedTuple):
     """The domain's interior segments and points, in the paving's node ids.
 
@@ -200,18 +221,10 @@ class Obstacles(NamedTuple):
     def inside(self, xy: np.ndarray, loop: np.ndarray) -> bool:
         """Whether the polygon ``loop`` (node ids, either orientation) holds an obstacle
         (crossing count of the probes in the loop's box)."""
-        p = xy[loop]
+        p = np.ascontiguousarray(xy[loop])
         q = self.probes(xy)
-        lo, hi = p.min(axis=0), p.max(axis=0)
-        q = q[((q >= lo) & (q <= hi)).all(axis=1)]
-        if not len(q):
-            return False
-        r = np.concatenate((p[1:], p[:1]))
-        x, y = q[:, 0][None, :], q[:, 1][None, :]
-        up = (p[:, 1:2] <= y) != (r[:, 1:2] <= y)
-        t = (y - p[:, 1:2]) / np.where(up, r[:, 1:2] - p[:, 1:2], 1.0)
-        cross = up & (p[:, 0:1] + t * (r[:, 0:1] - p[:, 0:1]) > x)
-        return bool((cross.sum(axis=0) % 2).any())
+        q = np.ascontiguousarray(q[((q >= p.min(axis=0)) & (q <= p.max(axis=0))).all(axis=1)])
+        return bool(len(q)) and _any_inside(p, q)
 
     def row_refused(self, pts: np.ndarray, quads: np.ndarray, h: np.ndarray, n_old: int) -> bool:
         """Whether a candidate row's quads (new nodes from ``n_old`` on) come closer to an
