@@ -55,10 +55,10 @@ def test_door_rejects_bad_arguments_before_any_work(kwargs, error, words):
         quadrangulate("circle", size, **kwargs)
 
 
-def test_door_rejects_what_the_quadtree_cannot_honour():
+def test_door_rejects_what_a_method_cannot_honour():
     square = [(0, 0), (1, 0), (1, 1), (0, 1)]
     with pytest.raises(InputError, match="needs a size"):
-        quadrangulate(polygon(square), "boundary")
+        quadrangulate(polygon(square), "boundary", method="paving")
     with pytest.raises(InputError, match=r"region 0 at \(0\.5, 0\.5\) has max_area 0\.01"):
         quadrangulate(polygon(square, regions=[(0.5, 0.5, 3, 0.01)]), 0.2)
     with pytest.raises(InputError, match="Domain"):
@@ -69,7 +69,8 @@ def test_door_rejects_what_the_quadtree_cannot_honour():
 
 def test_registry_declares_capabilities():
     m = QUAD_METHODS["quadtree"]
-    assert m.needs_size and m.smooths and not m.reports_progress and m.segments and m.points and m.regions
+    assert not m.needs_size and m.smooths and not m.reports_progress and m.segments and m.points and m.regions
+    assert QUAD_METHODS["paving"].needs_size
     assert mw.QUAD_METHODS is QUAD_METHODS and mw.quadrangulate is quadrangulate
 
 

@@ -130,13 +130,9 @@ def test_stress_15001_domain_127_junctions():
     _check(outer, segments, points, 0.19336535585481474, seed=145124)
 
 
-def test_boundary_size_follows_the_boundary_spacing(monkeypatch):
+def test_boundary_size_follows_the_boundary_spacing():
     # size="boundary": the spacing of the boundary as given (1/32 along the bottom, one
-    # segment per other side), graded inward.  Until the registry entry declares
-    # needs_size=False the door refuses it first; the entry is set here as it will be.
-    from meshwright.quad.mesher import QUAD_METHODS
-
-    monkeypatch.setitem(QUAD_METHODS, "quadtree", QUAD_METHODS["quadtree"]._replace(needs_size=False))
+    # segment per other side), graded inward.
     bottom = [(i / 32, 0.0) for i in range(33)]
     outer = bottom + [(1.0, 1.0), (0.0, 1.0)]
     mesh = quadrangulate(polygon(np.array(outer)), "boundary", method="quadtree")

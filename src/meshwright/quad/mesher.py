@@ -175,7 +175,7 @@ QUAD_METHODS: dict[str, QuadMethod] = {
     for m in (
         QuadMethod(
             "quadtree", "modified quadtree with a boundary layer of split triangles (Yerry-Shephard, 18.5.3)",
-            _quadtree, needs_size=True, smooths=True, reports_progress=False, segments=True, points=True,
+            _quadtree, needs_size=False, smooths=True, reports_progress=False, segments=True, points=True,
             regions=True,
         ),
         QuadMethod(
