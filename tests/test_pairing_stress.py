@@ -177,3 +177,45 @@ def test_boundary_finer_than_the_size_is_graded_not_fanned():
     quads = m.cells_of("quad").astype(np.int64)
     assert len(quads) and not len(m.cells_of("triangle"))
     assert _unforced_sines(m.points, quads, m.cells_of("line").astype(np.int64)).min() > 0.2
+
+
+# Stress domain 92 of seed 15001 (a plain star, two short interior segments and a point,
+# size "boundary"): before the scale and shift.
+OUTER_92 = [
+    [0.5848840284497157, 0.011175717258352558], [0.7855155822269809, 0.06596247438517333],
+    [0.5725209854660012, 0.5008047792007065], [0.3304502975170604, 0.5060313679392091],
+    [0.4409885004221956, 0.8121194060134684], [0.14242554886150305, 0.662007507569608],
+    [0.06662423246581335, 0.6800139650739496], [0.01819460002246018, 0.807882772798888],
+    [-0.08837865819438125, 0.7723956657472464], [-0.5685915708146101, 0.6974888639479611],
+    [-0.8995104768377411, 0.19799020887634544], [-0.45586597222556524, -0.21439573539547316],
+    [-0.5576605352215064, -0.2881898625832298], [-0.5616886165735612, -0.520205439789457],
+    [0.11484983542537028, -0.8443769707195311], [0.8613532782322771, -0.25279060585081903],
+]
+SEGMENTS_92 = [
+    [[0.054944188088755334, -0.02388468580067815], [0.058795958283338216, 0.06853203504374454]],
+    [[-0.15715174015158379, 0.10257622598231625], [-0.1994315844729787, 0.18356547353759028]],
+]
+POINTS_92 = [[-0.14106794148756258, -0.03656674048682231]]
+SCALE_92 = 250.4119515360177
+SHIFT_92 = np.array([-1346.8109445463701, -1580.2839173954399])
+SEED_92 = 633720
+
+
+def test_stress_domain_92_boundary_size_is_capped():
+    """Pairing on stress domain 92 with ``size="boundary"``: chapter 18.3's background
+    interpolates the boundary spacing linearly between nodes far apart, from the short
+    segments (0.09 long, before the scale) to the outer sides (0.08 to 0.95, median
+    0.33), so the size grew as fast as the spacing jumps; the worst quad, a few sizes
+    long, had a 173.5-degree corner at a polygon vertex between two others (unforced
+    min SJ 0.113).  Capped by the grading from the boundary, as triangulate caps it:
+    0.378."""
+
+    def tr(p):
+        return np.asarray(p, dtype=np.float64) * SCALE_92 + SHIFT_92
+
+    dom = polygon(tr(OUTER_92), segments=[tr(s) for s in SEGMENTS_92], points=tr(POINTS_92))
+    m = quadrangulate(dom, "boundary", method="pairing", seed=SEED_92, all_quad=True)
+    m.validate()
+    quads = m.cells_of("quad").astype(np.int64)
+    assert len(quads) and not len(m.cells_of("triangle"))
+    assert _unforced_sines(m.points, quads, m.cells_of("line").astype(np.int64)).min() > 0.2

@@ -27,7 +27,12 @@ skipped: the enhancement and the quad smoothing below reshape the quads themselv
    nodes per segment, and faces keep shortest-first order while sizes are evaluated), so a
    size jump along the boundary does not close in slivers.  Even loops make the
    triangle count of the domain even (``t = 2 n_inside + n_boundary - 2 + 2 holes``), the
-   necessary condition for pairing every triangle.  Before pairing, an ear of the front
+   necessary condition for pairing every triangle.  A given size is graded from boundary
+   points spaced closer than it, and ``size="boundary"``'s background capped, as
+   :func:`meshwright.triangulate` does (:mod:`meshwright.quad._pairing_finish`): a front
+   from close boundary vertices at a coarse size closes in fans no pair can take (two
+   boundary sides at a corner of nearly 180 degrees), which only chords could finish
+   (not for Zhu's front, which grades itself at size jumps).  Before pairing, an ear of the front
    (a triangle on two boundary sides) wider than :data:`FLAT_ANGLE` has its third side
    flipped, or split at its midpoint when the flip is not convex, since no pair could
    take it.
@@ -84,6 +89,10 @@ skipped: the enhancement and the quad smoothing below reshape the quads themselv
    (:func:`meshwright.quad.subdivide.split_all`), only the quads on the chords change.
    With ``all_quad=False`` the quad-dominant mesh is returned and :class:`PairingReport`
    counts the triangles left.
+7. **Polish**: where a quad has a corner sine under ``POLISH_BELOW``, paving's max-min
+   pattern search (:func:`meshwright.quad._paving_close.polish`) moves the free nodes of
+   such quads (not line nodes, fixed points, or left-over triangles' nodes), never
+   lowering the smallest corner sine around a node: the Laplacian stalls beside slivers.
 
 With ``front="pairs"`` (method ``"zhu"``) the chapter's own front makes the triangles two
 at a time, every sub-front even (steps 1-9, :mod:`meshwright.quad.zhu`), and steps 2-3
@@ -114,6 +123,7 @@ from meshwright.core.validate_input import (
 from meshwright.geometry.curves import Parametric, Polyline
 from meshwright.geometry.domain import Domain
 from meshwright.quad import _pairing_kernel as pk
+from meshwright.quad._pairing_finish import boundary_background, given_size, polish_fill
 from meshwright.quad.chords import chord_split_candidates
 from meshwright.quad.parity import make_loops_even
 from meshwright.quad.zhu import zhu_front
@@ -129,7 +139,6 @@ from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.field import as_size_field
 from meshwright.tri.cdt import SegmentCurves, cdt_build
 from meshwright.tri.front import advancing_front
-from meshwright.tri.mesher import _graded
 
 __all__ = [
     "CENTRE_KEEP", "CENTRE_ROUNDS", "CHORD_RINGS", "DOMAIN_EARLY_VISIT", "DOMAIN_STALE_WALKS", "EARLY_VISIT",
@@ -157,9 +166,6 @@ FLAT_ANGLE = 150.0  # degrees: an ear of the front flatter than this is flipped 
 EAR_FLOOR = 1e-6  # ... or split open, unless a triangle of the split is flatter than this (radius ratio 2r/R)
 FRONTS = ("pairs", "triangles")  # pair_domain's fronts: Zhu's pair by pair, or triangles then matching
 CHORD_RINGS = 2  # rings of nodes around a chord refinement's new nodes smoothed again
-POLISH_BELOW = 0.3  # quads with a corner sine below this (about 17.5 degrees) get paving's max-min search ...
-POLISH_ROUNDS = 40  # ... this many passes
-GRADING = 1.2  # a given size grows from finer boundary spacing by at most GRADING - 1 per unit length
 
 
 class PairingReport(NamedTuple):
@@ -579,17 +585,12 @@ def pair_domain(
     cap = np.iinfo(np.int32).max if max_points is None else check_count(max_points, "max_points", 4)
     if front not in FRONTS:
         raise InputError(f"front must be one of {', '.join(map(repr, FRONTS))}, got {front!r}")
-    disc = domain.discretize(field)
-    # Boundary vertices given closer than the size: the triangle front from them at the
-    # size closes in fans no pair can take (two boundary sides at a corner of nearly 180
-    # degrees), left over to the chords.  Graded as triangulate grades it, the boundary
-    # too unless it is to be kept.  Zhu's front is not: it grades its own front at size
-    # jumps (zhu_front(grade=...)), and a graded field there left slivers beside them.
-    graded = _graded(field, disc, GRADING, field is not None) if front == "triangles" else field
-    if graded is not field:
-        field = graded
-        if not fixed_boundary:
-            disc = domain.discretize(field)
+    # Zhu's front grades itself at size jumps (zhu_front(grade=...)); a graded field
+    # there left slivers beside them.
+    if front == "triangles":
+        field, disc = given_size(domain, field, fixed_boundary)
+    else:
+        disc = domain.discretize(field)
     disc, added = make_loops_even(domain, disc, fixed_boundary)
     curves = SegmentCurves.from_domain(domain, disc)
     ct = cdt_build(disc.points, disc.segments, seed=seed, curves=curves)
@@ -598,8 +599,11 @@ def pair_domain(
     ct.classify(segment_sides=sides, holes=disc.holes, regions=regions)
     if field is None:
         # Chapter 18.3's background, as triangulate's front takes it: the triangulated
-        # boundary nodes with their point distribution function.
-        field = BackgroundGrid.from_boundary(ct.points, ct.segments()[0], ct.triangles(False))
+        # boundary nodes with their point distribution function (capped for the triangle
+        # front, as triangulate caps it).
+        field = boundary_background(ct) if front == "triangles" else BackgroundGrid.from_boundary(
+            ct.points, ct.segments()[0], ct.triangles(False)
+        )
     if front == "pairs":
         # Graded like the triangle front below: a coarse boundary segment beside a size
         # jump's fine pieces would close on a node near its fine end (a sliver).
@@ -740,7 +744,7 @@ def pair_domain(
                 or min_scaled_jacobian(other.points, other.quads) > min_scaled_jacobian(fill.points, fill.quads)
             ):
                 fill = other
-    fill = _polish(fill, fixed_pts)
+    fill = polish_fill(fill, fixed_pts)
     _check(fill.points, fill.quads, fill.triangles)
     n_tri, n_pairs, chains, n_left, reverted, counts = stats
     report = PairingReport(added, n_tri, n_pairs, chains, n_left, reverted, counts, split, len(fill.triangles))
@@ -759,29 +763,6 @@ def pairing_fill(job, front="triangles"):
         job.domain, job.field, all_quad=job.all_quad, smooth=ENHANCE_SMOOTH, seed=job.seed,
         max_points=job.max_points, front=front,
     )[0]
-
-
-def _polish(fill, fixed_pts):
-    """``fill`` with the free nodes of its quads below :data:`POLISH_BELOW` moved by
-    paving's max-min pattern search (:func:`meshwright.quad._paving_close.polish`).
-
-    The Laplacian of the enhancement stalls beside a sliver (the average of a node's
-    neighbours does not open its corner), and a chord refinement's cuts are smoothed only
-    around the chords; the search moves a node only where its quads' smallest corner
-    sine rises, so no quad inverts.  Line nodes, the fixed points and the nodes of
-    left-over triangles (the search reads quads only) stay."""
-    # _paving_close imports this module (pair_triangles): a module-level import would be
-    # a cycle.
-    from meshwright.quad._paving_close import polish
-
-    quads = np.ascontiguousarray(fill.quads, dtype=np.int64)
-    if not len(quads) or not pk.may_be_below(fill.points, quads, POLISH_BELOW):
-        return fill
-    fixed = np.zeros(len(fill.points), dtype=bool)
-    fixed[fill.lines.ravel()] = True
-    fixed[fixed_pts] = True
-    fixed[fill.triangles.ravel()] = True
-    return fill._replace(points=polish(fill.points, quads, fixed, POLISH_BELOW, POLISH_ROUNDS))
 
 
 def _check(xy, quads, tris) -> None:
