@@ -579,10 +579,11 @@ def resplit_pass(xy, quad, tri, bnd, off, idx, loff, lidx, target, gain):
 
 @njit(cache=True)
 def swap_low_pass(xy, quad, bnd, off, idx, loff, lidx, target, gain):
-    """One pass of diagonal swapping at quads whose scaled Jacobian is under ``target``,
-    across any side that is not a line (``loff``, ``lidx`` as in :func:`resplit_pass`):
-    the two quads' hexagon takes the other diagonal that raises their worst scaled
-    Jacobian by more than ``gain``, the better of the two.
+    """One pass of diagonal swapping at quads with a corner between three boundary nodes
+    whose sine is under ``target``, across a side between two boundary nodes that is not
+    a line (``loff``, ``lidx`` as in :func:`resplit_pass`): the two quads' hexagon takes
+    the other diagonal that raises their worst scaled Jacobian by more than ``gain``, the
+    better of the two.
 
     :func:`_diagonal_swap` leaves every side between two boundary nodes alone, since
     without the lines it cannot tell an interior segment from a side across the domain;
@@ -602,9 +603,18 @@ def swap_low_pass(xy, quad, bnd, off, idx, loff, lidx, target, gain):
             pairs += bnd[quad[q1, k]] != 0 and bnd[quad[q1, (k + 1) % 4]] != 0
         if pairs == 0:
             continue
-        s1 = quad_sj(xy, np.int64(quad[q1, 0]), np.int64(quad[q1, 1]), np.int64(quad[q1, 2]), np.int64(quad[q1, 3]))
-        if s1 >= target:
+        # Only a corner between three boundary nodes, which the smoothing cannot open
+        # (they stay or slide on their curves), calls for a swap before it.
+        rigid = 1.0
+        for k in range(4):
+            p0 = quad[q1, (k + 3) % 4]
+            p1 = quad[q1, k]
+            p2 = quad[q1, (k + 1) % 4]
+            if bnd[p0] != 0 and bnd[p1] != 0 and bnd[p2] != 0:
+                rigid = min(rigid, _sine(xy[p0, 0], xy[p0, 1], xy[p1, 0], xy[p1, 1], xy[p2, 0], xy[p2, 1]))
+        if rigid >= target:
             continue
+        s1 = quad_sj(xy, np.int64(quad[q1, 0]), np.int64(quad[q1, 1]), np.int64(quad[q1, 2]), np.int64(quad[q1, 3]))
         for k in range(4):
             u = np.int64(quad[q1, k])
             v = np.int64(quad[q1, (k + 1) % 4])

@@ -125,9 +125,10 @@ def resplit_leftovers(points, quads, triangles, boundary, lines, passes=RESPLIT_
     pentagon diagonal that raises it most (by more than :data:`SWAP_GAIN`), judged over
     the triangle's three sides (:func:`meshwright.quad._enhance_kernel.resplit_pass`).
     The chord refinement keeps a triangle's corners as corners of its quads, so a sliver
-    triangle at fixed nodes would leave slivers no smoothing opens.  Then a quad under
-    the same bound swaps a side between two boundary nodes that is not a line with the
-    quad across it, when the better other diagonal of their hexagon gains as much
+    triangle at fixed nodes would leave slivers no smoothing opens.  Then a quad with a
+    corner between three boundary nodes under the same bound (one the smoothing cannot
+    open) swaps a side between two boundary nodes that is not a line with the quad
+    across it, when the better other diagonal of their hexagon gains as much
     (:func:`meshwright.quad._enhance_kernel.swap_low_pass`): :func:`enhance` swaps only
     sides with a free node, as it has no lines to tell a side across the domain from an
     interior segment.  No node moves.
