@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from numba import njit
+
 from meshwright.core.predicates import orient2d
 
 __all__ = ["face_cycles", "pieces_two_sided", "attached_pieces"]
@@ -71,6 +73,30 @@ def _first_clockwise(xy, v: int, u: int, cands) -> int:
     return best
 
 
+@njit(cache=True)
+def _cycles(nxt):
+    """The cycles of the permutation ``nxt`` of half-edges, each from its smallest
+    half-edge: (half-edges in cycle order, (c + 1,) offsets of the c cycles)."""
+    n = nxt.shape[0]
+    seen = np.zeros(n, dtype=np.bool_)
+    seq = np.empty(n, dtype=np.int64)
+    bounds = np.zeros(n + 1, dtype=np.int64)
+    k = 0
+    c = 0
+    for s in range(n):
+        if seen[s]:
+            continue
+        h = s
+        while not seen[h]:
+            seen[h] = True
+            seq[k] = h
+            k += 1
+            h = nxt[h]
+        c += 1
+        bounds[c] = k
+    return seq, bounds[: c + 1]
+
+
 def face_cycles(xy, loops, sa: np.ndarray, sb: np.ndarray):
     """The paving boundaries of ``loops`` with the segment pieces ``sa``, ``sb`` run on
     both sides (module docstring).
@@ -79,44 +105,42 @@ def face_cycles(xy, loops, sa: np.ndarray, sb: np.ndarray):
     -------
     cycles : list of (k,) int64
         Loops that meet no piece come first, unchanged and in order; then the face
-        cycles of the others.
+        cycles of the others, each from its first half-edge (the touched loops' edges in
+        order, then the pieces forward, then backward).
     source : list of int
         The loop each cycle starts on (-1 for a cycle of segment pieces only).
     """
-    loop_nodes = [set(f.tolist()) for f in loops]
-    touched = [i for i, s in enumerate(loop_nodes) if s.intersection(sa.tolist()) or s.intersection(sb.tolist())]
+    ends = np.concatenate([sa, sb])
+    touched = [i for i, f in enumerate(loops) if np.isin(f, ends).any()]
     cycles = [f for i, f in enumerate(loops) if i not in touched]
     source = [i for i in range(len(loops)) if i not in touched]
-    heads, tails = [], []
-    for i in touched:
-        f = loops[i].tolist()
-        heads += f
-        tails += f[1:] + f[:1]
-    n_loop = len(heads)
-    heads += sa.tolist() + sb.tolist()
-    tails += sb.tolist() + sa.tolist()
-    out: dict[int, list[int]] = {}
-    for h, a in enumerate(heads):
-        out.setdefault(a, []).append(h)
-    key = {(a, b): h for h, (a, b) in enumerate(zip(heads, tails))}
-    seen = np.zeros(len(heads), dtype=bool)
-    for start in range(len(heads)):
-        if seen[start]:
-            continue
-        cyc, h = [], start
-        for _ in range(len(heads)):
-            seen[h] = True
-            u, v = heads[h], tails[h]
-            cyc.append(u)
-            w = _first_clockwise(xy, v, u, [tails[g] for g in out[v]])
-            h = key[(v, w)]
-            if h == start:
-                break
-        cycles.append(np.asarray(cyc, dtype=np.int64))
-        src = -1
-        if start < n_loop:
-            src = next(i for i in touched if heads[start] in loop_nodes[i])
-        source.append(src)
+    lp = [np.asarray(loops[i], dtype=np.int64) for i in touched]
+    heads = np.concatenate(lp + [sa, sb]).astype(np.int64)
+    tails = np.concatenate([np.roll(f, -1) for f in lp] + [sb, sa]).astype(np.int64)
+    loop_of = np.repeat(np.asarray(touched, dtype=np.int64), [len(f) for f in lp])
+    # Each half-edge's successor: the only edge out of its end, or at a node with more
+    # (a junction, a segment's inner node) the first clockwise from the way back.
+    order = np.argsort(heads, kind="stable")
+    lo = np.searchsorted(heads[order], tails, side="left")
+    deg = np.searchsorted(heads[order], tails, side="right") - lo
+    nxt = order[np.minimum(lo, len(order) - 1)]
+    # Two edges out, one of them back: the other (a segment's inner node), no turn to decide.
+    two = np.flatnonzero(deg == 2)
+    a, b = order[lo[two]], order[np.minimum(lo[two] + 1, len(order) - 1)]
+    back_a, back_b = tails[a] == heads[two], tails[b] == heads[two]
+    nxt[two[back_a]] = b[back_a]
+    nxt[two[back_b]] = a[back_b]
+    decided = deg == 1
+    decided[two[back_a | back_b]] = True
+    for h in np.flatnonzero(~decided).tolist():
+        outs = order[lo[h] : lo[h] + deg[h]]
+        w = _first_clockwise(xy, int(tails[h]), int(heads[h]), tails[outs].tolist())
+        nxt[h] = outs[tails[outs] == w][0]
+    seq, bounds = _cycles(nxt)
+    for c in range(len(bounds) - 1):
+        hs = seq[bounds[c] : bounds[c + 1]]
+        cycles.append(heads[hs])
+        source.append(int(loop_of[hs[0]]) if hs[0] < len(loop_of) else -1)
     return cycles, source
 
 
