@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from meshwright.core.predicates import orient2d
+from meshwright.quad.regions import _components
 
 __all__ = ["face_cycles", "pieces_two_sided", "attached_pieces"]
 
@@ -33,22 +34,9 @@ def attached_pieces(loops, sa: np.ndarray, sb: np.ndarray) -> np.ndarray:
     if not m:
         return np.zeros(0, dtype=bool)
     nodes, inv = np.unique(np.concatenate([sa, sb]), return_inverse=True)
-    parent = np.arange(len(nodes))
-
-    def root(a):
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
-    for a, b in zip(inv[:m].tolist(), inv[m:].tolist()):
-        ra, rb = root(a), root(b)
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
-    comp = np.array([root(a) for a in range(len(nodes))])
-    on_loop = np.isin(nodes, np.concatenate(loops))
+    comp = _components(len(nodes), np.column_stack([inv[:m], inv[m:]]).astype(np.int64))
     hit = np.zeros(len(nodes), dtype=bool)
-    hit[comp[on_loop]] = True
+    hit[comp[np.isin(nodes, np.concatenate(loops))]] = True
     return hit[comp[inv[:m]]]
 
 
