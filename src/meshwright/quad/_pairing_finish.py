@@ -32,14 +32,14 @@ POLISH_ROUNDS = 40  # ... up to this many passes (it stops at a pass that moves 
 GRADING = 1.2  # the size grows from finer boundary spacing by at most GRADING - 1 per unit length
 
 
-def given_size(domain, field, fixed_boundary: bool):
+def given_size(domain, field, keep_boundary: bool):
     """(field, discretisation): ``field`` graded from the boundary points of its
     discretisation spaced closer than it (``tri.mesher._graded``), and the boundary
-    discretised again with the graded size unless ``fixed_boundary`` keeps it; ``field``
-    and its discretisation where nothing is finer, or for None."""
+    discretised again with the graded size unless ``keep_boundary``; ``field`` and its
+    discretisation where nothing is finer, or for None."""
     disc = domain.discretize(field)
     graded = _graded(field, disc, GRADING, field is not None)
-    if graded is field or fixed_boundary:
+    if graded is field or keep_boundary:
         return graded, disc
     return graded, domain.discretize(graded)
 
