@@ -230,3 +230,37 @@ def test_cell_tables_match_dictionaries(seed):
         assert nbr_idx[nbr_ptr[v] : nbr_ptr[v + 1]].tolist() == want
     assert cell_idx.dtype == np.int32 and nbr_idx.dtype == np.int32
     assert cells[len(quads) :, 3].tolist() == [-1] * len(tris)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_corner_table_matches_python_corners(seed):
+    """The corner table (sines, and with ``exact`` the convexity flags) against each
+    corner recomputed in Python floats (sine: cross product over the root of the squared
+    sides' product, -1 when degenerate) and rational orientation, on random quads and
+    triangles with repeated and collinear corners; a triangle's unused slot is 1."""
+    rng = np.random.default_rng(seed)
+    n = 12
+    xy = rng.integers(-3, 4, (n, 2)).astype(float) * rng.choice([1.0, 0.1, 1e-7])
+    quads = rng.integers(0, n, (int(rng.integers(0, 12)), 4))
+    tris = rng.integers(0, n, (int(rng.integers(0, 12)), 3))
+    cells = sm.cell_tables(xy, quads, tris)[0]
+    cs0, cv0 = sm._corner_table(xy, cells, np.bool_(False))
+    cs1, cv1 = sm._corner_table(xy, cells, np.bool_(True))
+    assert cv0.shape == (0, 4)
+    for c, row in enumerate([list(q) for q in quads.tolist()] + [list(t) for t in tris.tolist()]):
+        for k in range(4):
+            if k >= len(row):
+                assert cs0[c, k] == 1.0 and cs1[c, k] == 1.0 and cv1[c, k] == 1
+                continue
+            a, b, d = xy[row[k - 1]], xy[row[k]], xy[row[(k + 1) % len(row)]]
+            ux, uy, wx, wy = d[0] - b[0], d[1] - b[1], a[0] - b[0], a[1] - b[1]
+            den = math.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+            sine = (ux * wy - uy * wx) / den if den > 0.0 else -1.0
+            assert cs0[c, k] == sine
+            convex = _orient(a, b, d) > 0
+            assert cv1[c, k] == (1 if convex else 0)
+            if convex:
+                assert cs1[c, k] == sine
+            else:
+                assert cs1[c, k] <= 0.0

@@ -55,22 +55,49 @@ def _corner_table(points, cells, exact):
     cs = np.ones((m, 4))
     cv = np.ones((m if exact else 0, 4), np.int8)
     for c in range(m):
-        nv = 4 if cells[c, 3] >= 0 else 3
-        for k in range(nv):
-            # Neighbouring corners by comparison, not by a modulo (a hardware divide by the
-            # run-time nv, per corner, in the hot loops below).
-            a = cells[c, k - 1 if k > 0 else nv - 1]
-            b = cells[c, k]
-            d = cells[c, k + 1 if k + 1 < nv else 0]
-            # Coordinates, not the array, to the inlined helpers (see _sweep).
+        # The cell's corners read once (not three times, once per corner that holds them);
+        # a triangle's fourth is its first, unused.
+        quad = cells[c, 3] >= 0
+        i0 = cells[c, 0]
+        i1 = cells[c, 1]
+        i2 = cells[c, 2]
+        i3 = cells[c, 3] if quad else i0
+        x0, y0 = points[i0, 0], points[i0, 1]
+        x1, y1 = points[i1, 0], points[i1, 1]
+        x2, y2 = points[i2, 0], points[i2, 1]
+        x3, y3 = points[i3, 0], points[i3, 1]
+        # Corner k between its previous and next corner (a triangle's corner 0 follows
+        # corner 2 and its corner 2 precedes corner 0).
+        if quad:
+            s0, k0 = _quality(exact, x3, y3, x0, y0, x1, y1)
+            s2, k2 = _quality(exact, x1, y1, x2, y2, x3, y3)
+            s3, k3 = _quality(exact, x2, y2, x3, y3, x0, y0)
+            cs[c, 3] = s3
             if exact:
-                cs[c, k], ok = _measure_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0],
-                                           points[d, 1])
-                cv[c, k] = 1 if ok else 0
-            else:
-                cs[c, k], _, _ = _cross_xy(points[a, 0], points[a, 1], points[b, 0], points[b, 1], points[d, 0],
-                                           points[d, 1])
+                cv[c, 3] = k3
+        else:
+            s0, k0 = _quality(exact, x2, y2, x0, y0, x1, y1)
+            s2, k2 = _quality(exact, x1, y1, x2, y2, x0, y0)
+        s1, k1 = _quality(exact, x0, y0, x1, y1, x2, y2)
+        cs[c, 0] = s0
+        cs[c, 1] = s1
+        cs[c, 2] = s2
+        if exact:
+            cv[c, 0] = k0
+            cv[c, 1] = k1
+            cv[c, 2] = k2
     return cs, cv
+
+
+@njit(inline="always")
+def _quality(exact, ax, ay, bx, by, dx, dy):
+    """Corner b's entry of :func:`_corner_table`: its sine and 1, or with ``exact``
+    :func:`_measure_xy`'s quality and exact convexity (1 or 0)."""
+    if exact:
+        sn, ok = _measure_xy(ax, ay, bx, by, dx, dy)
+        return sn, 1 if ok else 0
+    sn, _, _ = _cross_xy(ax, ay, bx, by, dx, dy)
+    return sn, 1
 
 
 @njit(cache=True)
