@@ -94,6 +94,18 @@ def quads_near(pts, quads, reach, oa, ob, touch_ok):
             continue
         cand[mc] = j
         mc += 1
+    # The candidates sorted by their boxes' left ends: a quad scans only those starting
+    # within its own box's x range (grown by its reach and the widest candidate box).
+    lx = np.empty(mc, dtype=np.float64)
+    wide = 0.0
+    for i in range(mc):
+        a = oa[cand[i]]
+        b = ob[cand[i]]
+        lx[i] = min(pts[a, 0], pts[b, 0])
+        wide = max(wide, max(pts[a, 0], pts[b, 0]) - lx[i])
+    by_x = np.argsort(lx)
+    lx = lx[by_x]
+    cand = cand[:mc][by_x]
     for c in range(nq):
         r = reach[c]
         r2 = r * r
@@ -107,7 +119,10 @@ def quads_near(pts, quads, reach, oa, ob, touch_ok):
             qx1 = max(qx1, pts[v, 0])
             qy0 = min(qy0, pts[v, 1])
             qy1 = max(qy1, pts[v, 1])
-        for i in range(mc):
+        # The left bound with room for its own rounding: a start no later than exact.
+        lo = qx0 - r - wide
+        lo -= 1e-12 * (abs(lo) + abs(qx0) + wide)
+        for i in range(np.searchsorted(lx, lo), np.searchsorted(lx, qx1 + r, side="right")):
             j = cand[i]
             a = oa[j]
             b = ob[j]
