@@ -134,6 +134,7 @@ from meshwright.quad.enhancement import (
     _fixed_nodes,
     enhance,
     min_scaled_jacobian,
+    resplit_leftovers,
     smooth_quads,
     unpair_nonconvex,
 )
@@ -685,14 +686,25 @@ def pair_domain(
         bnd[lines.ravel()] = True
         bnd[fixed_pts] = True
         pts, quads, _, counts = enhance(pts, quads, bnd, lt)
+        # The chords keep a left-over triangle's corners, and a quad's corner between
+        # three boundary nodes stays as the smoothing finds it: both are re-split first
+        # (the enhancement helper's measurements, 5927685 / 0267ab3).
+        bnd = np.zeros(len(pts), dtype=bool)
+        bnd[lines.ravel()] = True
+        bnd[fixed_pts] = True
+        quads, lt, _ = resplit_leftovers(pts, quads, lt, bnd, lines)
         params = np.concatenate([node_t, np.full(len(pts) - n, np.nan)])
         pts = smooth_quads(pts, quads, lt, lines, line_curve, domain, fixed_pts, passes, smooth_boundary, params)
         n_quads = len(quads)
         # Almost always every quad is convex: the compiled check spares unpair_nonconvex's
         # NumPy one (2 ms on the disk h=0.01), which would find nothing to cut.
+        reverted = 0
         if len(pk.nonconvex_quads(pts, quads)):
             quads, lt = unpair_nonconvex(pts, quads, lt)
-        return pts, quads, lt, (len(t3), len(first), chains, len(left), n_quads - len(quads), counts)
+            reverted = n_quads - len(quads)
+            # A quad cut back into two triangles along its only valid diagonal, however thin.
+            quads, lt, _ = resplit_leftovers(pts, quads, lt, bnd, lines)
+        return pts, quads, lt, (len(t3), len(first), chains, len(left), reverted, counts)
 
     chosen = None
     if all_quad and (paired.mate < 0).any():
