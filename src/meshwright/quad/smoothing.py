@@ -599,21 +599,53 @@ def _kernel_target(points, cells, cell_ptr, cell_idx, v, px, py, qx, qy):
 
 
 @njit(cache=True)
-def _tangent_steps(points, nbr_ptr, nbr_idx, nodes, chord):
-    """Laplacian steps of the sliding vertices projected on their boundary chords, (k, 2)."""
-    out = np.empty((nodes.shape[0], 2))
-    for s in range(nodes.shape[0]):
-        v = nodes[s]
+def _slide_trials(points, nbr_ptr, nbr_idx, slide, ends):
+    """The sliding vertices' trial positions before projection.
+
+    Each vertex of ``slide`` whose boundary chord (from line neighbour ``ends[s, 0]`` to
+    ``ends[s, 1]``) has a length takes its Laplacian step projected on the unit chord;
+    returns those vertices twice, (2 k,) int64, the positions at the full step, then at
+    the half step, (2 k, 2), and their current positions twice, (2 k, 2) (the projection's
+    arguments for both trials at once).  One pass instead of a dozen array operations
+    per sweep; the arithmetic is that of the chord's NumPy form, value for value.
+    """
+    k = 0
+    for s in range(slide.shape[0]):
+        if np.hypot(points[ends[s, 1], 0] - points[ends[s, 0], 0], points[ends[s, 1], 1] - points[ends[s, 0], 1]) > 0.0:
+            k += 1
+    nodes = np.empty(2 * k, np.int64)
+    xy = np.empty((2 * k, 2))
+    at = np.empty((2 * k, 2))
+    j = 0
+    for s in range(slide.shape[0]):
+        cx = points[ends[s, 1], 0] - points[ends[s, 0], 0]
+        cy = points[ends[s, 1], 1] - points[ends[s, 0], 1]
+        norm = np.hypot(cx, cy)
+        if not norm > 0.0:
+            continue
+        ux = cx / norm
+        uy = cy / norm
+        v = slide[s]
         fx = 0.0
         fy = 0.0
         for t in range(nbr_ptr[v], nbr_ptr[v + 1]):
             fx += points[nbr_idx[t], 0] - points[v, 0]
             fy += points[nbr_idx[t], 1] - points[v, 1]
-        k = max(nbr_ptr[v + 1] - nbr_ptr[v], 1)
-        d = (fx * chord[s, 0] + fy * chord[s, 1]) / k
-        out[s, 0] = d * chord[s, 0]
-        out[s, 1] = d * chord[s, 1]
-    return out
+        d = (fx * ux + fy * uy) / max(nbr_ptr[v + 1] - nbr_ptr[v], 1)
+        sx = d * ux
+        sy = d * uy
+        nodes[j] = v
+        nodes[k + j] = v
+        xy[j, 0] = points[v, 0] + sx
+        xy[j, 1] = points[v, 1] + sy
+        xy[k + j, 0] = points[v, 0] + 0.5 * sx
+        xy[k + j, 1] = points[v, 1] + 0.5 * sy
+        at[j, 0] = points[v, 0]
+        at[j, 1] = points[v, 1]
+        at[k + j, 0] = points[v, 0]
+        at[k + j, 1] = points[v, 1]
+        j += 1
+    return nodes, xy, at
 
 
 def _check_settle(settle) -> float:
@@ -713,7 +745,7 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     order = np.argsort(owner, kind="stable")
     start = np.concatenate([[0], np.cumsum(deg)[:-1]])
     slide = np.flatnonzero((deg == 2) & ~np.asarray(fixed, dtype=bool))
-    ends = other[order][np.stack([start[slide], start[slide] + 1], axis=1)]
+    ends = np.ascontiguousarray(other[order][np.stack([start[slide], start[slide] + 1], axis=1)])
     # Sliding vertices count as moved in every sweep: they and their edge neighbours are
     # woken after each (indices gathered once, in NumPy: no kernel to compile for it).
     lens = nbr_ptr[slide + 1] - nbr_ptr[slide]
@@ -736,19 +768,14 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
         cur[woken] = 1
         if not len(slide):
             continue
-        chord = pts[ends[:, 1]] - pts[ends[:, 0]]
-        norm = np.hypot(chord[:, 0], chord[:, 1])
-        ok = norm > 0.0
-        nodes = slide[ok]
+        twice, trial, at = _slide_trials(pts, nbr_ptr, nbr_idx, slide, ends)
+        nodes = twice[: len(twice) // 2]
         if not len(nodes):
             continue  # (an empty list would make _sweep an interior sweep)
-        chord = chord[ok] / norm[ok, None]
-        step = _tangent_steps(pts, nbr_ptr, nbr_idx, nodes, np.ascontiguousarray(chord))
         # One projection call for both trial steps: on curves given as functions its cost
         # is per call (a vectorised golden-section search), a third of the pairing's time
         # on the three-element airfoil when made twice.
-        at = pts[nodes]
-        both = project(np.concatenate([nodes, nodes]), np.vstack([at + step, at + 0.5 * step]), np.vstack([at, at]))
+        both = project(twice, trial, at)
         full = np.ascontiguousarray(both[: len(nodes)], dtype=np.float64)
         half = np.ascontiguousarray(both[len(nodes) :], dtype=np.float64)
         _sweep(pts, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, settle, cs, cv, slot, old, box, nodes, full,
