@@ -743,9 +743,11 @@ def smooth_sliding(points, quads, triangles, lines, fixed, project, passes: int,
     owner = np.concatenate([e[:, 0], e[:, 1]])
     other = np.concatenate([e[:, 1], e[:, 0]])
     order = np.argsort(owner, kind="stable")
-    start = np.concatenate([[0], np.cumsum(deg)[:-1]])
     slide = np.flatnonzero((deg == 2) & ~np.asarray(fixed, dtype=bool))
-    ends = np.ascontiguousarray(other[order][np.stack([start[slide], start[slide] + 1], axis=1)])
+    # Each sliding vertex's first entry among the sorted owners (a search over the line
+    # entries, not a running sum over every vertex).
+    head = np.searchsorted(owner[order], slide)
+    ends = np.ascontiguousarray(other[order][np.stack([head, head + 1], axis=1)])
     # Sliding vertices count as moved in every sweep: they and their edge neighbours are
     # woken after each (indices gathered once, in NumPy: no kernel to compile for it).
     lens = nbr_ptr[slide + 1] - nbr_ptr[slide]
