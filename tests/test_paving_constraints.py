@@ -260,3 +260,27 @@ def test_quads_near_matches_an_oracle():
             d = min(_seg_dist(q[k], q[(k + 1) % 4], xy[a], xy[b]) for k in range(4))
             want = want or inside or d == 0.0 or d < reach[c]
         assert got[c] == want, c
+
+
+def test_a_long_free_segment_is_paved_around():
+    # Eight pieces meeting no loop: a hard line (rows around it as around a hole), every
+    # quad beside it a row's rectangle.
+    seg = [[(0.3, 0.5), (0.7, 0.5)]]
+    dom = polygon(SQUARE, segments=seg)
+    fill, report = pave_domain(dom, 0.05)
+    assert report.rows >= 6
+    xy, q = fill.points, fill.quads
+    on = (xy[:, 1] == 0.5) & (xy[:, 0] >= 0.3) & (xy[:, 0] <= 0.7)
+    beside = q[on[q].sum(axis=1) == 2]
+    assert len(beside) == 16
+    assert _corner_sj(xy, beside).min() > 0.95
+    _check(quadrangulate(dom, 0.05, method="paving"), segments=seg, corners=SQUARE)
+
+
+def test_despike_keeps_the_slits_of_hard_lines():
+    from meshwright.quad._paving_close import despike
+
+    front = np.array([7, 1, 2, 1, 8, 9])  # 1-2-1: a piece run both ways between fixed nodes 1, 2
+    assert despike(front, keep=5).tolist() == front.tolist()
+    assert despike(front).tolist() == [7, 1, 8, 9]
+    assert despike(np.array([7, 1, 6, 1, 8, 9]), keep=5).tolist() == [7, 1, 8, 9]  # 6 floats: zipped

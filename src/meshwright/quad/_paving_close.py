@@ -636,15 +636,18 @@ def consistent(fronts) -> bool:
     return bool(pr.edges_once(np.concatenate(fronts).astype(np.int64, copy=False), off))
 
 
-def despike(front: np.ndarray) -> np.ndarray:
+def despike(front: np.ndarray, keep: int = 0) -> np.ndarray:
     """Drop the spikes ``x, y, x`` of a paving boundary: the edge x y, zipped by seams or
     joints, has quads on both sides and is no front any more (two nodes fewer: the count
-    stays even)."""
+    stays even).  A spike between two nodes below ``keep`` stays: an interior segment's
+    piece that the paving boundary runs both ways (a hard line) has no quad yet."""
     f = front
     for _ in range(len(front)):
         if len(f) <= 2:
             return f
         hit = np.flatnonzero(shift_prev(f) == shift_next(f))
+        if keep:
+            hit = hit[(f[hit] >= keep) | (shift_prev(f)[hit] >= keep)]
         if not len(hit):
             return f
         i = int(hit[0])

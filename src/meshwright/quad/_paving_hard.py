@@ -24,12 +24,17 @@ from numba import njit
 from meshwright.core.predicates import orient2d
 from meshwright.quad.regions import _components
 
-__all__ = ["face_cycles", "pieces_two_sided", "attached_pieces"]
+__all__ = ["FLAT", "FREE_HARD", "attached_pieces", "face_cycles", "pieces_two_sided"]
+
+FREE_HARD = 8  # a segment meeting no loop is a hard line too from this many pieces on
+FLAT = 1e-2  # with interior segments, no closure leaves a corner sine below this
 
 
 def attached_pieces(loops, sa: np.ndarray, sb: np.ndarray) -> np.ndarray:
     """(m,) bool: segment pieces whose connected component (through shared nodes) has a
-    node on a loop."""
+    node on a loop or at least :data:`FREE_HARD` pieces (a long free segment: rows around
+    it as around a hole; a short one, a few pieces, stays an obstacle, whose slit fronts of
+    a few nodes the closures do not take)."""
     m = len(sa)
     if not m:
         return np.zeros(0, dtype=bool)
@@ -37,6 +42,7 @@ def attached_pieces(loops, sa: np.ndarray, sb: np.ndarray) -> np.ndarray:
     comp = _components(len(nodes), np.column_stack([inv[:m], inv[m:]]).astype(np.int64))
     hit = np.zeros(len(nodes), dtype=bool)
     hit[comp[np.isin(nodes, np.concatenate(loops))]] = True
+    hit |= np.bincount(comp[inv[:m]], minlength=len(nodes)) >= FREE_HARD
     return hit[comp[inv[:m]]]
 
 

@@ -69,18 +69,18 @@ Steps, as the chapter numbers them
    below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles), up to
    :data:`MEND_ROUNDS` passes more while a quad the chord split bent is still not convex.
 
-*Interior segments, points and regions.*  A segment whose pieces connect to a loop is a
-*hard line* (FASTQ): the paving boundaries are the face cycles of the loops and those
-pieces, each piece run once each way (:mod:`meshwright.quad._paving_hard`), so rows grow
-from both sides of it as from the boundary and its nodes never move.  Segments that meet no loop, and interior points, are
-*obstacles* (:mod:`meshwright.quad._paving_obstacles`): a row whose quads come within
-the size of one is refused (the boundary stops, no shallower row creeps up to it), no
-closure takes a region that holds one, and the void fill triangulates the stopped
-boundaries with them as constraints and nodes (a free segment as a zero-area hole would
-need closures of two-sided fronts of a few nodes).  A hard-line paving that fails (the
-result is checked: every piece a cell side each way) is redone with all segments as
-obstacles.  Region markers are the mesher's flood fill over the line cells.  Domains with
-none of these take the path above, node for node.
+*Interior segments, points and regions.*  A segment whose pieces connect to a loop, or
+that has many pieces, is a *hard line* (FASTQ): the paving boundaries are the face cycles
+of the loops and those pieces, each piece run once each way
+(:mod:`meshwright.quad._paving_hard`; no seam drops such a slit, no closure leaves a flat
+corner there), so rows grow from both sides of it as from the boundary and its nodes never
+move.  Short free segments (their slit fronts of a few nodes fail closures) and interior
+points are *obstacles* (:mod:`meshwright.quad._paving_obstacles`): a row whose quads come
+within the size of one is refused (the boundary stops, no shallower row creeps up), no
+closure takes a region holding one, and the void fill triangulates the stopped boundaries
+with them as constraints and nodes.  A hard-line paving that loses a piece (checked) is
+redone with all segments as obstacles.  Region markers: the mesher's flood fill over the
+line cells.  Domains with none of these take the path above, node for node.
 
 Invariants: every paving boundary has an even node count and the unmeshed region on its
 left; every quad committed is strictly convex by exact ``orient2d``; no paving-boundary
@@ -130,11 +130,12 @@ from meshwright.quad._paving_close import (
     facing_order,
     fill_voids,
     front_slots,
+    min_sine,
     shift_next,
     signed_area,
 )
 from meshwright.quad._paving_finish import Finish, fill_by_pairing, finish
-from meshwright.quad._paving_hard import attached_pieces, face_cycles, pieces_two_sided
+from meshwright.quad._paving_hard import FLAT, attached_pieces, face_cycles, pieces_two_sided
 from meshwright.quad._paving_obstacles import Obstacles
 from meshwright.quad.parity import make_loops_even
 from meshwright.quad.smoothing import smooth_cells
@@ -261,8 +262,9 @@ class _Paver:
         self.joints = 0
         # Parts of partly closed paving boundaries, left to the void fill.
         self.open_parts: list[np.ndarray] = []
-        # Interior segments and points (None when the domain has none): see pave_domain.
+        # Obstacles (None without any) and the node bound of hard lines' spikes (despike).
         self.obs: Obstacles | None = None
+        self.keep = 0
 
     def _reserve(self, k: int) -> None:
         """Room for ``k`` nodes beyond ``self.n`` (the arrays doubled when full)."""
@@ -374,8 +376,7 @@ class _Paver:
             bad = np.flatnonzero(pk.check_row(self.trial_points(new_xy), f, quads, owner, np.int64(self.n), *edges))
             if not len(bad):
                 if self.obs is not None and self.obs.row_refused(self.trial_points(new_xy), quads, self.h, self.n):
-                    # A shallower row would only creep up to the obstacle in thin quads:
-                    # the paving boundary stops, and the void fill meets the obstacle.
+                    # No shallower row creeping up to it: the boundary stops, the void fill meets it.
                     return None
                 self.tucks += self.pending[0]
                 self.wedges += self.pending[1]
@@ -390,7 +391,7 @@ class _Paver:
         """Close floating paving nodes sharper than :data:`SEAM_ANGLE` (at most ``cap``);
         no seam moves a paving-boundary edge across another (``others``: the other
         paving boundaries)."""
-        front = despike(front)
+        front = despike(front, self.keep)
         # A joint leaves its node on two paving boundaries: merged away by a seam of one,
         # it would stay on the other, which then closes over a node no quad around it has
         # any more (a tangled four-node void on a random star).
@@ -406,7 +407,7 @@ class _Paver:
                     continue
                 at = 0.5 * (self.pts[a] + self.pts[b])
                 trial = np.delete(front, [i, (i + 1) % k])
-                trial = despike(np.where(trial == b, a, trial))
+                trial = despike(np.where(trial == b, a, trial), self.keep)
                 if (
                     consistent([trial] + others)
                     and area_kept(self.xy, front, trial, a, b, at)
@@ -523,6 +524,8 @@ class _Paver:
         if done is None:
             return False
         extra, quads, open_parts = done
+        if self.keep and len(quads) and min_sine(np.vstack([self.xy, extra]), quads).min() < FLAT:
+            return False  # a template on nodes of straight hard lines: the void fill does better
         if len(extra):
             self.add_points(extra, rnd)
         self.add_quads(quads, rnd)
@@ -698,12 +701,12 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
 
 
 def _pave(domain, disc, field, cap, rounds, seed, all_quad, starts, names, obs, all_obs):
-    """Steps 1-8 of :func:`pave_domain` from the paving boundaries ``starts`` (named
-    ``names``) with the obstacles ``obs`` (of the rows) and ``all_obs`` (every interior
-    segment piece and point, checked on the result).  Returns (QuadFill, the counts of
-    :class:`PavingReport` after ``nodes_added``)."""
+    """Steps 1-8 of :func:`pave_domain` from paving boundaries ``starts`` (``names``), rows
+    kept off ``obs``, every piece and point of ``all_obs`` checked on the result: (QuadFill,
+    the counts of :class:`PavingReport` after ``nodes_added``)."""
     pv = _Paver(disc.points, field, cap)
     pv.obs = obs
+    pv.keep = 0 if all_obs is None else pv.n_fixed
     active = list(zip(starts, names))
     stopped: list[np.ndarray] = []
     for rnd in range(rounds + 1):
@@ -766,8 +769,7 @@ def _pave(domain, disc, field, cap, rounds, seed, all_quad, starts, names, obs, 
     quads = np.concatenate(pv.quads) if pv.quads else np.zeros((0, 4), dtype=np.int64)
     paved = len(quads)
     if obs is not None and paved and obs.covered(xy, quads):
-        # A seam or joint moved a paved quad onto an obstacle (no row or closure does):
-        # the whole domain goes to the void fill, which honours every obstacle.
+        # A seam or joint moved a paved quad onto an obstacle: all to the void fill.
         quads, paved, voids = quads[:0], 0, list(starts)
     tris = np.zeros((0, 3), dtype=np.int64)
     filled = 0
