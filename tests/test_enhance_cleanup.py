@@ -169,46 +169,7 @@ def _unforced_worst(points, quads, lines):
     return worst
 
 
-@pytest.fixture
-def resplit_in_pairing(monkeypatch):
-    """pair_domain with resplit_leftovers where pairing.py is to call it: after the
-    enhancement (here at the entry of the smoothing that follows it, in place on the
-    arrays pair_domain holds) and after quads left non-convex are cut back into
-    triangles (on unpair_nonconvex's result).  Remove it once pairing.py makes both calls."""
-    from meshwright.quad import pairing
-
-    enhance, smooth, unpair = pairing.enhance, pairing.smooth_quads, pairing.unpair_nonconvex
-    seen = {}
-
-    def enhance_then_arm(*args, **kwargs):
-        seen["armed"] = True
-        return enhance(*args, **kwargs)
-
-    def smooth_after_resplit(xy, quads, tris, lines, *args, **kwargs):
-        if seen.pop("armed", False):
-            bnd = np.zeros(len(xy), dtype=bool)
-            bnd[np.asarray(lines).ravel()] = True
-            bnd[np.asarray(args[2], dtype=np.int64)] = True  # fixed_pts
-            seen.update(bnd=bnd, lines=lines)
-            q2, t2, _ = resplit_leftovers(xy, quads, tris, bnd, lines)
-            quads[...] = q2
-            tris[...] = t2
-        return smooth(xy, quads, tris, lines, *args, **kwargs)
-
-    def unpair_then_resplit(xy, quads, tris):
-        quads, tris = unpair(xy, quads, tris)
-        if "bnd" in seen:
-            quads, tris, _ = resplit_leftovers(xy, quads, tris, seen["bnd"], seen["lines"])
-        return quads, tris
-
-    monkeypatch.setattr(pairing, "enhance", enhance_then_arm)
-    monkeypatch.setattr(pairing, "smooth_quads", smooth_after_resplit)
-    monkeypatch.setattr(pairing, "unpair_nonconvex", unpair_then_resplit)
-
-
-
-
-def test_stress_domain_13_of_seed_15003_reaches_the_bound(resplit_in_pairing):
+def test_stress_domain_13_of_seed_15003_reaches_the_bound():
     import meshwright as mw
 
     def tr(p):
@@ -222,7 +183,7 @@ def test_stress_domain_13_of_seed_15003_reaches_the_bound(resplit_in_pairing):
     assert _unforced_worst(m.points, m.quads, m.cells["line"]) > 0.2  # 0.302 (0.157 without the re-split)
 
 
-def test_stress_domain_92_reaches_the_bound(resplit_in_pairing):
+def test_stress_domain_92_reaches_the_bound():
     import meshwright as mw
 
     def tr(p):
