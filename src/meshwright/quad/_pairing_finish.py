@@ -22,8 +22,7 @@ import numpy as np
 
 from meshwright.quad import _pairing_kernel as pk
 from meshwright.sizing.background import BackgroundGrid
-from meshwright.sizing.boundary import boundary_size
-from meshwright.tri.mesher import _graded
+from meshwright.sizing.boundary import boundary_size, graded_from_boundary
 
 __all__ = ["GRADING", "POLISH_BELOW", "POLISH_ROUNDS", "boundary_background", "given_size", "polish_fill"]
 
@@ -34,11 +33,11 @@ GRADING = 1.2  # the size grows from finer boundary spacing by at most GRADING -
 
 def given_size(domain, field, keep_boundary: bool):
     """(field, discretisation): ``field`` graded from the boundary points of its
-    discretisation spaced closer than it (``tri.mesher._graded``), and the boundary
+    discretisation spaced closer than it (:func:`~meshwright.sizing.boundary.graded_from_boundary`), and the boundary
     discretised again with the graded size unless ``keep_boundary``; ``field`` and its
     discretisation where nothing is finer, or for None."""
     disc = domain.discretize(field)
-    graded = _graded(field, disc, GRADING, field is not None)
+    graded = graded_from_boundary(field, disc.points, disc.segments, GRADING)
     if graded is field or keep_boundary:
         return graded, disc
     return graded, domain.discretize(graded)

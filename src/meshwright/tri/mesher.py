@@ -36,7 +36,7 @@ none for ``delaunay``, whose refinement grades by itself): where the
 discretised boundary is finer than the size (polygon vertices given closer, curves split
 for their turning, a fine wall), every method follows ``h(x) = min(size(x), min_i (dP_i +
 (g - 1) |x - x_i|))`` over the boundary points ``x_i`` with their spacing ``dP_i``
-(those whose spacing is below :data:`FINER` times the size: :func:`~meshwright.sizing.gradation`,
+(those whose spacing is below :data:`~meshwright.sizing.boundary.FINER` times the size: :func:`~meshwright.sizing.gradation`,
 the Lipschitz limit ``|grad h| <= g - 1`` of Persson 2006), so elements grow from the boundary spacing to ``size`` instead of
 jumping; ``size`` stays the upper bound.  The boundary is discretised again with the
 graded size, so that straight pieces next to finer given vertices grade as well.  This is
@@ -85,7 +85,7 @@ from meshwright.geometry.curves import Line, Polyline
 from meshwright.geometry.domain import Discretization, Domain
 from meshwright.geometry.shapes import BUILTIN_DOMAINS, builtin, polygon
 from meshwright.sizing.background import BackgroundGrid
-from meshwright.sizing.boundary import boundary_size, gradation, point_distribution
+from meshwright.sizing.boundary import boundary_size, graded_from_boundary, gradation, is_stretched, point_distribution
 from meshwright.sizing.field import SizeField, as_size_field
 from meshwright.sizing.lfs import DEFAULT_CAP, DEFAULT_GROWTH, lfs_field, turning_size
 from meshwright.tri.cdt import ConstrainedTriangulation, SegmentCurves, cdt_build
@@ -118,10 +118,6 @@ DEFAULT_GRADING = DEFAULT_GROWTH  # g of the grading from the boundary: |grad h|
 # under 0.001.  A size given already graded (no boundary spacing under FINER times it)
 # meshes as before.
 RELAXED_GRADING = 1.1
-# A boundary point grades the size only where its spacing is below this fraction of the size:
-# rounding segment counts leaves spacings down to 2/3 of it on pieces 1.5 sizes long, which
-# must not change a boundary that already follows the size.
-FINER = 0.6
 # grading's default (_auto_grading): DEFAULT_GRADING, or the registry entry's where the mesh is
 # relaxed, for the methods that place points by a size, none for a method that grades itself
 # (Delaunay refinement follows the local feature size by its own splits; a graded field only
@@ -247,7 +243,7 @@ def _place_weatherill(job: _Job) -> None:
 
 
 def _boundary_cap(job: _Job, base=None) -> SizeField | None:
-    """``base`` graded from the boundary (:func:`_graded`), or the grading alone for a
+    """``base`` graded from the boundary (:func:`~meshwright.sizing.boundary_size`), or the grading alone for a
     method without a size; None when ``grading=None`` leaves it as it is."""
     if job.grading is None:
         return base
@@ -508,28 +504,6 @@ def _auto_grading(m: MeshMethod, relax: bool | None, dom: Domain) -> float | Non
     return m.grading
 
 
-def _is_stretched(field) -> bool:
-    """Whether ``field`` is a 2-D background grid with stretching somewhere."""
-    return isinstance(field, BackgroundGrid) and field.dim == 2 and bool(np.any(field.stretch != 1.0))
-
-
-def _graded(field: SizeField | None, disc: Discretization, grading: float | None, given: bool) -> SizeField | None:
-    """The size the methods follow: a ``given`` size (the caller's or the domain's) graded
-    from the boundary points whose spacing is below :data:`FINER` times it (module
-    docstring); ``field`` itself when no point is, ``grading`` is None, there is no size,
-    or it is a stretched background grid (used as drawn)."""
-    if not given or field is None or grading is None or _is_stretched(field) or not len(disc.segments):
-        return field
-    dp = point_distribution(disc.points, disc.segments)
-    fine = np.isfinite(dp)
-    fine[fine] = dp[fine] < FINER * field(disc.points[fine])
-    if not fine.any():
-        return field
-    graded = gradation(disc.points[fine], dp[fine], grading, base=field)
-    graded.name = f"{field.name} graded from the boundary (g={grading:g})"
-    return graded
-
-
 def _area_sources(dom: Domain, disc: Discretization, max_area: float | None):
     """Sources of the default size where an area bound (``max_area``, a region's) applies:
     points spread over every bounded triangle of the boundary's constrained triangulation,
@@ -742,12 +716,13 @@ def triangulate(
         grading = _auto_grading(m, relax, dom)
     _check_work(dom, field, max_area, cap)
     disc = dom.discretize(field)
-    graded = _graded(field, disc, grading, not (size is None and dom.size is None))
+    given = not (size is None and dom.size is None)
+    graded = graded_from_boundary(field, disc.points, disc.segments, grading) if given else field
     if graded is not field:
         # The boundary too: straight pieces next to finer given vertices (a slit's mouth, a
         # hole near the outer wall) are split at the graded size, not at the size.
         field, disc = graded, dom.discretize(graded)
-    relax = relax_domain(relax, _is_stretched(field), disc)
+    relax = relax_domain(relax, is_stretched(field), disc)
     ct = _classified_cdt(dom, disc, seed)
     fill = m.place(_Job(ct, disc, field, angle, max_area, bool(progress), cap, alpha, grading))
     if fill is not None and conforming:
