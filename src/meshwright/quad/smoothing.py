@@ -210,6 +210,8 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
     P = points.reshape(-1)
     C = cells.reshape(-1)
     S = cs.reshape(-1)
+    if cv is not None:
+        V = cv.reshape(-1)
     kept = 0
     woke = False
     for it in range(points.shape[0] if interior else nodes.shape[0]):
@@ -369,7 +371,7 @@ def _sweep(points, cells, cell_ptr, cell_idx, nbr_ptr, nbr_idx, free, cur, nxt, 
                     sc = slot[j] >> 1
                     S[sc] = old[j]
                     if cv is not None:
-                        cv[sc >> 2, sc & 3] = slot[j] & 1
+                        V[sc] = slot[j] & 1
                 moved = True
                 break
             P[2 * v] = x0
