@@ -84,7 +84,9 @@ def finish(xy, quads, tris, n_fixed: int, disc, domain, cap: int, all_quad: bool
 
 def fill_by_pairing(out, domain, field, all_quad: bool, fixed_boundary: bool, seed, cap: int):
     """``out`` (a paving's (QuadFill, counts)), or the pairing method's fill of the whole
-    domain where that has the larger smallest scaled Jacobian and no quad was paved.
+    domain where that has the larger smallest scaled Jacobian and no quad was paved, or
+    where ``out`` is None (the paving failed: a quad bent by the chord split under a size
+    jump, which the pairing's re-cut split opens).
 
     With interior segments or points a row often fits nowhere (a size coarse beside the
     domain's features, an obstacle near every paving boundary: most of the stress
@@ -97,14 +99,14 @@ def fill_by_pairing(out, domain, field, all_quad: bool, fixed_boundary: bool, se
     from meshwright.quad.enhancement import min_scaled_jacobian
     from meshwright.quad.pairing import pair_domain
 
-    if out[1][6]:
+    if out is not None and out[1][6]:
         return out
     fill, rep = pair_domain(
         domain, field, all_quad=all_quad, smooth_boundary=False, fixed_boundary=fixed_boundary, seed=seed,
         max_points=cap,
     )
-    if not len(fill.quads) or min_scaled_jacobian(fill.points, fill.quads) <= min_scaled_jacobian(
+    if out is not None and (not len(fill.quads) or min_scaled_jacobian(fill.points, fill.quads) <= min_scaled_jacobian(
         out[0].points, out[0].quads
-    ):
+    )):
         return out
     return fill, (0, 0, 0, 0, 0, 0, 0, 1, len(fill.quads), rep.split, len(fill.triangles))

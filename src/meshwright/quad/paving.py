@@ -69,18 +69,17 @@ Steps, as the chapter numbers them
    below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles), up to
    :data:`MEND_ROUNDS` passes more while a quad the chord split bent is still not convex.
 
-*Interior segments, points and regions.*  A segment whose pieces connect to a loop, or
-that has many pieces, is a *hard line* (FASTQ): the paving boundaries are the face cycles
-of the loops and those pieces, each piece run once each way
-(:mod:`meshwright.quad._paving_hard`; no seam drops such a slit, no closure leaves a flat
-corner there), so rows grow from both sides of it as from the boundary and its nodes never
-move.  Short free segments (their slit fronts of a few nodes fail closures) and interior
-points are *obstacles* (:mod:`meshwright.quad._paving_obstacles`): a row whose quads come
-within the size of one is refused (the boundary stops, no shallower row creeps up), no
-closure takes a region holding one, and the void fill triangulates the stopped boundaries
-with them as constraints and nodes.  A hard-line paving that loses a piece (checked) is
-redone with all segments as obstacles.  Region markers: the mesher's flood fill over the
-line cells.  Domains with none of these take the path above, node for node.
+*Interior segments, points and regions.*  A segment that meets a loop, or has many pieces,
+is a *hard line* (FASTQ): the paving boundaries are the face cycles of the loops and those
+pieces, each run once each way (:mod:`meshwright.quad._paving_hard`; no seam drops such a
+slit, no closure leaves a flat corner), so rows grow from both sides; its nodes never move.
+Short free segments (their few-node slit fronts fail closures) and interior points are
+*obstacles* (:mod:`meshwright.quad._paving_obstacles`): a row whose quads come within the
+size of one is refused (the boundary stops), no closure takes a region holding one, and the
+void fill takes them as constraints and nodes.  A hard-line paving that loses a piece
+(checked) is redone with obstacles; where nothing was paved, or that fails, the pairing
+method's fill of the whole domain is the void fill.  Region markers: the mesher's flood
+fill over the line cells.  Domains with none of these take the path above, node for node.
 
 Invariants: every paving boundary has an even node count and the unmeshed region on its
 left; every quad committed is strictly convex by exact ``orient2d``; no paving-boundary
@@ -263,8 +262,7 @@ class _Paver:
         # Parts of partly closed paving boundaries, left to the void fill.
         self.open_parts: list[np.ndarray] = []
         # Obstacles (None without any) and the node bound of hard lines' spikes (despike).
-        self.obs: Obstacles | None = None
-        self.keep = 0
+        self.obs, self.keep = None, 0
 
     def _reserve(self, k: int) -> None:
         """Room for ``k`` nodes beyond ``self.n`` (the arrays doubled when full)."""
@@ -376,8 +374,7 @@ class _Paver:
             bad = np.flatnonzero(pk.check_row(self.trial_points(new_xy), f, quads, owner, np.int64(self.n), *edges))
             if not len(bad):
                 if self.obs is not None and self.obs.row_refused(self.trial_points(new_xy), quads, self.h, self.n):
-                    # No shallower row creeping up to it: the boundary stops, the void fill meets it.
-                    return None
+                    return None  # no shallower row creeping up to it: the boundary stops
                 self.tucks += self.pending[0]
                 self.wedges += self.pending[1]
                 return new_xy, quads, front
@@ -625,8 +622,7 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     Parameters
     ----------
     domain : Domain
-        Validated; its interior segments and points are honoured (module docstring),
-        its region seeds are the caller's (:func:`meshwright.quadrangulate`).
+        Validated; interior segments and points are honoured (module docstring).
     field : number, callable, SizeField or BackgroundGrid
         Size field (the row depth and spacing); isotropic (a stretched background grid
         is refused).
@@ -685,18 +681,22 @@ def pave_domain(domain: Domain, field, *, all_quad: bool = True, fixed_boundary:
     names = [_loop_name(i) for i in range(len(loops))]
     obs = Obstacles.of(domain, disc)
     job = (domain, disc, field, cap, rounds, seed, all_quad)
-    hard = attached_pieces(loops, obs.seg_a, obs.seg_b) if obs is not None else np.zeros(0, dtype=bool)
+    if obs is None:
+        out = _pave(*job, loops, names, None, None)
+        return out[0], PavingReport(added, *out[1])
+    hard = attached_pieces(loops, obs.seg_a, obs.seg_b)
+    tries = [(loops, names, obs)]
     if hard.any():
         fronts, src = face_cycles(disc.points, loops, obs.seg_a[hard], obs.seg_b[hard])
+        tries.insert(0, (fronts, [names[i] if i >= 0 else "a segment cycle" for i in src], obs.only(~hard)))
+    out = None
+    for starts, named, rows_obs in tries:
         try:
-            out = _pave(*job, fronts, [names[i] if i >= 0 else "a segment cycle" for i in src], obs.only(~hard), obs)
-            out = fill_by_pairing(out, domain, field, all_quad, fixed_boundary, seed, cap)
-            return out[0], PavingReport(added, *out[1])
+            out = _pave(*job, starts, named, rows_obs, obs)
+            break
         except MeshingError:
-            pass  # a piece lost along hard lines (by a closure): all segments as obstacles instead
-    out = _pave(*job, loops, names, obs, obs)
-    if obs is not None:
-        out = fill_by_pairing(out, domain, field, all_quad, fixed_boundary, seed, cap)
+            pass  # hard lines: a piece lost; obstacles: a quad bent (size jumps): the next way
+    out = fill_by_pairing(out, domain, field, all_quad, fixed_boundary, seed, cap)
     return out[0], PavingReport(added, *out[1])
 
 
