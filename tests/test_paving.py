@@ -439,7 +439,7 @@ def test_polish_matches_a_plain_pattern_search(seed):
     """The cleanup kernel (skips of nodes whose opposite corners are their worst, trials
     stopped at the first corner not above the best, per-quad minima updated around the
     moved nodes) makes the moves of the plain search that recomputes everything."""
-    from meshwright.quad._paving_close import polish
+    from meshwright.quad.polish import polish
 
     rng = np.random.default_rng(seed)
     k = 6

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from meshwright.quad import _pairing_kernel as pk
+from meshwright.quad.polish import may_be_below, polish
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.boundary import boundary_size, graded_from_boundary
 
@@ -76,13 +76,9 @@ def polish_fill(fill, fixed_pts):
     quads below :data:`POLISH_BELOW` moved by the max-min search; line nodes, the nodes
     ``fixed_pts`` and the nodes of left-over triangles (the search reads quads only) stay.
     Skipped, at the cost of one pass of products, when no quad may be below
-    (:func:`~meshwright.quad._pairing_kernel.may_be_below`)."""
-    # _paving_close imports pairing, which imports this module: a module-level import
-    # would be a cycle.
-    from meshwright.quad._paving_close import polish
-
+    (:func:`~meshwright.quad.polish.may_be_below`)."""
     quads = np.ascontiguousarray(fill.quads, dtype=np.int64)
-    if not len(quads) or not pk.may_be_below(fill.points, quads, POLISH_BELOW):
+    if not len(quads) or not may_be_below(fill.points, quads, POLISH_BELOW):
         return fill
     fixed = np.zeros(len(fill.points), dtype=bool)
     fixed[fill.lines.ravel()] = True

@@ -50,7 +50,6 @@ __all__ = [
     "greedy_pairs",
     "grow_rings",
     "mate_sides",
-    "may_be_below",
     "nonconvex_quads",
     "pair_quads",
     "pair_score",
@@ -367,30 +366,6 @@ def greedy_pairs(raw, nbr, mate, qmin):
             mate[best] = t
             made += 1
     return made
-
-
-@njit(cache=True)
-def may_be_below(xy, quads, floor):
-    """Whether a quad (q, 4) may have a corner sine below ``floor`` > 0: a corner whose
-    cross product ``cr`` and squared sides' product ``ll`` give ``cr^2 >= floor^2 ll``
-    with a relative margin of 1e-9 is above it whatever the rounding of a sine's hypot
-    and division, so the answer is False only when every quad is clearly above (no
-    hypot: the common case, a mesh with no quad to polish, costs one pass of products)."""
-    f2 = floor * floor * (1.0 + 1e-9)
-    for i in range(quads.shape[0]):
-        for k in range(4):
-            u = quads[i, (k + 3) % 4]
-            w = quads[i, k]
-            z = quads[i, (k + 1) % 4]
-            ux = xy[z, 0] - xy[w, 0]
-            uy = xy[z, 1] - xy[w, 1]
-            wx = xy[u, 0] - xy[w, 0]
-            wy = xy[u, 1] - xy[w, 1]
-            cr = ux * wy - uy * wx
-            ll = (ux * ux + uy * uy) * (wx * wx + wy * wy)
-            if not (cr > 0.0 and 1e-200 < ll < 1e200 and cr * cr >= f2 * ll):
-                return True
-    return False
 
 
 @njit(cache=True)

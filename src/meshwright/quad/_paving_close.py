@@ -22,8 +22,6 @@ those pieces (and the paving boundaries' geometry: :func:`boundary_loops`,
   advancing-front triangles paired into quads (18.5.1, :mod:`meshwright.quad.pairing`),
   the front's spacing never above that of the void's own boundary nodes (chapter 18.3's
   background), so it grows from a stopped row's short edges instead of fanning onto them;
-* :func:`polish`: the cleanup's max-min pattern search on the worst quads' free nodes
-  (kernels :func:`meshwright.quad._paving_polish.polish_rounds` and ``polish_nodes``).
 
 Every chord is checked against every paving-boundary edge by the exact crossing kernel
 (:func:`meshwright.quad._paving_kernel.row_crossings`); every quad of a template is
@@ -41,7 +39,6 @@ import numpy as np
 from meshwright.core.errors import MeshingError
 from meshwright.quad import _paving_kernel as pk
 from meshwright.quad import _paving_long as pl
-from meshwright.quad import _paving_polish as pp
 from meshwright.quad import _paving_row as pr
 from meshwright.quad.enhancement import enhance, nonconvex, unpair_nonconvex
 from meshwright.quad.pairing import pair_triangles
@@ -66,7 +63,6 @@ __all__ = [
     "front_slots",
     "loop_angles",
     "min_sine",
-    "polish",
     "shift_next",
     "shift_prev",
     "signed_area",
@@ -589,42 +585,6 @@ def boundary_loops(domain, disc) -> list[np.ndarray]:
             v = nxt[v]
         loops.append(np.asarray(order, dtype=np.int64))
     return loops
-
-
-def polish(xy, quads, fixed, floor: float, rounds: int):
-    """Cleanup of the worst corners: every free node of a quad whose smallest corner
-    sine is below ``floor`` tries moves in 16 directions at three step lengths (a
-    quarter, an eighth and a sixteenth of its shortest edge) and takes the one that
-    raises the smallest corner sine of its quads most (a max-min pattern search, as
-    optimisation-based smoothing does where the Laplacian stalls; a move never lowers
-    that minimum, so no quad inverts).
-
-    Parameters
-    ----------
-    xy : (n, 2) float64
-        Not modified.
-    quads : (q, 4) int
-        Counter-clockwise; strictly convex, or bent ones to open (a bent quad's smallest
-        sine is not above zero, and no move lowers a star's smallest sine).
-    fixed : (n,) bool
-        Nodes that never move.
-    floor : float
-        Quads below this smallest corner sine are worked on.
-    rounds : int
-        Passes.
-
-    Returns
-    -------
-    (n, 2) float64
-    """
-    p = np.array(xy, dtype=np.float64)
-    q = np.ascontiguousarray(quads, dtype=np.int64)
-    cell_ptr, cell_idx = pp.vertex_cells(q, len(p))
-    ang = np.arange(16) * (np.pi / 8.0)
-    dirs = np.ascontiguousarray(np.column_stack([np.cos(ang), np.sin(ang)]))
-    steps = np.array([0.25, 0.125, 0.0625])
-    fixed = np.ascontiguousarray(fixed, dtype=np.bool_)
-    return pp.polish_rounds(p, q, cell_ptr, cell_idx, fixed, float(floor), int(rounds), dirs, steps)
 
 
 def consistent(fronts) -> bool:

@@ -13,7 +13,8 @@ from typing import NamedTuple
 import numpy as np
 
 from meshwright.core.errors import MeshingError, fmt_point
-from meshwright.quad._paving_close import convex, polish
+from meshwright.quad._paving_close import convex
+from meshwright.quad.polish import polish
 from meshwright.quad.smoothing import smooth_cells
 
 __all__ = ["Finish", "fill_by_pairing", "finish"]

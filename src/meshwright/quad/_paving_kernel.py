@@ -8,7 +8,7 @@ one row (its new edges found, the crossings, the quads' convexity and the nodes 
 them, the culprits traced back to the paving nodes they grew from) in one call;
 :func:`row_nodes` builds a row's nodes and quads and :func:`adjust_row` its tucks and
 wedges.  :func:`facing_pairs` finds the paving nodes close enough to be joined (a quality
-rule, floating point); the cleanup's pattern search is :mod:`meshwright.quad._paving_polish`.
+rule, floating point); the cleanup's pattern search is :mod:`meshwright.quad.polish`.
 
 Array layout: ``pts`` (n, 2) float64; segments as two (m,) int64 end arrays ``sa``, ``sb``
 (node ids into ``pts``); quads (q, 4) int64 counter-clockwise; node lists (k,) int64.

@@ -65,7 +65,7 @@ Steps, as the chapter numbers them
    refinement (:func:`meshwright.quad.chords.chord_split`, quads along the chords split);
    then :data:`FINAL_SMOOTH` sweeps of the guarded Laplacian (after the first, only
    where nodes still move: :data:`SETTLE`), and a max-min pattern
-   search (``_paving_close.polish``) moves the free nodes of every quad with a corner sine
+   search (:mod:`meshwright.quad.polish`) moves the free nodes of every quad with a corner sine
    below :data:`POLISH_BELOW` (all-quad fills only: it does not look at triangles), up to
    :data:`MEND_ROUNDS` passes more while a quad the chord split bent is still not convex.
 

@@ -1,7 +1,7 @@
-"""Numba kernels of the paving cleanup's max-min pattern search
-(:func:`meshwright.quad._paving_close.polish`): :func:`polish_rounds` runs the passes,
-:func:`polish_nodes` one pass over the marked nodes, :func:`vertex_cells` builds the
-vertex-to-quad table they read.
+"""Numba kernels of the quads' max-min pattern search (:func:`meshwright.quad.polish.polish`):
+:func:`polish_rounds` runs the passes, :func:`polish_nodes` one pass over the marked nodes,
+:func:`vertex_cells` builds the vertex-to-quad table they read, :func:`may_be_below` says
+cheaply whether any quad needs the search.
 
 Quality rules, floating point.  Array layout: points (n, 2) float64; quads (q, 4) int64
 counter-clockwise with a vertex-to-quad table in CSR form, ``cell_ptr`` (n + 1,) and
@@ -15,7 +15,7 @@ from numba import njit
 
 from meshwright.quad._paving_kernel import corner_min_sine
 
-__all__ = ["polish_nodes", "polish_rounds", "vertex_cells"]
+__all__ = ["may_be_below", "polish_nodes", "polish_rounds", "vertex_cells"]
 
 WIDE = 1.0 + 1e-9  # relative margin of _below's test without the sine's own rounding
 
@@ -280,3 +280,27 @@ def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
                     c = cell_idx[t]
                     low[c] = _below(p, q, c, floor)
     return p
+
+
+@njit(cache=True)
+def may_be_below(xy, quads, floor):
+    """Whether a quad (q, 4) may have a corner sine below ``floor`` > 0: a corner whose
+    cross product ``cr`` and squared sides' product ``ll`` give ``cr^2 >= floor^2 ll``
+    with a relative margin of 1e-9 is above it whatever the rounding of a sine's hypot
+    and division, so the answer is False only when every quad is clearly above (no
+    hypot: the common case, a mesh with no quad to polish, costs one pass of products)."""
+    f2 = floor * floor * WIDE
+    for i in range(quads.shape[0]):
+        for k in range(4):
+            u = quads[i, (k + 3) % 4]
+            w = quads[i, k]
+            z = quads[i, (k + 1) % 4]
+            ux = xy[z, 0] - xy[w, 0]
+            uy = xy[z, 1] - xy[w, 1]
+            wx = xy[u, 0] - xy[w, 0]
+            wy = xy[u, 1] - xy[w, 1]
+            cr = ux * wy - uy * wx
+            ll = (ux * ux + uy * uy) * (wx * wx + wy * wy)
+            if not (cr > 0.0 and 1e-200 < ll < 1e200 and cr * cr >= f2 * ll):
+                return True
+    return False

@@ -1,11 +1,11 @@
-"""The paving polish's vertex-to-quad table (``_paving_polish.vertex_cells``, a counting
+"""The quad polish's vertex-to-quad table (``_polish_kernel.vertex_cells``, a counting
 sort) against a plain loop over the quads' corners."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from meshwright.quad._paving_polish import vertex_cells
+from meshwright.quad._polish_kernel import vertex_cells
 
 
 def test_vertex_cells_lists_each_vertex_quads_ascending_once_per_corner():
@@ -41,7 +41,7 @@ def test_polish_below_floor_test_agrees_with_the_exact_sine():
     exactly the quads whose smallest corner sine is below the floor: random quads, and
     rhombi whose sine is the floor times 1 +- 1e-11 (inside the margin: the sine is
     computed), checked against the sine in rational arithmetic."""
-    from meshwright.quad._paving_polish import _below
+    from meshwright.quad._polish_kernel import _below
 
     rng = np.random.default_rng(11)
     floor = 0.8
@@ -63,3 +63,23 @@ def test_polish_below_floor_test_agrees_with_the_exact_sine():
     want = [_min_sine_fraction(p, q[c]) < floor for c in range(len(q))]
     assert got == want
     assert 50 < sum(want) < len(q) - 50 and want[-4:] == [True, False, True, False]
+
+
+def test_may_be_below_is_false_only_when_every_corner_is_clearly_above():
+    from meshwright.quad.polish import may_be_below
+
+    # A unit square's four corners have sine 1; a kite's sharpest corner has sine
+    # sin(30 deg) = 0.5 (corner at the origin between directions 0 and 30 degrees).
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    q = np.array([[0, 1, 2, 3]], dtype=np.int64)
+    assert not may_be_below(square, q, 0.99)
+    kite = np.array([[0, 0], [1, 0], [1.2, 0.4], [np.cos(np.pi / 6), np.sin(np.pi / 6)]], float)
+    assert may_be_below(kite, q, 0.51)
+    assert not may_be_below(kite, q, 0.49)
+    # A bent quad (the fourth corner pushed inside) and a degenerate one are below any floor.
+    bent = square.copy()
+    bent[2] = [0.4, 0.4]
+    assert may_be_below(bent, q, 1e-3)
+    flat = square.copy()
+    flat[3] = [0.0, 0.0]
+    assert may_be_below(flat, q, 1e-3)
