@@ -33,6 +33,8 @@ is not strictly convex at an input node, or has a corner wider than 150 degrees 
 input nodes, is not made (:func:`_bad_pocket`; the face tries its next candidate): no
 pair could close that pocket, and the triangle front and the matching would close it with
 that very quadrilateral, which no smoothing opens at nodes that do not move.
+For the same reason no pair itself has a corner at an input node that is reflex or wider
+than 168 degrees (:func:`_bent_input`), in any round.
 
 Both triangles are tested before either is made: the second one on the *virtual* face of
 the first (A -> C or C -> B), against the front as it is.  That is exact: the second
@@ -112,6 +114,7 @@ __all__ = ["FAR", "FLAT", "LEFT", "R_PAUSE", "colour_nodes", "new_scratch", "zhu
 LEFT = -1  # F_TRIES of a face the pair front left to the triangle front
 FAR = 2.5  # no apex farther than FAR rho (metric) from a base end
 FLAT = 1e-6  # no existing apex whose triangle's quality (metric) is below this: flat to round-off
+WIDE_SINE = 0.2079  # sin 12 degrees: no pair's corner at an input node is wider than 168
 R_PAUSE = 6  # the triangle count reached the caller's max_tris (R_* codes of the front kernel otherwise)
 
 
@@ -202,6 +205,33 @@ def _flat_input(pts, nin, q):
         nxt = q[(k + 1) % 4]
         if v < nin and prv < nin and nxt < nin and corner_flat(pts, prv, v, nxt):
             return True
+    return False
+
+
+@njit(inline="always")
+def _bent_input(pts, nin, q):
+    """Whether quadrilateral q (four nodes) has a corner at an input node that is not
+    strictly convex (exact ``orient2d``) or wider than 168 degrees (sine below
+    :data:`WIDE_SINE` on the obtuse side, a quality rule), whatever its neighbours.
+
+    Input nodes stay on their curves, so smoothing barely opens such a corner; the pair
+    front's last round, which takes reflex corners elsewhere, made them (stress seed
+    15001 domain 68: a reflex pair at a segment's node, min SJ 0.10 after smoothing).
+    """
+    for k in range(4):
+        v = q[k]
+        if v < nin:
+            prv = q[(k + 3) % 4]
+            nxt = q[(k + 1) % 4]
+            if _orient(pts, prv, v, nxt) <= 0.0:
+                return True
+            ux = pts[nxt, 0] - pts[v, 0]
+            uy = pts[nxt, 1] - pts[v, 1]
+            wx = pts[prv, 0] - pts[v, 0]
+            wy = pts[prv, 1] - pts[v, 1]
+            span = np.sqrt((ux * ux + uy * uy) * (wx * wx + wy * wy))
+            if ux * wx + uy * wy < 0.0 and ux * wy - uy * wx < WIDE_SINE * span:
+                return True
     return False
 
 
@@ -383,9 +413,14 @@ def _try_pair(f, fs, par, col, tpair, items, nodes, cand, ckey, items2, nodes2, 
                 pts[p, 1] = py
             # The quad is u o w x (o right of u -> w); its corners at u and w may be reflex,
             # which the chapter allows (step 8) but only in the last round here.  A corner
-            # between two input nodes wider than 150 degrees is never made: they barely move,
-            # so no smoothing would open it (the face is left to the triangle front instead).
-            if lvl == 1 and ((clear > 0.0 and not _convex(pts, (u, o, w, x))) or _flat_input(pts, nin, (u, o, w, x))):
+            # between two input nodes wider than 150 degrees is never made, nor one at an input
+            # node that is reflex or wider than 168 degrees: they barely move, so no smoothing
+            # would open it (the face tries its next pair, else is left to the triangle front).
+            if lvl == 1 and (
+                (clear > 0.0 and not _convex(pts, (u, o, w, x)))
+                or _flat_input(pts, nin, (u, o, w, x))
+                or _bent_input(pts, nin, (u, o, w, x))
+            ):
                 continue
             if not _valid(pts, face, qbox, ga, gb, x, gf, items, gni, nodes, gnn, clear, g11, g21, g22):
                 continue
