@@ -83,3 +83,57 @@ def test_may_be_below_is_false_only_when_every_corner_is_clearly_above():
     flat = square.copy()
     flat[3] = [0.0, 0.0]
     assert may_be_below(flat, q, 1e-3)
+
+
+def _strip(b):
+    """Two quads on the line y = 0 (A, B, C at x = 0, b, 2) under the row y = 0.1
+    (D, E, F at x = 0, 1, 2): B at b = 0.05 makes the left quad's corner at B and the
+    right one's at E slivers (sine about 0.1); only B's move along the line opens them."""
+    p = np.array([[0, 0], [b, 0], [2, 0], [0, 0.1], [1, 0.1], [2, 0.1]], float)
+    q = np.array([[0, 1, 4, 3], [1, 2, 5, 4]], dtype=np.int64)
+    return p, q
+
+
+def test_polish_slides_a_line_node_along_its_line_between_its_neighbours():
+    from meshwright.quad.polish import polish
+
+    p, q = _strip(0.05)
+    fixed = np.ones(6, dtype=bool)
+    before = [_min_sine_fraction(p, c) for c in q]
+    assert max(before) < 0.15
+    # Pinned, B stays: the rows' nodes are all fixed.
+    assert np.array_equal(polish(p, q, fixed, 0.3, 40), p)
+    fixed[1] = False
+    slide = np.full((6, 2), -1, dtype=np.int64)
+    slide[1] = (0, 2)
+    out = polish(p, q, fixed, 0.3, 40, slide)
+    # Only B moved, along y = 0 and strictly between A and C (it passed neither).
+    assert np.array_equal(np.delete(out, 1, axis=0), np.delete(p, 1, axis=0))
+    assert out[1, 1] == 0.0 and 0.05 < out[1, 0] < 2.0
+    after = [_min_sine_fraction(out, c) for c in q]
+    assert all(a > b for a, b in zip(after, before)) and min(after) > 0.3
+
+
+
+def test_line_sliders_are_the_line_nodes_between_two_corners_of_a_polygon():
+    """Every boundary node of a rectangle's discretisation but its four corners (and a
+    node kept) slides, between its two boundary neighbours; interior nodes do not."""
+    from meshwright.geometry import polygon
+    from meshwright.quad.polish import line_sliders
+
+    corners = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]]
+    disc = polygon(corners).discretize(0.25)
+    n = len(disc.points) + 3
+    segs = disc.segments.astype(np.int64)
+    t = disc.segment_params[:, 0]
+    vertices = segs[t == np.floor(t), 0]
+    keep = np.concatenate([vertices, [5]])
+    slide = line_sliders(n, segs, disc.segment_curve, polygon(corners), keep)
+    for v in range(n):
+        at_corner = any(np.array_equal(disc.points[v], c) for c in corners) if v < len(disc.points) else False
+        if v >= len(disc.points) or at_corner or v == 5:
+            assert slide[v].tolist() == [-1, -1]
+        else:
+            nb = sorted(int(w) for a, b in segs for w, o in ((a, b), (b, a)) if o == v)
+            assert sorted(slide[v].tolist()) == nb
+    assert (slide[:, 0] >= 0).sum() == len(disc.points) - 5

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from meshwright.quad.polish import may_be_below, polish
+from meshwright.quad.polish import line_sliders, may_be_below, polish
 from meshwright.sizing.background import BackgroundGrid
 from meshwright.sizing.boundary import boundary_size, graded_from_boundary
 
@@ -71,10 +71,12 @@ def _steepest(grid) -> float:
     return float(np.hypot((fu * w[:, 1] - fw * u[:, 1]) / det, (u[:, 0] * fw - w[:, 0] * fu) / det).max())
 
 
-def polish_fill(fill, fixed_pts):
+def polish_fill(fill, fixed_pts, domain=None):
     """``fill`` (a :class:`~meshwright.quad.mesher.QuadFill`) with the free nodes of its
-    quads below :data:`POLISH_BELOW` moved by the max-min search; line nodes, the nodes
-    ``fixed_pts`` and the nodes of left-over triangles (the search reads quads only) stay.
+    quads below :data:`POLISH_BELOW` moved by the max-min search; the nodes ``fixed_pts``
+    (the input vertices) and the nodes of left-over triangles (the search reads quads
+    only) stay, and line nodes stay too unless ``domain`` is given: then a line node of
+    a straight curve slides along it (:func:`~meshwright.quad.polish.line_sliders`).
     Skipped, at the cost of one pass of products, when no quad may be below
     (:func:`~meshwright.quad.polish.may_be_below`)."""
     quads = np.ascontiguousarray(fill.quads, dtype=np.int64)
@@ -83,5 +85,9 @@ def polish_fill(fill, fixed_pts):
     fixed = np.zeros(len(fill.points), dtype=bool)
     fixed[fill.lines.ravel()] = True
     fixed[fixed_pts] = True
+    slide = None
+    if domain is not None:
+        slide = line_sliders(len(fill.points), fill.lines, fill.line_curves, domain, fixed_pts)
+        fixed[slide[:, 0] >= 0] = False
     fixed[fill.triangles.ravel()] = True
-    return fill._replace(points=polish(fill.points, quads, fixed, POLISH_BELOW, POLISH_ROUNDS))
+    return fill._replace(points=polish(fill.points, quads, fixed, POLISH_BELOW, POLISH_ROUNDS, slide))

@@ -69,9 +69,9 @@ def _sine_at(p, a, b, d, v, x, y):
 
 
 @njit(cache=True)
-def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps, settled, kind, g):
+def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps, settled, kind, g, slide, slide_steps):
     """One pass of the max-min pattern search over ``nodes`` in place (see
-    :func:`meshwright.quad._paving_close.polish`): each node takes the move, among
+    :func:`meshwright.quad.polish.polish`): each node takes the move, among
     ``steps`` times its shortest edge along each of ``dirs``, that raises the smallest
     corner sine of its quads most, or stays.  Returns the number of nodes moved.
 
@@ -95,9 +95,16 @@ def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps, settled, kind, g)
     not move: the other two points, or the apex and its fixed side with that side's
     squared length.  The trials read them instead of the quads (a call per trial with
     the point and quad arrays cost Numba's reference counts on each), with the same
-    arithmetic as :func:`_sine_at`, so the same values."""
+    arithmetic as :func:`_sine_at`, so the same values.
+
+    ``slide`` (n, 2) int64: a line node that may move along its straight line piece has
+    its two line neighbours there (-1 elsewhere).  Its trials are ``slide_steps`` times
+    its shorter line edge towards each neighbour instead of the 2-D pattern: a fraction
+    under one of the way to a neighbour on the piece, so it stays on the piece (up to
+    the rounding of that point) and never passes a neighbour."""
     moved = 0
-    ntry = steps.shape[0] * dirs.shape[0]
+    ntry2 = steps.shape[0] * dirs.shape[0]
+    nsl = slide_steps.shape[0]
     for i in range(nodes.shape[0]):
         v = nodes[i]
         if settled[v]:
@@ -125,6 +132,11 @@ def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps, settled, kind, g)
                 a = q[c, (k + 3) % 4]
                 b = q[c, k]
                 d = q[c, (k + 1) % 4]
+                if b != v and (b == slide[v, 0] or b == slide[v, 1]):
+                    # A sliding node moves along the side from this corner's apex: the
+                    # corner does not change, and its rounding must not pick the move.
+                    fixed_min = min(fixed_min, _sine_at(p, a, b, d, v, x0, y0))
+                    continue
                 if b == v:
                     kind[m] = 1
                     g[m, 0] = p[d, 0]
@@ -154,11 +166,26 @@ def polish_nodes(p, q, cell_ptr, cell_idx, nodes, dirs, steps, settled, kind, g)
         first = 0
         bx = x0
         by = y0
+        ntry = ntry2
+        line = slide[v, 0] >= 0
+        la = lb = short = 1.0
+        if line:
+            ntry = 2 * nsl
+            la = np.hypot(p[slide[v, 0], 0] - x0, p[slide[v, 0], 1] - y0)
+            lb = np.hypot(p[slide[v, 1], 0] - x0, p[slide[v, 1], 1] - y0)
+            short = min(la, lb)
         # Trial -1 is the node where it is (nothing to beat); then steps by directions.
         for tr in range(-1, ntry):
             if tr < 0:
                 x = x0
                 y = y0
+            elif line:
+                s = tr // 2
+                side = tr - 2 * s
+                w = slide[v, side]
+                f = slide_steps[s] * short / (la if side == 0 else lb)
+                x = x0 + f * (p[w, 0] - x0)
+                y = y0 + f * (p[w, 1] - y0)
             else:
                 s = tr // dirs.shape[0]
                 e = tr - s * dirs.shape[0]
@@ -235,9 +262,9 @@ def vertex_cells(q, n):
 
 
 @njit(cache=True)
-def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
-    """The passes of :func:`meshwright.quad._paving_close.polish` in place: in each, the
-    free nodes of the quads whose smallest corner sine is below ``floor``, in ascending
+def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps, slide, slide_steps):
+    """The passes of :func:`meshwright.quad.polish.polish` in place: in each, the
+    free nodes (sliding ones included, ``slide`` as :func:`polish_nodes` reads it) of the quads whose smallest corner sine is below ``floor``, in ascending
     order, get one :func:`polish_nodes` visit; which quads are below is kept per quad
     (:func:`_below`) and decided again around the nodes that moved.  Stops after ``rounds`` passes or one that
     moves nothing."""
@@ -271,7 +298,7 @@ def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps):
                     m += 1
         if m == 0:
             break
-        if polish_nodes(p, q, cell_ptr, cell_idx, nodes[:m], dirs, steps, settled, kind, g) == 0:
+        if polish_nodes(p, q, cell_ptr, cell_idx, nodes[:m], dirs, steps, settled, kind, g, slide, slide_steps) == 0:
             break
         for i in range(m):
             v = nodes[i]
