@@ -757,7 +757,7 @@ def pair_domain(
                 or min_scaled_jacobian(other.points, other.quads) > min_scaled_jacobian(fill.points, fill.quads)
             ):
                 fill = other
-    fill = polish_fill(fill, fixed_pts)
+    fill = polish_fill(fill, fixed_pts, domain if smooth_boundary else None)
     _check(fill.points, fill.quads, fill.triangles)
     n_tri, n_pairs, chains, n_left, reverted, counts = stats
     report = PairingReport(added, n_tri, n_pairs, chains, n_left, reverted, counts, split, len(fill.triangles))
