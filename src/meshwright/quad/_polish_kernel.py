@@ -27,31 +27,33 @@ def _quad_min_sine(p, q, c):
 
 
 @njit
-def _below(p, q, c, floor):
-    """Whether quad c's smallest corner sine (:func:`_quad_min_sine`) is below ``floor``.
-    A corner whose cross product ``cr`` and squared sides ``ll`` (their product) give
-    ``cr^2 >= floor^2 ll`` with a relative margin of :data:`WIDE` has a sine above
-    ``floor`` whatever the rounding of the sine's own hypot and division (errors of a
-    few 1e-16); only a quad with a corner not clearly above is computed (most quads
-    are clearly above, and the hypot of every corner was most of the setup)."""
-    if floor > 0.0:
-        f2 = floor * floor * WIDE
-        clear = True
-        for k in range(4):
-            u = q[c, (k + 3) % 4]
-            w = q[c, k]
-            z = q[c, (k + 1) % 4]
-            ux = p[z, 0] - p[w, 0]
-            uy = p[z, 1] - p[w, 1]
-            wx = p[u, 0] - p[w, 0]
-            wy = p[u, 1] - p[w, 1]
-            cr = ux * wy - uy * wx
-            ll = (ux * ux + uy * uy) * (wx * wx + wy * wy)
-            if not (cr > 0.0 and 1e-200 < ll < 1e200 and cr * cr >= f2 * ll):
-                clear = False
-                break
-        if clear:
+def _clearly_above(p, q, c, f2):
+    """Whether every corner of quad c has ``cr^2 >= f2 ll`` (cross product ``cr``,
+    squared sides' product ``ll``, ``f2`` the squared floor with the margin :data:`WIDE`):
+    then its sine is above the floor whatever the rounding of the sine's own hypot and
+    division (errors of a few 1e-16)."""
+    for k in range(4):
+        u = q[c, (k + 3) % 4]
+        w = q[c, k]
+        z = q[c, (k + 1) % 4]
+        ux = p[z, 0] - p[w, 0]
+        uy = p[z, 1] - p[w, 1]
+        wx = p[u, 0] - p[w, 0]
+        wy = p[u, 1] - p[w, 1]
+        cr = ux * wy - uy * wx
+        ll = (ux * ux + uy * uy) * (wx * wx + wy * wy)
+        if not (cr > 0.0 and 1e-200 < ll < 1e200 and cr * cr >= f2 * ll):
             return False
+    return True
+
+
+@njit
+def _below(p, q, c, floor):
+    """Whether quad c's smallest corner sine (:func:`_quad_min_sine`) is below ``floor``;
+    only a quad not clearly above it (:func:`_clearly_above`) is computed (most quads
+    are clearly above, and the hypot of every corner was most of the setup)."""
+    if floor > 0.0 and _clearly_above(p, q, c, floor * floor * WIDE):
+        return False
     return _quad_min_sine(p, q, c) < floor
 
 
@@ -311,23 +313,11 @@ def polish_rounds(p, q, cell_ptr, cell_idx, fixed, floor, rounds, dirs, steps, s
 
 @njit(cache=True)
 def may_be_below(xy, quads, floor):
-    """Whether a quad (q, 4) may have a corner sine below ``floor`` > 0: a corner whose
-    cross product ``cr`` and squared sides' product ``ll`` give ``cr^2 >= floor^2 ll``
-    with a relative margin of 1e-9 is above it whatever the rounding of a sine's hypot
-    and division, so the answer is False only when every quad is clearly above (no
-    hypot: the common case, a mesh with no quad to polish, costs one pass of products)."""
+    """Whether a quad (q, 4) may have a corner sine below ``floor`` > 0: False only when
+    every quad is clearly above it (:func:`_clearly_above`; no hypot: the common case, a
+    mesh with no quad to polish, costs one pass of products)."""
     f2 = floor * floor * WIDE
     for i in range(quads.shape[0]):
-        for k in range(4):
-            u = quads[i, (k + 3) % 4]
-            w = quads[i, k]
-            z = quads[i, (k + 1) % 4]
-            ux = xy[z, 0] - xy[w, 0]
-            uy = xy[z, 1] - xy[w, 1]
-            wx = xy[u, 0] - xy[w, 0]
-            wy = xy[u, 1] - xy[w, 1]
-            cr = ux * wy - uy * wx
-            ll = (ux * ux + uy * uy) * (wx * wx + wy * wy)
-            if not (cr > 0.0 and 1e-200 < ll < 1e200 and cr * cr >= f2 * ll):
-                return True
+        if not _clearly_above(xy, quads, i, f2):
+            return True
     return False
