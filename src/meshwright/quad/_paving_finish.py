@@ -17,7 +17,9 @@ from meshwright.quad._paving_close import convex
 from meshwright.quad.polish import line_sliders, may_be_below, polish
 from meshwright.quad.smoothing import smooth_cells
 
-__all__ = ["Finish", "fill_by_pairing", "finish"]
+__all__ = ["TRY_PAIRING_BELOW", "Finish", "fill_by_pairing", "finish"]
+
+TRY_PAIRING_BELOW = 0.2  # a paved constrained mesh with a smaller unforced corner sine is compared with pairing's
 
 
 class Finish(NamedTuple):
@@ -103,9 +105,29 @@ def _input_vertices(disc, domain, points):
     return np.concatenate([np.asarray(points, dtype=np.int64).ravel(), disc.segments[vert].astype(np.int64)])
 
 
+def _unforced_min_sine(fill) -> float:
+    """The smallest corner sine of ``fill``'s quads over the corners the input does not
+    force (a corner between two line cells keeps the input's angle in every fill, so it
+    cannot tell two fills apart); ``inf`` when there is none."""
+    q = np.asarray(fill.quads, dtype=np.int64)
+    if not len(q):
+        return np.inf
+    n = np.int64(len(fill.points))
+    ln = np.asarray(fill.lines, dtype=np.int64).reshape(-1, 2)
+    keys = np.concatenate([ln[:, 0] * n + ln[:, 1], ln[:, 1] * n + ln[:, 0]])
+    prev, nxt = np.roll(q, 1, axis=1), np.roll(q, -1, axis=1)
+    forced = np.isin(q * n + prev, keys) & np.isin(q * n + nxt, keys)
+    xy = fill.points
+    u, w = xy[nxt] - xy[q], xy[prev] - xy[q]
+    cr = u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0]
+    sine = cr / np.maximum(np.hypot(u[..., 0], u[..., 1]) * np.hypot(w[..., 0], w[..., 1]), 1e-300)
+    return float(sine[~forced].min()) if (~forced).any() else np.inf
+
+
 def fill_by_pairing(out, domain, field, all_quad: bool, fixed_boundary: bool, seed, cap: int):
     """``out`` (a paving's (QuadFill, counts)), or the pairing method's fill of the whole
-    domain where that has the larger smallest scaled Jacobian and no quad was paved, or
+    domain where that has the larger smallest corner sine at the corners the input does
+    not force and no quad was paved or ``out``'s is under :data:`TRY_PAIRING_BELOW`, or
     where ``out`` is None (the paving failed: a quad bent by the chord split under a size
     jump, which the pairing's re-cut split opens).
 
@@ -117,17 +139,14 @@ def fill_by_pairing(out, domain, field, all_quad: bool, fixed_boundary: bool, se
     the better fill on about half of those (stress seed 15003), the void fill on the rest.
     Counts as those of :class:`~meshwright.quad.paving.PavingReport` after ``nodes_added``.
     """
-    from meshwright.quad.enhancement import min_scaled_jacobian
     from meshwright.quad.pairing import pair_domain
 
-    if out is not None and out[1][6]:
+    if out is not None and out[1][6] and _unforced_min_sine(out[0]) >= TRY_PAIRING_BELOW:
         return out
     fill, rep = pair_domain(
         domain, field, all_quad=all_quad, smooth_boundary=False, fixed_boundary=fixed_boundary, seed=seed,
         max_points=cap,
     )
-    if out is not None and (not len(fill.quads) or min_scaled_jacobian(fill.points, fill.quads) <= min_scaled_jacobian(
-        out[0].points, out[0].quads
-    )):
+    if out is not None and (not len(fill.quads) or _unforced_min_sine(fill) <= _unforced_min_sine(out[0])):
         return out
     return fill, (0, 0, 0, 0, 0, 0, 0, 1, len(fill.quads), rep.split, len(fill.triangles))
