@@ -493,6 +493,15 @@ def _tri_sine(xy, a, b, c):
                _sine(xy[b, 0], xy[b, 1], xy[c, 0], xy[c, 1], xy[a, 0], xy[a, 1]))
 
 
+@njit
+def _is_line(loff, lidx, u, v):
+    """Whether u-v is a line cell (the lines of u in CSR form ``loff`` / ``lidx``)."""
+    for s in range(loff[u], loff[u + 1]):
+        if lidx[s] == v:
+            return True
+    return False
+
+
 @njit(cache=True)
 def resplit_pass(xy, quad, tri, bnd, off, idx, loff, lidx, target, gain):
     """One pass of triangle-quad re-splitting: a left-over triangle and a quad across one
@@ -525,10 +534,7 @@ def resplit_pass(xy, quad, tri, bnd, off, idx, loff, lidx, target, gain):
             u = np.int64(tri[t, e])
             v = np.int64(tri[t, (e + 1) % 3])
             w = np.int64(tri[t, (e + 2) % 3])
-            line = False
-            for s in range(loff[u], loff[u + 1]):
-                line |= lidx[s] == v
-            if line:
+            if _is_line(loff, lidx, u, v):
                 continue
             q = -1
             j = -1
@@ -620,10 +626,7 @@ def swap_low_pass(xy, quad, bnd, off, idx, loff, lidx, target, gain):
             v = np.int64(quad[q1, (k + 1) % 4])
             if bnd[u] == 0 or bnd[v] == 0:
                 continue
-            line = False
-            for s in range(loff[u], loff[u + 1]):
-                line |= lidx[s] == v
-            if line:
+            if _is_line(loff, lidx, u, v):
                 continue
             q2 = -1
             j = -1
